@@ -1,0 +1,42 @@
+# crater — the two commands: `make run` and `make test`.
+# Both install missing Debian packages first (tools/setup-deps.sh), then build with CMake presets.
+
+BUILD   := build/release
+JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
+CRATER  := $(BUILD)/bin/crater
+DEMO    ?= demo
+OUT     ?= out
+
+.PHONY: all deps configure build run test test-slow bench format docs clean
+
+all: build
+
+deps:
+	@tools/setup-deps.sh
+
+configure: deps
+	@cmake --preset release >/dev/null
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+run: build
+	$(CRATER) run $(DEMO) --out $(OUT) --force
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+
+test-slow: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -L slow
+
+bench: build
+	$(BUILD)/bench/crater_bench_kernels --benchmark_min_time=0.2
+
+format:
+	@find src tests bench -name '*.cpp' -o -name '*.hpp' | xargs clang-format -i
+
+docs: build
+	$(CRATER) schema --markdown > docs/scenario-format.md
+
+clean:
+	rm -rf build out

@@ -1,0 +1,148 @@
+// crater command line: run, check, list, schema.
+//   crater run SCENARIO [--out DIR] [--threads N] [--set key=value]... [--force]
+//   crater check SCENARIO [--set key=value]...
+//   crater list
+//   crater schema --markdown
+// Exit codes: 0 done, 2 bad input (scenario, command line), 3 numerical failure, 1 other
+// errors (e.g. an unwritable disk).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "core/error.hpp"
+#include "io/scenario/load.hpp"
+#include "io/scenario/schema.hpp"
+#include "io/scenario/validate.hpp"
+#include "solver/simulation.hpp"
+
+namespace {
+
+using namespace crater;
+
+void print_input_error(const InputError& e) {
+  if (const auto* many = dynamic_cast<const io::InputErrors*>(&e)) {
+    for (const auto& one : many->all())
+      std::fprintf(stderr, "error: %s\n", one.what());
+    if (many->all().size() > 1)
+      std::fprintf(stderr, "%zu errors; nothing was run.\n", many->all().size());
+  } else {
+    std::fprintf(stderr, "error: %s\n", e.what());
+  }
+}
+
+int cmd_check(const std::string& scenario, const std::vector<std::string>& sets) {
+  const io::Config c = io::load_scenario(scenario, sets);
+  fmt::print("scenario '{}' ({}), {}D, end time {:.6g} s, hash {}\n", c.name, c.file, c.dimension,
+             c.end_time_s, c.hash);
+  if (!c.description.empty()) fmt::print("  {}\n", c.description);
+  const auto reports = solver::check_scenario(c);
+  fmt::print("{:<16} {:<6} {:>12} {:>14} {:>13}  {}\n", "part", "method", "count", "mass [kg]",
+             "stable dt [s]", "limited by");
+  double dt_min = 1e300;
+  std::string limiting;
+  for (const auto& r : reports) {
+    fmt::print("{:<16} {:<6} {:>12} {:>14.6g} {:>13.4e}  entity {} ({})\n", r.name, r.method,
+               r.count, r.mass_kg, r.stable.dt_s, r.stable.entity_id, r.stable.reason);
+    if (r.stable.dt_s < dt_min) dt_min = r.stable.dt_s, limiting = r.name;
+  }
+  if (c.dimension == 2) fmt::print("(2D: masses per metre of depth)\n");
+  fmt::print("global step: {:.4e} s = {} x {:.4e} s (part '{}')", c.time.safety_factor * dt_min,
+             c.time.safety_factor, dt_min, limiting);
+  if (c.time.fixed_dt_s) fmt::print("; fixed step {:.4e} s in use", *c.time.fixed_dt_s);
+  fmt::print("\n");
+  for (const auto& w : c.warnings)
+    fmt::print("warning: {}\n", w);
+  fmt::print("ok\n");
+  return kExitOk;
+}
+
+int cmd_run(const std::string& scenario, const std::vector<std::string>& sets,
+            const solver::RunOptions& opt) {
+  const io::Config c = io::load_scenario(scenario, sets);
+  spdlog::info("scenario '{}', {}D, end time {:.6g} s -> {}", c.name, c.dimension, c.end_time_s,
+               opt.out_dir.string());
+  const auto r = solver::run_scenario(c, opt);
+  spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s on {} thread(s)", r.steps, r.time_s,
+               r.wall_s, r.threads);
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_pattern("crater: %^%l%$: %v");
+  CLI::App app{"crater: explosions in layered ground (SPH + DEM + FEM)", "crater"};
+  app.set_version_flag("--version", std::string("crater ") + CRATER_VERSION);
+  app.require_subcommand(1);
+
+  std::string scenario;
+  std::vector<std::string> sets;
+  solver::RunOptions opt;
+  std::string out_dir = "out";
+
+  auto* run = app.add_subcommand("run", "Run a scenario (a file, or a bundled name)");
+  run->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
+  run->add_option("--out,-o", out_dir, "Run directory (default: out)");
+  run->add_option("--threads,-t", opt.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
+  run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
+  run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+
+  auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
+  check->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
+  check->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
+
+  app.add_subcommand("list", "List the bundled scenarios");
+  auto* schema = app.add_subcommand("schema", "Print the scenario file reference");
+  bool markdown = false;
+  schema->add_flag("--markdown", markdown, "Markdown (docs/scenario-format.md)");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return kExitInput;
+  }
+
+  try {
+    if (app.got_subcommand("list")) {
+      for (const auto& n : io::bundled_scenarios()) {
+        std::string desc;
+        try {
+          desc = io::load_scenario(n, {}).description;
+        } catch (const InputError& e) {
+          desc = std::string("(invalid: ") + e.what() + ")";
+        }
+        fmt::print("{:<24} {}\n", n, desc);
+      }
+      return kExitOk;
+    }
+    if (app.got_subcommand("schema")) {
+      fmt::print("{}", io::schema_markdown());
+      return kExitOk;
+    }
+    if (app.got_subcommand("check")) return cmd_check(scenario, sets);
+    opt.out_dir = out_dir;
+    return cmd_run(scenario, sets, opt);
+  } catch (const InputError& e) {
+    print_input_error(e);
+    return kExitInput;
+  } catch (const NumericalError& e) {
+    std::fprintf(stderr,
+                 "error: %s\n(the state at failure is in the run directory, "
+                 "*_failure.vtu)\n",
+                 e.what());
+    return kExitNumerical;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,136 @@
+// Structure-of-arrays storage for one part. Each field is a contiguous std::vector registered
+// once with its name, unit and roles; output, checkpoints and re-sorting walk the registry,
+// so a new field needs one `add_*` line and nothing else.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace crater::fields {
+
+/// What a field takes part in.
+enum Role : unsigned {
+  kNone = 0,
+  kOutput = 1u << 0,   // written to VTU
+  kRestart = 1u << 1,  // written to checkpoints
+  kHalo = 1u << 2,     // exchanged between ranks (later, MPI)
+};
+inline constexpr unsigned kStateRoles = kOutput | kRestart | kHalo;
+
+struct FieldInfo {
+  std::string name;
+  std::string unit;  // SI, e.g. "kg/m^3"; "1" for dimensionless
+  unsigned roles = kNone;
+};
+
+/// Read-only view of one registered field, for writers.
+struct FieldView {
+  const FieldInfo* info;
+  int components;  // 1 for scalars, D for vectors
+  bool is_integer;
+  const Real* real_data;             // when !is_integer
+  const std::int64_t* integer_data;  // when is_integer
+  Index size;
+};
+
+template <int D>
+class FieldSet {
+ public:
+  using Column = std::variant<std::vector<Real>, std::vector<Vec<D>>, std::vector<std::int64_t>>;
+
+  Index size() const { return size_; }
+
+  std::vector<Real>& add_scalar(std::string name, std::string unit, unsigned roles) {
+    return std::get<std::vector<Real>>(add(std::move(name), std::move(unit), roles,
+                                           std::vector<Real>(static_cast<std::size_t>(size_))));
+  }
+  std::vector<Vec<D>>& add_vector(std::string name, std::string unit, unsigned roles) {
+    return std::get<std::vector<Vec<D>>>(
+        add(std::move(name), std::move(unit), roles,
+            std::vector<Vec<D>>(static_cast<std::size_t>(size_), Vec<D>::Zero())));
+  }
+  std::vector<std::int64_t>& add_integer(std::string name, std::string unit, unsigned roles) {
+    return std::get<std::vector<std::int64_t>>(
+        add(std::move(name), std::move(unit), roles,
+            std::vector<std::int64_t>(static_cast<std::size_t>(size_))));
+  }
+
+  /// Resizes every field; new entries are zero.
+  void resize(Index n) {
+    for (auto& c : columns_)
+      std::visit(
+          [n](auto& v) {
+            using T = typename std::decay_t<decltype(v)>::value_type;
+            v.resize(static_cast<std::size_t>(n), zero<T>());
+          },
+          c.data);
+    size_ = n;
+  }
+
+  /// Reorders every field: new[i] = old[order[i]]. Used to sort entities by cell.
+  void permute(std::span<const Index> order) {
+    if (static_cast<Index>(order.size()) != size_)
+      throw std::logic_error("FieldSet::permute: order has the wrong size");
+    for (auto& c : columns_)
+      std::visit(
+          [&](auto& v) {
+            auto copy = v;
+            for (std::size_t i = 0; i < order.size(); ++i)
+              v[i] = copy[static_cast<std::size_t>(order[i])];
+          },
+          c.data);
+  }
+
+  /// Views of the fields having any of `roles`, in registration order.
+  std::vector<FieldView> views(unsigned roles) const {
+    std::vector<FieldView> out;
+    for (const auto& c : columns_) {
+      if ((c.info.roles & roles) == 0) continue;
+      FieldView fv{&c.info, 1, false, nullptr, nullptr, size_};
+      if (auto* r = std::get_if<std::vector<Real>>(&c.data)) {
+        fv.real_data = r->data();
+      } else if (auto* v = std::get_if<std::vector<Vec<D>>>(&c.data)) {
+        fv.components = D;
+        fv.real_data = v->empty() ? nullptr : v->front().data();
+      } else {
+        fv.is_integer = true;
+        fv.integer_data = std::get<std::vector<std::int64_t>>(c.data).data();
+      }
+      out.push_back(fv);
+    }
+    return out;
+  }
+
+ private:
+  struct Entry {
+    FieldInfo info;
+    Column data;
+  };
+
+  template <class T>
+  static T zero() {
+    if constexpr (std::is_same_v<T, Vec<D>>)
+      return Vec<D>::Zero();
+    else
+      return T{};
+  }
+
+  Column& add(std::string name, std::string unit, unsigned roles, Column data) {
+    for (const auto& c : columns_)
+      if (c.info.name == name) throw std::logic_error("FieldSet: duplicate field " + name);
+    columns_.push_back(Entry{FieldInfo{std::move(name), std::move(unit), roles}, std::move(data)});
+    return columns_.back().data;
+  }
+
+  std::deque<Entry> columns_;  // deque: references handed out stay valid as fields are added
+  Index size_ = 0;
+};
+
+}  // namespace crater::fields

@@ -1,0 +1,107 @@
+// The validated, immutable description of a run. Physics code sees only this, never strings
+// from the file or TOML nodes. Vectors are stored with 3 entries; only the first `dimension`
+// are meaningful.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/types.hpp"
+#include "materials/eos/eos.hpp"
+#include "sph/kernels.hpp"
+
+namespace crater::io {
+
+using Vec3 = std::array<Real, 3>;
+
+struct TimeConfig {
+  Real safety_factor = 0.9;
+  std::optional<Real> fixed_dt_s;
+  SourceLocation fixed_dt_where;  // for the "step above the stable limit" error
+  Index max_steps = 0;            // 0: no limit
+};
+
+enum class VtuEncoding { Appended, Base64 };
+
+struct OutputConfig {
+  Real interval_s = 0;
+  Index history_every = 10;
+  bool vtu = true;
+  VtuEncoding vtu_encoding = VtuEncoding::Appended;
+};
+
+struct DomainConfig {
+  Vec3 min_m{};
+  Vec3 max_m{};
+  Vec3 gravity_m_s2{};
+};
+
+struct MaterialConfig {
+  std::string name;
+  std::string model;  // "jwl", "ideal_gas", "tait"
+  materials::EosParams eos;
+  Real rho0_kg_m3 = 0;
+  SourceLocation where;
+};
+
+enum class RegionType { Box, Disk, Sphere };
+
+struct RegionConfig {
+  RegionType type = RegionType::Box;
+  Vec3 min_m{}, max_m{};  // box
+  Vec3 center_m{};        // disk, sphere
+  Real radius_m = 0;
+  SourceLocation where;
+};
+
+struct InitialConfig {
+  std::optional<Real> density_kg_m3;
+  std::optional<Real> pressure_pa;
+  Vec3 velocity_m_s{};
+};
+
+struct SphConfig {
+  sph::KernelKind kernel = sph::KernelKind::WendlandC2;
+  Real h_factor = 1.3;
+  Real av_alpha = 1.0;
+  Real av_beta = 2.0;
+  Real cfl = 0.3;
+};
+
+struct DetonationPoint {
+  Vec3 point_m{};
+  Real time_s = 0;
+};
+
+struct PartConfig {
+  std::string name;
+  std::string method;        // "sph"
+  std::size_t material = 0;  // index into Config::materials
+  Real spacing_m = 0;
+  RegionConfig region;
+  InitialConfig initial;
+  SphConfig sph;
+  std::vector<DetonationPoint> detonations;
+  SourceLocation where;
+};
+
+struct Config {
+  std::string file;  // path of the scenario file
+  std::string hash;  // FNV-1a 64 of the effective (defaults filled) scenario, hex
+  std::string name;
+  std::string description;
+  int dimension = 2;
+  Real end_time_s = 0;
+  TimeConfig time;
+  OutputConfig output;
+  DomainConfig domain;
+  std::vector<MaterialConfig> materials;
+  std::vector<PartConfig> parts;
+  std::vector<std::string> warnings;  // non-fatal remarks shown by check and run
+  std::string effective_toml;         // the scenario with defaults filled in
+};
+
+}  // namespace crater::io

@@ -1,0 +1,586 @@
+#include "io/scenario/load.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+#include <unistd.h>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "io/scenario/schema.hpp"
+#include "io/scenario/validate.hpp"
+
+namespace crater::io {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr std::uintmax_t kMaxScenarioBytes = 4u << 20;  // a scenario is text, not data
+constexpr double kMaxEntities = 2e8;                    // refuse absurd resolutions early
+
+std::string fnv1a_hex(const std::string& s) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+// ---- --set overrides ------------------------------------------------------------------
+
+std::vector<std::string> split_path(const std::string& p) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : p) {
+    if (c == '.') {
+      out.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(cur);
+  return out;
+}
+
+void apply_override(toml::table& root, const std::string& arg) {
+  const SourceLocation where{"--set " + arg, 0, 0};
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(where, "", "expected --set dotted.key=VALUE");
+  const std::string path = arg.substr(0, eq);
+  const std::string value = arg.substr(eq + 1);
+  const auto parts = split_path(path);
+  for (const auto& s : parts)
+    if (s.empty()) throw InputError(where, path, "empty segment in the key path");
+
+  // The value in TOML syntax; a bare word is taken as a string (--set parts.0.method=sph).
+  const bool bare_word =
+      !value.empty() && value != "true" && value != "false" && value != "inf" && value != "nan" &&
+      std::all_of(value.begin(), value.end(),
+                  [](unsigned char ch) { return std::isalpha(ch) || ch == '_' || ch == '-'; });
+  toml::table parsed;
+  try {
+    const std::string text = bare_word ? "v = \"" + value + "\"" : "v = " + value;
+    parsed = toml::parse(std::string_view(text), "--set " + arg);
+  } catch (const toml::parse_error& e) {
+    throw InputError(where, path, "VALUE is not valid TOML: " + std::string(e.description()));
+  }
+  // Tables created on the way carry the argument as their source, for error messages.
+  auto new_table = [&]() {
+    toml::table doc = toml::parse(std::string_view("t = {}"), "--set " + arg);
+    return std::move(*doc.get("t")->as_table());
+  };
+
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* next = t->get(parts[i]);
+    if (!next) {
+      t->insert(parts[i], new_table());
+      next = t->get(parts[i]);
+    }
+    if (auto* arr = next->as_array()) {
+      // Element by index or by its `name` key.
+      const std::string& sel = parts[++i];
+      toml::node* el = nullptr;
+      char* end = nullptr;
+      const long idx = std::strtol(sel.c_str(), &end, 10);
+      if (end && *end == '\0' && idx >= 0 && static_cast<std::size_t>(idx) < arr->size()) {
+        el = arr->get(static_cast<std::size_t>(idx));
+      } else {
+        for (auto& e : *arr)
+          if (auto* et = e.as_table())
+            if (auto* n = et->get("name"); n && n->value<std::string>() == sel) el = &e;
+      }
+      if (!el || !el->is_table())
+        throw InputError(where, path,
+                         fmt::format("'{}' has no entry '{}' (use an index 0..{} or a name)",
+                                     parts[i - 1], sel, arr->size() == 0 ? 0 : arr->size() - 1));
+      if (i + 1 >= parts.size())
+        throw InputError(where, path, "expected a key after the array entry");
+      t = el->as_table();
+      continue;
+    }
+    t = next->as_table();
+    if (!t) throw InputError(where, path, "'" + parts[i] + "' is not a table");
+  }
+  if (parts.back().empty()) throw InputError(where, path, "empty key");
+  t->insert_or_assign(parts.back(), std::move(*parsed.get("v")));
+}
+
+// ---- typed reading of a validated table -----------------------------------------------
+
+Real num(const toml::table& t, const char* key) {
+  const toml::node* n = t.get(key);
+  if (auto* f = n->as_floating_point()) return f->get();
+  return static_cast<Real>(n->as_integer()->get());
+}
+std::optional<Real> opt_num(const toml::table& t, const char* key) {
+  if (!t.get(key)) return std::nullopt;
+  return num(t, key);
+}
+std::string str(const toml::table& t, const char* key) {
+  return t.get(key)->as_string()->get();
+}
+Vec3 vec3(const toml::table& t, const char* key) {
+  Vec3 v{};
+  if (const toml::node* n = t.get(key)) {
+    const auto& a = *n->as_array();
+    for (std::size_t i = 0; i < a.size() && i < 3; ++i) {
+      if (auto* f = a.get(i)->as_floating_point())
+        v[i] = f->get();
+      else
+        v[i] = static_cast<Real>(a.get(i)->as_integer()->get());
+    }
+  }
+  return v;
+}
+const toml::table& table(const toml::table& t, const char* key) {
+  return *t.get(key)->as_table();
+}
+
+SourceLocation loc(const toml::table& t, const char* key, const SourceLocation& fallback) {
+  if (const toml::node* n = t.get(key)) return where_of(*n, fallback);
+  return fallback;
+}
+
+// ---- geometry cross-checks --------------------------------------------------------------
+
+struct Aabb {
+  Vec3 lo{}, hi{};
+};
+
+Aabb bounds(const RegionConfig& r, int dim) {
+  Aabb b;
+  for (int d = 0; d < dim; ++d) {
+    if (r.type == RegionType::Box) {
+      b.lo[d] = r.min_m[d];
+      b.hi[d] = r.max_m[d];
+    } else {
+      b.lo[d] = r.center_m[d] - r.radius_m;
+      b.hi[d] = r.center_m[d] + r.radius_m;
+    }
+  }
+  return b;
+}
+
+Real volume(const RegionConfig& r, int dim) {
+  if (r.type == RegionType::Box) {
+    Real v = 1;
+    for (int d = 0; d < dim; ++d)
+      v *= r.max_m[d] - r.min_m[d];
+    return v;
+  }
+  return dim == 2 ? M_PI * r.radius_m * r.radius_m
+                  : 4.0 / 3.0 * M_PI * r.radius_m * r.radius_m * r.radius_m;
+}
+
+// Distance from p to a box (0 inside).
+Real distance_to_box(const Vec3& p, const Aabb& b, int dim) {
+  Real s = 0;
+  for (int d = 0; d < dim; ++d) {
+    const Real e = std::max({b.lo[d] - p[d], 0.0, p[d] - b.hi[d]});
+    s += e * e;
+  }
+  return std::sqrt(s);
+}
+
+// True when the two regions share a volume of positive measure (touching is allowed).
+bool overlap(const RegionConfig& a, const RegionConfig& b, int dim) {
+  const bool a_box = a.type == RegionType::Box, b_box = b.type == RegionType::Box;
+  if (a_box && b_box) {
+    const Aabb p = bounds(a, dim), q = bounds(b, dim);
+    for (int d = 0; d < dim; ++d)
+      if (p.hi[d] <= q.lo[d] || q.hi[d] <= p.lo[d]) return false;
+    return true;
+  }
+  if (!a_box && !b_box) {
+    Real s = 0;
+    for (int d = 0; d < dim; ++d)
+      s += (a.center_m[d] - b.center_m[d]) * (a.center_m[d] - b.center_m[d]);
+    return std::sqrt(s) < a.radius_m + b.radius_m;
+  }
+  const RegionConfig& ball = a_box ? b : a;
+  const RegionConfig& box = a_box ? a : b;
+  return distance_to_box(ball.center_m, bounds(box, dim), dim) < ball.radius_m;
+}
+
+std::string vec_text(const Vec3& v, int dim) {
+  return dim == 2 ? fmt::format("({}, {})", v[0], v[1])
+                  : fmt::format("({}, {}, {})", v[0], v[1], v[2]);
+}
+
+class Builder {
+ public:
+  Builder(toml::table& root, std::string file) : root_(root), file_(std::move(file)) {}
+
+  Config build() {
+    Config c;
+    c.file = file_;
+    const SourceLocation top{file_, 1, 0};
+    const auto& sc = table(root_, "scenario");
+    c.name = str(sc, "name");
+    c.description = str(sc, "description");
+    c.dimension = static_cast<int>(sc.get("dimension")->as_integer()->get());
+    c.end_time_s = num(sc, "end_time_s");
+    const int dim = c.dimension;
+
+    const auto& tt = table(root_, "time");
+    c.time.safety_factor = num(tt, "safety_factor");
+    c.time.fixed_dt_s = opt_num(tt, "fixed_dt_s");
+    c.time.fixed_dt_where = loc(tt, "fixed_dt_s", top);
+    c.time.max_steps = tt.get("max_steps")->as_integer()->get();
+
+    const auto& ot = table(root_, "output");
+    c.output.interval_s = opt_num(ot, "interval_s").value_or(c.end_time_s / 20);
+    c.output.history_every = ot.get("history_every")->as_integer()->get();
+    c.output.vtu = ot.get("vtu")->as_boolean()->get();
+    c.output.vtu_encoding =
+        str(ot, "vtu_encoding") == "base64" ? VtuEncoding::Base64 : VtuEncoding::Appended;
+    if (c.output.interval_s > c.end_time_s)
+      c.warnings.push_back(fmt::format(
+          "output.interval_s = {} s exceeds scenario.end_time_s = {} s: only the first and "
+          "last frames are written",
+          c.output.interval_s, c.end_time_s));
+
+    const auto& dt = table(root_, "domain");
+    c.domain.min_m = vec3(dt, "min_m");
+    c.domain.max_m = vec3(dt, "max_m");
+    c.domain.gravity_m_s2 = vec3(dt, "gravity_m_s2");
+    for (int d = 0; d < dim; ++d)
+      if (!(c.domain.max_m[d] > c.domain.min_m[d])) {
+        domain_ok_ = false;
+        error(loc(dt, "max_m", top), "domain.max_m",
+              fmt::format("expected every component above domain.min_m = {}, got {}",
+                          vec_text(c.domain.min_m, dim), vec_text(c.domain.max_m, dim)));
+        break;
+      }
+
+    read_materials(c, top);
+    read_parts(c, top);
+    if (!errors_.empty()) throw InputErrors(std::move(errors_));
+    return c;
+  }
+
+ private:
+  void error(const SourceLocation& w, const std::string& key, const std::string& what) {
+    errors_.emplace_back(w, key, what);
+  }
+
+  // A law's constant problems, each at the line and key of the constant at fault.
+  void report(const toml::table& t, const SourceLocation& w, const std::string& key,
+              const std::vector<materials::ConstantProblem>& problems) {
+    for (const auto& p : problems) {
+      if (p.key.empty())
+        error(w, key, p.message);
+      else
+        error(loc(t, p.key.c_str(), w), key + "." + p.key, p.message);
+    }
+  }
+
+  void read_materials(Config& c, const SourceLocation& top) {
+    const auto& arr = *root_.get("materials")->as_array();
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const auto& t = *arr.get(i)->as_table();
+      const SourceLocation w = where_of(t, top);
+      const std::string key = fmt::format("materials[{}]", i);
+      MaterialConfig m;
+      m.name = str(t, "name");
+      m.model = str(t, "model");
+      m.where = w;
+      m.rho0_kg_m3 = num(t, "rho0_kg_m3");
+      for (const auto& other : c.materials)
+        if (other.name == m.name)
+          error(loc(t, "name", w), key + ".name",
+                fmt::format("duplicate material name '{}' (first at line {})", m.name,
+                            other.where.line));
+      if (m.model == "jwl") {
+        materials::JwlParams p;
+        p.rho0_kg_m3 = m.rho0_kg_m3;
+        p.a_pa = num(t, "a_pa");
+        p.b_pa = num(t, "b_pa");
+        p.r1 = num(t, "r1");
+        p.r2 = num(t, "r2");
+        p.omega = num(t, "omega");
+        p.e0_j_m3 = num(t, "e0_j_m3");
+        p.d_cj_m_s = num(t, "d_cj_m_s");
+        report(t, w, key, materials::jwl_check(p));
+        m.eos = p;
+      } else if (m.model == "ideal_gas") {
+        materials::IdealGasParams p;
+        p.gamma = num(t, "gamma");
+        report(t, w, key, materials::ideal_gas_check(p));
+        m.eos = p;
+      } else {
+        materials::TaitParams p;
+        p.rho0_kg_m3 = m.rho0_kg_m3;
+        p.c0_m_s = num(t, "c0_m_s");
+        p.gamma = num(t, "gamma");
+        p.background_pa = num(t, "background_pa");
+        report(t, w, key, materials::tait_check(p));
+        m.eos = p;
+      }
+      c.materials.push_back(std::move(m));
+    }
+  }
+
+  RegionConfig read_region(const toml::table& t, const SourceLocation& w, const std::string& key,
+                           int dim) {
+    RegionConfig r;
+    r.where = w;
+    const std::string type = str(t, "type");
+    if (type == "box") {
+      r.type = RegionType::Box;
+      r.min_m = vec3(t, "min_m");
+      r.max_m = vec3(t, "max_m");
+      for (int d = 0; d < dim; ++d)
+        if (!(r.max_m[d] > r.min_m[d]))
+          error(loc(t, "max_m", w), key + ".max_m",
+                fmt::format("expected every component above min_m = {}, got {}",
+                            vec_text(r.min_m, dim), vec_text(r.max_m, dim)));
+    } else {
+      r.type = type == "disk" ? RegionType::Disk : RegionType::Sphere;
+      r.center_m = vec3(t, "center_m");
+      r.radius_m = num(t, "radius_m");
+      if (type == "disk" && dim != 2)
+        error(loc(t, "type", w), key + ".type", "\"disk\" is a 2D region; in 3D use \"sphere\"");
+      if (type == "sphere" && dim != 3)
+        error(loc(t, "type", w), key + ".type",
+              "\"sphere\" is a 3D region; in 2D (plane strain) use \"disk\"");
+    }
+    return r;
+  }
+
+  void read_parts(Config& c, const SourceLocation& top) {
+    const int dim = c.dimension;
+    const auto& arr = *root_.get("parts")->as_array();
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const auto& t = *arr.get(i)->as_table();
+      const SourceLocation w = where_of(t, top);
+      const std::string key = fmt::format("parts[{}]", i);
+      PartConfig p;
+      p.where = w;
+      p.name = str(t, "name");
+      p.method = str(t, "method");
+      p.spacing_m = num(t, "spacing_m");
+      for (const auto& other : c.parts)
+        if (other.name == p.name)
+          error(
+              loc(t, "name", w), key + ".name",
+              fmt::format("duplicate part name '{}' (first at line {})", p.name, other.where.line));
+      const bool name_ok = !p.name.empty() && p.name.size() <= 64 && p.name.front() != '.' &&
+                           std::all_of(p.name.begin(), p.name.end(), [](unsigned char ch) {
+                             return std::isalnum(ch) || ch == '_' || ch == '-' || ch == '.';
+                           });
+      if (!name_ok)
+        error(loc(t, "name", w), key + ".name",
+              "expected 1-64 characters from A-Z a-z 0-9 _ - . (no spaces, control characters "
+              "or path separators; not starting with '.'): the name names output files");
+
+      const std::string mat = str(t, "material");
+      auto it = std::find_if(c.materials.begin(), c.materials.end(),
+                             [&](const MaterialConfig& m) { return m.name == mat; });
+      if (it == c.materials.end()) {
+        std::string known;
+        for (const auto& m : c.materials)
+          known += (known.empty() ? "" : ", ") + m.name;
+        error(loc(t, "material", w), key + ".material",
+              fmt::format("unknown material '{}' (defined: {})", mat, known));
+      } else {
+        p.material = static_cast<std::size_t>(it - c.materials.begin());
+      }
+
+      const auto& rt = table(t, "region");
+      p.region = read_region(rt, where_of(rt, w), key + ".region", dim);
+
+      const auto& it_init = table(t, "initial");
+      p.initial.density_kg_m3 = opt_num(it_init, "density_kg_m3");
+      p.initial.pressure_pa = opt_num(it_init, "pressure_pa");
+      p.initial.velocity_m_s = vec3(it_init, "velocity_m_s");
+
+      // Inside the domain (when both are well formed: one error per mistake).
+      const Aabb b = bounds(p.region, dim);
+      bool well_formed = domain_ok_;
+      for (int d = 0; d < dim; ++d)
+        well_formed = well_formed && b.hi[d] > b.lo[d];
+      for (int d = 0; d < dim && well_formed; ++d)
+        if (b.lo[d] < c.domain.min_m[d] || b.hi[d] > c.domain.max_m[d]) {
+          error(where_of(rt, w), key + ".region",
+                fmt::format("expected the region inside the domain {} .. {}; it spans {} .. {}",
+                            vec_text(c.domain.min_m, dim), vec_text(c.domain.max_m, dim),
+                            vec_text(b.lo, dim), vec_text(b.hi, dim)));
+          break;
+        }
+
+      // Resolution: at least a few particles across, and not an absurd count.
+      const Real vol = volume(p.region, dim);
+      const Real count = vol / std::pow(p.spacing_m, dim);
+      Real min_extent = 1e300;
+      for (int d = 0; d < dim; ++d)
+        min_extent = std::min(min_extent, b.hi[d] - b.lo[d]);
+      if (!(min_extent > 0)) {
+        // An inverted region was reported above.
+      } else if (p.spacing_m > min_extent / 2)
+        error(loc(t, "spacing_m", w), key + ".spacing_m",
+              fmt::format("expected a spacing below half the region's smallest extent ({} m), "
+                          "got {} m",
+                          min_extent / 2, p.spacing_m));
+      else if (count > kMaxEntities)
+        error(loc(t, "spacing_m", w), key + ".spacing_m",
+              fmt::format("spacing {} m gives about {:.3g} particles, above the limit of {:.0e}",
+                          p.spacing_m, count, kMaxEntities));
+
+      if (p.method == "sph") read_sph(c, t, w, key, p);
+      c.parts.push_back(std::move(p));
+    }
+
+    // Bodies must not overlap (e.g. the plate "at 0.5 m depth" read as its top face).
+    for (std::size_t a = 0; a < c.parts.size(); ++a)
+      for (std::size_t b = a + 1; b < c.parts.size(); ++b)
+        if (overlap(c.parts[a].region, c.parts[b].region, dim))
+          error(c.parts[b].region.where, fmt::format("parts[{}].region", b),
+                fmt::format("bodies overlap: part '{}' intersects part '{}' (line {})",
+                            c.parts[b].name, c.parts[a].name, c.parts[a].region.where.line));
+  }
+
+  void read_sph(const Config& c, const toml::table& t, const SourceLocation& w,
+                const std::string& key, PartConfig& p) {
+    const int dim = c.dimension;
+    const auto& st = table(t, "sph");
+    p.sph.kernel = str(st, "kernel") == "cubic_spline" ? sph::KernelKind::CubicSpline
+                                                       : sph::KernelKind::WendlandC2;
+    p.sph.h_factor = num(st, "h_factor");
+    p.sph.av_alpha = num(st, "av_alpha");
+    p.sph.av_beta = num(st, "av_beta");
+    p.sph.cfl = num(st, "cfl");
+    if (const toml::node* dn = t.get("detonation")) {
+      const auto& da = *dn->as_array();
+      const bool jwl = p.material < c.materials.size() && c.materials[p.material].model == "jwl";
+      for (std::size_t j = 0; j < da.size(); ++j) {
+        const auto& dtab = *da.get(j)->as_table();
+        DetonationPoint dp;
+        dp.point_m = vec3(dtab, "point_m");
+        dp.time_s = num(dtab, "time_s");
+        const SourceLocation dw = where_of(dtab, w);
+        if (!jwl)
+          error(dw, fmt::format("{}.detonation[{}]", key, j),
+                "detonation points need a JWL material (the part's material is not \"jwl\")");
+        for (int d = 0; d < dim; ++d)
+          if (dp.point_m[d] < c.domain.min_m[d] || dp.point_m[d] > c.domain.max_m[d]) {
+            error(loc(dtab, "point_m", dw), fmt::format("{}.detonation[{}].point_m", key, j),
+                  "expected a point inside the domain, got " + vec_text(dp.point_m, dim));
+            break;
+          }
+        p.detonations.push_back(dp);
+      }
+    }
+  }
+
+  toml::table& root_;
+  std::string file_;
+  std::vector<InputError> errors_;
+  bool domain_ok_ = true;
+};
+
+Config load_table(toml::table root, const std::string& file,
+                  const std::vector<std::string>& overrides) {
+  for (const auto& o : overrides)
+    apply_override(root, o);
+
+  // The dimension is needed first: it sets the length of every vector key.
+  int dim = 2;
+  if (auto* sc = root.get("scenario"); sc && sc->is_table())
+    if (auto* d = sc->as_table()->get("dimension"); d && d->is_integer()) {
+      const auto v = d->as_integer()->get();
+      if (v == 2 || v == 3) dim = static_cast<int>(v);
+    }
+
+  std::vector<InputError> errors;
+  validate_table(root, scenario_schema(), "", dim, SourceLocation{file, 1, 0}, errors);
+  if (!errors.empty()) throw InputErrors(std::move(errors));
+
+  Config c = Builder(root, file).build();
+  std::ostringstream os;
+  os << root;
+  c.effective_toml = os.str();
+  c.hash = fnv1a_hex(c.effective_toml);
+  return c;
+}
+
+toml::table parse_text(const std::string& text, const std::string& source_name) {
+  try {
+    return toml::parse(std::string_view(text), source_name);
+  } catch (const toml::parse_error& e) {
+    const auto& s = e.source();
+    SourceLocation w{source_name, static_cast<int>(s.begin.line), static_cast<int>(s.begin.column)};
+    throw InputError(w, "", "TOML syntax error: " + std::string(e.description()));
+  }
+}
+
+}  // namespace
+
+fs::path bundled_scenario_dir() {
+  // Installed layout: <prefix>/bin/crater and <prefix>/share/crater/scenarios.
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share/crater/scenarios";
+    if (fs::is_directory(installed, ec)) return installed;
+  }
+  return fs::path(CRATER_SCENARIO_DIR);
+}
+
+std::vector<std::string> bundled_scenarios() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(bundled_scenario_dir(), ec))
+    if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+fs::path resolve_scenario(const std::string& path_or_name) {
+  std::error_code ec;
+  const fs::path p(path_or_name);
+  if (fs::exists(p, ec)) {
+    if (!fs::is_regular_file(p, ec))
+      throw InputError({path_or_name, 0, 0}, "", "expected a scenario file, got a directory");
+    return p;
+  }
+  if (path_or_name.find('/') == std::string::npos) {
+    const fs::path bundled = bundled_scenario_dir() / (path_or_name + ".toml");
+    if (fs::exists(bundled, ec)) return bundled;
+  }
+  std::string known;
+  for (const auto& n : bundled_scenarios())
+    known += (known.empty() ? "" : ", ") + n;
+  throw InputError({path_or_name, 0, 0}, "",
+                   "no such file, and no bundled scenario of that name (bundled: " + known + ")");
+}
+
+Config load_scenario(const std::string& path_or_name, const std::vector<std::string>& overrides) {
+  const fs::path path = resolve_scenario(path_or_name);
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) throw InputError({path.string(), 0, 0}, "", "cannot read the file: " + ec.message());
+  if (size > kMaxScenarioBytes)
+    throw InputError({path.string(), 0, 0}, "",
+                     fmt::format("file is {} bytes; a scenario file is at most {} bytes", size,
+                                 kMaxScenarioBytes));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError({path.string(), 0, 0}, "", "cannot open the file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return load_scenario_text(ss.str(), path.string(), overrides);
+}
+
+Config load_scenario_text(const std::string& text, const std::string& source_name,
+                          const std::vector<std::string>& overrides) {
+  if (text.find('\0') != std::string::npos)
+    throw InputError({source_name, 0, 0}, "", "expected a text (TOML) file, found a NUL byte");
+  return load_table(parse_text(text, source_name), source_name, overrides);
+}
+
+}  // namespace crater::io

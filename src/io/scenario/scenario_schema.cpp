@@ -1,0 +1,389 @@
+// Every key of a scenario file. Adding a key: one entry here (docs follow from it), one field in
+// Config, one line in the builder.
+#include <fmt/format.h>
+
+#include "io/scenario/schema.hpp"
+
+namespace crater::io {
+namespace {
+
+KeySchema real(std::string name, std::string unit, std::string doc) {
+  KeySchema k;
+  k.name = std::move(name);
+  k.type = KeyType::Real;
+  k.unit = std::move(unit);
+  k.doc = std::move(doc);
+  return k;
+}
+KeySchema required(KeySchema k) {
+  k.required = true;
+  return k;
+}
+KeySchema with_default(KeySchema k, std::string toml_literal) {
+  k.default_toml = std::move(toml_literal);
+  return k;
+}
+KeySchema at_least(KeySchema k, double v) {
+  k.min = v;
+  return k;
+}
+KeySchema positive(KeySchema k) {
+  k.min = 0;
+  k.min_exclusive = true;
+  return k;
+}
+KeySchema at_most(KeySchema k, double v) {
+  k.max = v;
+  return k;
+}
+KeySchema of_type(KeySchema k, KeyType t) {
+  k.type = t;
+  return k;
+}
+KeySchema choice(std::string name, std::vector<std::string> choices, std::string doc) {
+  KeySchema k;
+  k.name = std::move(name);
+  k.type = KeyType::Choice;
+  k.choices = std::move(choices);
+  k.doc = std::move(doc);
+  return k;
+}
+KeySchema text(std::string name, std::string doc) {
+  KeySchema k;
+  k.name = std::move(name);
+  k.type = KeyType::String;
+  k.doc = std::move(doc);
+  return k;
+}
+KeySchema vec(std::string name, std::string unit, std::string doc) {
+  return of_type(real(std::move(name), std::move(unit), std::move(doc)), KeyType::RealVector);
+}
+KeySchema sub(std::string name, KeyType t, const TableSchema& s, std::string doc) {
+  KeySchema k;
+  k.name = std::move(name);
+  k.type = t;
+  k.sub = &s;
+  k.doc = std::move(doc);
+  return k;
+}
+
+TableSchema make_scenario() {
+  TableSchema t{"scenario", "What the run is.", {}, {}, {}};
+  t.keys = {
+      required(text("name", "Short name of the scenario; written to summary.json.")),
+      with_default(text("description", "Free text shown by `crater check` and in the report."),
+                   "\"\""),
+      with_default(at_most(at_least(of_type(real("dimension", "1",
+                                                 "2 (plane strain, per metre of depth) or 3."),
+                                            KeyType::Integer),
+                                    2),
+                           3),
+                   "2"),
+      required(positive(real("end_time_s", "s", "Simulated time at which the run stops."))),
+  };
+  return t;
+}
+
+TableSchema make_time() {
+  TableSchema t{"time", "The explicit time step.", {}, {}, {}};
+  t.keys = {
+      with_default(
+          at_most(positive(real("safety_factor", "1",
+                                "Global step = safety_factor x the smallest stable step of "
+                                "all parts.")),
+                  1.0),
+          "0.9"),
+      positive(real("fixed_dt_s", "s",
+                    "Use this step instead of the computed one. Rejected if it exceeds the "
+                    "stable step (the limiting part is named). Unset: computed every step.")),
+      with_default(
+          at_least(of_type(real("max_steps", "1", "Stop after this many steps (0: no limit)."),
+                           KeyType::Integer),
+                   0),
+          "0"),
+  };
+  return t;
+}
+
+TableSchema make_output() {
+  TableSchema t{"output", "What is written to the run directory.", {}, {}, {}};
+  t.keys = {
+      positive(
+          real("interval_s", "s", "Simulated time between VTU frames. Unset: end_time_s / 20.")),
+      with_default(at_least(of_type(real("history_every", "1",
+                                         "Write a history.csv row every this many steps."),
+                                    KeyType::Integer),
+                            1),
+                   "10"),
+      with_default(of_type(real("vtu", "", "Write VTU/PVD files."), KeyType::Bool), "true"),
+      with_default(choice("vtu_encoding", {"appended", "base64"},
+                          "VTU data layout: raw appended binary (smallest, fastest) or inline "
+                          "base64."),
+                   "\"appended\""),
+  };
+  return t;
+}
+
+TableSchema make_domain() {
+  TableSchema t{"domain",
+                "The box every entity must stay in. A particle leaving it stops the run "
+                "(exit 3).",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(vec("min_m", "m", "Lower corner.")),
+      required(vec("max_m", "m", "Upper corner; each component above min_m.")),
+      vec("gravity_m_s2", "m/s^2", "Gravitational acceleration. Unset: zero (no gravity)."),
+  };
+  return t;
+}
+
+TableSchema make_material() {
+  TableSchema t{"materials",
+                "Materials, referenced by name from parts. `model` selects the law and its "
+                "keys.",
+                {},
+                "model",
+                {}};
+  t.keys = {
+      required(text("name", "Name used by parts' `material`.")),
+      required(choice("model", {"jwl", "ideal_gas", "tait"}, "Equation of state.")),
+  };
+  t.variants["jwl"] = {
+      required(positive(real("rho0_kg_m3", "kg/m^3", "Unreacted explosive density rho_0."))),
+      required(positive(real("a_pa", "Pa", "JWL A (paper eq. 40)."))),
+      required(positive(real("b_pa", "Pa", "JWL B."))),
+      required(positive(real("r1", "1", "JWL R1."))),
+      required(positive(real("r2", "1", "JWL R2."))),
+      required(positive(real("omega", "1", "JWL Grueneisen coefficient omega."))),
+      required(
+          positive(real("e0_j_m3", "J/m^3", "Detonation energy per unit initial volume E_0."))),
+      required(positive(real("d_cj_m_s", "m/s", "Detonation (Chapman-Jouguet) velocity D."))),
+  };
+  t.variants["ideal_gas"] = {
+      required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density (default initial)."))),
+      required(positive(real("gamma", "1", "Ratio of specific heats; > 1."))),
+  };
+  t.variants["tait"] = {
+      required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density rho_0 (eq. 35)."))),
+      required(positive(real("c0_m_s", "m/s", "Reference sound speed; B = rho_0 c_0^2 / gamma."))),
+      with_default(positive(real("gamma", "1", "Tait exponent.")), "7"),
+      with_default(real("background_pa", "Pa", "Background pressure added to eq. 35."), "0"),
+  };
+  return t;
+}
+
+TableSchema make_region() {
+  TableSchema t{"parts.region", "The space a part fills. `type` selects the keys.", {}, "type", {}};
+  t.keys = {required(choice("type", {"box", "disk", "sphere"},
+                            "box (2D/3D), disk (2D only) or sphere (3D only)."))};
+  t.variants["box"] = {required(vec("min_m", "m", "Lower corner.")),
+                       required(vec("max_m", "m", "Upper corner."))};
+  t.variants["disk"] = {required(vec("center_m", "m", "Centre.")),
+                        required(positive(real("radius_m", "m", "Radius.")))};
+  t.variants["sphere"] = t.variants["disk"];
+  return t;
+}
+
+TableSchema make_initial() {
+  TableSchema t{"parts.initial", "Initial state of the part's material.", {}, {}, {}};
+  t.keys = {
+      positive(real("density_kg_m3", "kg/m^3", "Initial density. Unset: the material's rho0.")),
+      at_least(real("pressure_pa", "Pa",
+                    "Initial pressure (ideal gas: sets the internal energy). Unset: 0, or for "
+                    "JWL the unreacted explosive."),
+               0),
+      vec("velocity_m_s", "m/s", "Initial velocity. Unset: at rest."),
+  };
+  return t;
+}
+
+TableSchema make_sph() {
+  TableSchema t{"parts.sph", "SPH numerics of the part (paper section II-B).", {}, {}, {}};
+  t.keys = {
+      with_default(choice("kernel", {"wendland_c2", "cubic_spline"},
+                          "Smoothing kernel (paper eq. 28: Wendland C2)."),
+                   "\"wendland_c2\""),
+      with_default(at_most(at_least(real("h_factor", "1",
+                                         "Smoothing length h = h_factor x "
+                                         "spacing_m."),
+                                    1.0),
+                           3.0),
+                   "1.3"),
+      with_default(at_least(real("av_alpha", "1", "Monaghan artificial viscosity alpha."), 0),
+                   "1.0"),
+      with_default(at_least(real("av_beta", "1", "Monaghan artificial viscosity beta."), 0), "2.0"),
+      with_default(at_most(positive(real("cfl", "1",
+                                         "Courant number of the SPH stable step (signal "
+                                         "speed).")),
+                           1.0),
+                   "0.3"),
+  };
+  return t;
+}
+
+TableSchema make_detonation() {
+  TableSchema t{"parts.detonation",
+                "Detonation points of an explosive part (programmed burn: a particle lights "
+                "at time_s + distance / D).",
+                {},
+                {},
+                {}};
+  t.keys = {required(vec("point_m", "m", "Detonation point.")),
+            with_default(at_least(real("time_s", "s", "Time the point lights."), 0), "0")};
+  return t;
+}
+
+const TableSchema& region_schema() {
+  static const TableSchema s = make_region();
+  return s;
+}
+const TableSchema& initial_schema() {
+  static const TableSchema s = make_initial();
+  return s;
+}
+const TableSchema& sph_schema() {
+  static const TableSchema s = make_sph();
+  return s;
+}
+const TableSchema& detonation_schema() {
+  static const TableSchema s = make_detonation();
+  return s;
+}
+
+TableSchema make_part() {
+  TableSchema t{"parts",
+                "Bodies of the model, one method each. `method` selects the keys.",
+                {},
+                "method",
+                {}};
+  t.keys = {
+      required(text("name", "Unique part name; names output files.")),
+      required(choice("method", {"sph"}, "Discretisation: sph (more methods follow).")),
+      required(text("material", "Name of an entry of [[materials]].")),
+      required(positive(real("spacing_m", "m", "Particle spacing (lattice pitch)."))),
+      required(sub("region", KeyType::Table, region_schema(), "Where the part is.")),
+      sub("initial", KeyType::Table, initial_schema(), "Initial state."),
+  };
+  t.variants["sph"] = {
+      sub("sph", KeyType::Table, sph_schema(), "SPH numerics."),
+      sub("detonation", KeyType::TableArray, detonation_schema(),
+          "Detonation points (JWL materials only). None: the part starts as detonation "
+          "products at the CJ energy (constant-volume burn)."),
+  };
+  return t;
+}
+
+}  // namespace
+
+const TableSchema& scenario_schema() {
+  static const TableSchema scenario = make_scenario();
+  static const TableSchema time = make_time();
+  static const TableSchema output = make_output();
+  static const TableSchema domain = make_domain();
+  static const TableSchema material = make_material();
+  static const TableSchema part = make_part();
+  static const TableSchema root = [] {
+    TableSchema r{"", "A crater scenario file (TOML, SI units).", {}, {}, {}};
+    r.keys = {
+        required(sub("scenario", KeyType::Table, scenario, scenario.doc)),
+        sub("time", KeyType::Table, time, time.doc),
+        sub("output", KeyType::Table, output, output.doc),
+        required(sub("domain", KeyType::Table, domain, domain.doc)),
+        required(sub("materials", KeyType::TableArray, material, material.doc)),
+        required(sub("parts", KeyType::TableArray, part, part.doc)),
+    };
+    return r;
+  }();
+  return root;
+}
+
+namespace {
+
+std::string type_doc(const KeySchema& k) {
+  switch (k.type) {
+    case KeyType::Real:
+      return "number";
+    case KeyType::Integer:
+      return "integer";
+    case KeyType::Bool:
+      return "bool";
+    case KeyType::String:
+      return "string";
+    case KeyType::Choice: {
+      std::string s;
+      for (std::size_t i = 0; i < k.choices.size(); ++i)
+        s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
+      return s;
+    }
+    case KeyType::RealVector:
+      return "[number; dimension]";
+    case KeyType::RealArray:
+      return "[number, ...]";
+    case KeyType::Table:
+      return "table";
+    case KeyType::TableArray:
+      return "array of tables";
+  }
+  return "";
+}
+
+std::string range_doc(const KeySchema& k) {
+  std::string s;
+  if (k.min) s += fmt::format("{} {}", k.min_exclusive ? ">" : "≥", *k.min);
+  if (k.max) s += fmt::format("{}≤ {}", s.empty() ? "" : ", ", *k.max);
+  return s;
+}
+
+void key_rows(std::string& md, const std::vector<KeySchema>& keys) {
+  md += "| key | type | unit | default | range | meaning |\n";
+  md += "| --- | --- | --- | --- | --- | --- |\n";
+  for (const auto& k : keys) {
+    const std::string def =
+        k.required ? "**required**" : (k.default_toml ? "`" + *k.default_toml + "`" : "unset");
+    md += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", k.name, type_doc(k),
+                      k.unit.empty() ? "" : k.unit, def, range_doc(k), k.doc);
+  }
+  md += "\n";
+}
+
+void table_section(std::string& md, const TableSchema& t, bool array) {
+  const std::string header = array ? "[[" + t.name + "]]" : "[" + t.name + "]";
+  md += fmt::format("## `{}`\n\n{}\n\n", header, t.doc);
+  key_rows(md, t.keys);
+  for (const auto& [name, keys] : t.variants) {
+    md += fmt::format("### `{}` = `\"{}\"`\n\n", t.discriminator, name);
+    key_rows(md, keys);
+  }
+  auto recurse = [&](const std::vector<KeySchema>& keys) {
+    for (const auto& k : keys)
+      if (k.sub) table_section(md, *k.sub, k.type == KeyType::TableArray);
+  };
+  recurse(t.keys);
+  for (const auto& [name, keys] : t.variants)
+    recurse(keys);
+}
+
+}  // namespace
+
+std::string schema_markdown() {
+  std::string md =
+      "# Scenario file format\n\n"
+      "<!-- Generated by `crater schema --markdown` from src/io/scenario/scenario_schema.cpp; "
+      "a test keeps the two equal. Edit the schema, then run `make docs`. -->\n\n"
+      "A scenario is a TOML file in SI units. Every key is listed below with its type, unit, "
+      "default and allowed range. Unknown keys are errors; so are values of the wrong type or "
+      "outside their range. Errors name the file, the line and the key, and `crater` exits "
+      "with code 2 before any simulation work. Any key can be overridden from the command "
+      "line with `--set path.to.key=VALUE` (VALUE in TOML syntax; array entries by index, "
+      "e.g. `--set parts.0.spacing_m=0.01`, or by name, `--set parts.charge.spacing_m=0.01`).\n\n"
+      "Vectors (`[number; dimension]`) have as many entries as `scenario.dimension`. In 2D "
+      "(plane strain) masses and energies are per metre of depth.\n\n";
+  const TableSchema& root = scenario_schema();
+  for (const auto& k : root.keys)
+    if (k.sub) table_section(md, *k.sub, k.type == KeyType::TableArray);
+  return md;
+}
+
+}  // namespace crater::io

@@ -1,0 +1,58 @@
+// A declarative schema for scenario files: every key with its type, unit, default, range and
+// documentation. The same tables validate input (io/scenario/validate.cpp) and generate
+// docs/scenario-format.md (`crater schema --markdown`), so the two cannot drift apart.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace crater::io {
+
+enum class KeyType {
+  Real,        // floating point (integers are accepted and converted)
+  Integer,     // integer
+  Bool,        // true / false
+  String,      // free text
+  Choice,      // one of `choices`
+  RealVector,  // array of reals with `dimension` entries
+  RealArray,   // array of reals of any length
+  Table,       // sub-table described by `sub`
+  TableArray,  // array of tables ([[name]]) each described by `sub`
+};
+
+struct TableSchema;
+
+struct KeySchema {
+  std::string name;
+  KeyType type = KeyType::Real;
+  std::string unit;       // SI unit, "1" for dimensionless, "" for non-numbers
+  std::string doc;        // one or two sentences
+  bool required = false;  // no default: must be given
+  std::optional<std::string>
+      default_toml;           // default as a TOML literal, e.g. "0.9", "\"wendland_c2\""
+  std::optional<double> min;  // inclusive unless min_exclusive
+  bool min_exclusive = false;
+  std::optional<double> max;         // inclusive
+  std::vector<std::string> choices;  // for Choice
+  const TableSchema* sub = nullptr;  // for Table / TableArray
+};
+
+/// A table's keys. A table with a discriminator (e.g. `model` of a material) has common keys
+/// plus the keys of the variant the discriminator selects.
+struct TableSchema {
+  std::string name;  // dotted path used in docs, e.g. "parts.sph"
+  std::string doc;
+  std::vector<KeySchema> keys;
+  std::string discriminator;  // name of a Choice key among `keys`, or empty
+  std::map<std::string, std::vector<KeySchema>> variants;
+};
+
+/// The root schema of a scenario file.
+const TableSchema& scenario_schema();
+
+/// Markdown reference of every key (docs/scenario-format.md is this text).
+std::string schema_markdown();
+
+}  // namespace crater::io

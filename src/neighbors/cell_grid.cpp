@@ -1,0 +1,155 @@
+#include "neighbors/cell_grid.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace crater::neighbors {
+
+namespace {
+
+// Relative enlargement of the cell: cell coordinates carry a rounding error of a few ulps of
+// their magnitude (at most ~4e8 cells per axis here), far below this margin.
+constexpr Real kCellMargin = 1e-6;
+
+// Below this size the OpenMP fork costs more than the loop.
+constexpr Index kParallelMin = 16384;
+
+std::string to_string_g(Real v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+}  // namespace
+
+template <int D>
+GridSpec<D> make_grid_spec(std::span<const Vec<D>> x, Real cell_size) {
+  if (!(cell_size > 0) || !std::isfinite(cell_size)) {
+    throw std::invalid_argument("cell grid: cell size must be positive and finite, got " +
+                                to_string_g(cell_size));
+  }
+  const Index n = static_cast<Index>(x.size());
+  GridSpec<D> g;
+  g.cell_size = cell_size * (1 + kCellMargin);
+  if (n == 0) return g;
+
+  constexpr Real inf = std::numeric_limits<Real>::infinity();
+  Vec<D> lo = Vec<D>::Constant(inf);
+  Vec<D> hi = Vec<D>::Constant(-inf);
+  Index bad = n;  // first point with a non-finite coordinate
+#pragma omp parallel if (n >= kParallelMin)
+  {
+    Vec<D> tlo = Vec<D>::Constant(inf);
+    Vec<D> thi = Vec<D>::Constant(-inf);
+    Index tbad = n;
+#pragma omp for schedule(static) nowait
+    for (Index i = 0; i < n; ++i) {
+      const Vec<D>& p = x[static_cast<std::size_t>(i)];
+      if (!p.allFinite()) {
+        tbad = std::min(tbad, i);
+        continue;
+      }
+      tlo = tlo.cwiseMin(p);
+      thi = thi.cwiseMax(p);
+    }
+    // min/max are exact, so the merge order does not matter.
+#pragma omp critical(crater_neighbors_bbox)
+    {
+      lo = lo.cwiseMin(tlo);
+      hi = hi.cwiseMax(thi);
+      bad = std::min(bad, tbad);
+    }
+  }
+  if (bad < n) {
+    throw std::invalid_argument("cell grid: non-finite coordinate at point " + std::to_string(bad));
+  }
+  const Vec<D> extent = hi - lo;
+  if (!extent.allFinite()) {
+    throw std::invalid_argument("cell grid: coordinate range overflows double");
+  }
+
+  // Memory guard: at most `cap` cells. Bounding each axis first keeps the product finite.
+  const Real cap = 4.0 * static_cast<Real>(n) + 64.0;
+  Real h = std::max(g.cell_size, extent.maxCoeff() / cap);
+  const auto cells_for = [&extent](Real size) {
+    Real prod = 1;
+    for (int k = 0; k < D; ++k)
+      prod *= std::floor(extent[k] / size) + 1;
+    return prod;
+  };
+  for (Real prod = cells_for(h); prod > cap; prod = cells_for(h)) {
+    h *= std::max(Real(1.01), std::pow(prod / cap, Real(1) / D));
+  }
+
+  g.origin = lo;
+  g.cell_size = h;
+  // Same expression as cell_coords, so a point on the max face lands in the last cell.
+  for (int k = 0; k < D; ++k)
+    g.dims[k] = static_cast<Index>(std::floor(extent[k] / h)) + 1;
+  return g;
+}
+
+namespace detail {
+
+template <int D>
+void bucket_by_cell(std::span<const Vec<D>> x, const GridSpec<D>& grid,
+                    std::vector<Index>& cell_start, std::vector<Index>& order,
+                    std::vector<Index>& cell) {
+  const Index n = static_cast<Index>(x.size());
+  const Index ncell = grid.cell_count();
+  cell.resize(static_cast<std::size_t>(n));
+  order.resize(static_cast<std::size_t>(n));
+  cell_start.assign(static_cast<std::size_t>(ncell + 1), 0);
+
+#pragma omp parallel for schedule(static) if (n >= kParallelMin)
+  for (Index i = 0; i < n; ++i) {
+    cell[static_cast<std::size_t>(i)] = grid.cell_index(x[static_cast<std::size_t>(i)]);
+  }
+  // Counting sort, serial: it is a small part of the build and stays trivially stable.
+  Index* start = cell_start.data();
+  const Index* ci = cell.data();
+  for (Index i = 0; i < n; ++i)
+    ++start[ci[i] + 1];
+  for (Index c = 0; c < ncell; ++c)
+    start[c + 1] += start[c];
+  Index* ord = order.data();
+  for (Index i = 0; i < n; ++i)
+    ord[start[ci[i]]++] = i;
+  // The scatter advanced each start to the next cell's start; shift back.
+  for (Index c = ncell; c > 0; --c)
+    start[c] = start[c - 1];
+  start[0] = 0;
+}
+
+}  // namespace detail
+
+template <int D>
+std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size) {
+  const GridSpec<D> grid = make_grid_spec<D>(x, cell_size);
+  std::vector<Index> cell_start;
+  std::vector<Index> order;
+  std::vector<Index> cell;
+  detail::bucket_by_cell<D>(x, grid, cell_start, order, cell);
+  return order;
+}
+
+template struct GridSpec<2>;
+template struct GridSpec<3>;
+template GridSpec<2> make_grid_spec<2>(std::span<const Vec<2>>, Real);
+template GridSpec<3> make_grid_spec<3>(std::span<const Vec<3>>, Real);
+template std::vector<Index> cell_sort_order<2>(std::span<const Vec<2>>, Real);
+template std::vector<Index> cell_sort_order<3>(std::span<const Vec<3>>, Real);
+template void detail::bucket_by_cell<2>(std::span<const Vec<2>>, const GridSpec<2>&,
+                                        std::vector<Index>&, std::vector<Index>&,
+                                        std::vector<Index>&);
+template void detail::bucket_by_cell<3>(std::span<const Vec<3>>, const GridSpec<3>&,
+                                        std::vector<Index>&, std::vector<Index>&,
+                                        std::vector<Index>&);
+
+}  // namespace crater::neighbors

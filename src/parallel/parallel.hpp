@@ -1,0 +1,80 @@
+// OpenMP helpers. Every reduction here gives the same bits for any thread count: the range is
+// cut into fixed-size blocks independent of the number of threads, each block is summed in
+// order, and the block sums are added in block order by one thread.
+#pragma once
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace crater::parallel {
+
+/// Block size for deterministic reductions; fixed so that results never depend on threads.
+inline constexpr Index kReduceBlock = 4096;
+
+inline int max_threads() {
+  return omp_get_max_threads();
+}
+inline void set_threads(int n) {
+  if (n > 0) omp_set_num_threads(n);
+}
+
+/// for i in [0, n): f(i), in parallel. f must only write to entity i's own data.
+template <class F>
+void for_each(Index n, F&& f) {
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i)
+    f(i);
+}
+
+/// Sum of f(i) over [0, n) with a fixed association order (bit-identical for any thread count).
+/// T must support T{} + T and +=.
+template <class T, class F>
+T deterministic_sum(Index n, F&& f) {
+  const Index blocks = (n + kReduceBlock - 1) / kReduceBlock;
+  if (blocks <= 1) {
+    T s{};
+    for (Index i = 0; i < n; ++i)
+      s += f(i);
+    return s;
+  }
+  std::vector<T> partial(static_cast<std::size_t>(blocks), T{});
+#pragma omp parallel for schedule(static)
+  for (Index b = 0; b < blocks; ++b) {
+    T s{};
+    const Index end = std::min(n, (b + 1) * kReduceBlock);
+    for (Index i = b * kReduceBlock; i < end; ++i)
+      s += f(i);
+    partial[static_cast<std::size_t>(b)] = s;
+  }
+  T s{};
+  for (const T& p : partial)
+    s += p;
+  return s;
+}
+
+/// Minimum of f(i) over [0, n) (min is associative and exact, so any order gives the same bits).
+template <class F>
+Real min_over(Index n, Real init, F&& f) {
+  Real m = init;
+#pragma omp parallel for schedule(static) reduction(min : m)
+  for (Index i = 0; i < n; ++i)
+    m = std::min(m, f(i));
+  return m;
+}
+
+/// Maximum of f(i) over [0, n).
+template <class F>
+Real max_over(Index n, Real init, F&& f) {
+  Real m = init;
+#pragma omp parallel for schedule(static) reduction(max : m)
+  for (Index i = 0; i < n; ++i)
+    m = std::max(m, f(i));
+  return m;
+}
+
+}  // namespace crater::parallel

@@ -1,0 +1,96 @@
+// The interface through which a method (SPH, DEM, FEM) joins the time loop (Algorithm 1).
+// A part owns its entities as a FieldSet; the solver only calls the stages below, in order,
+// once per step. Stages are coarse (one call per part per step), so the virtual call costs
+// nothing; inner loops live inside each part and never dispatch per entity.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fields/field_set.hpp"
+
+namespace crater::solver {
+
+/// Energies of one part [J] (per metre of depth in 2D). Work terms are accumulated since t = 0.
+struct Energies {
+  Real kinetic_j = 0;
+  Real internal_j = 0;       // thermal + elastic + plastic work stored in the material
+  Real external_work_j = 0;  // work done ON the part by gravity, walls and prescribed loads
+  Real damping_j = 0;        // dissipated by damping (local, viscous walls)
+  Real hourglass_j = 0;      // FEM hourglass control
+  Real contact_j = 0;        // stored/dissipated in contacts
+  Real eroded_j = 0;         // kinetic + internal energy of eroded entities
+  Energies& operator+=(const Energies& o) {
+    kinetic_j += o.kinetic_j;
+    internal_j += o.internal_j;
+    external_work_j += o.external_work_j;
+    damping_j += o.damping_j;
+    hourglass_j += o.hourglass_j;
+    contact_j += o.contact_j;
+    eroded_j += o.eroded_j;
+    return *this;
+  }
+};
+
+/// The limiting stable step of a part and the entity that limits it.
+struct StableStep {
+  Real dt_s = 0;
+  Index entity_id = -1;
+  std::string reason;  // e.g. "CFL, signal speed 7012 m/s"
+};
+
+/// A problem found in a part's state: a non-finite value, a negative density, ...
+struct Fault {
+  Index entity_id = -1;
+  std::string what;
+};
+
+/// Entities of a part as the output writers see them: points (particles) or an unstructured
+/// mesh (nodes + cells). Cells use VTK cell type ids and connectivity.
+template <int D>
+struct Geometry {
+  const std::vector<Vec<D>>* points = nullptr;
+  // Empty for particle parts (written as VTK_VERTEX cells).
+  std::vector<std::int64_t> connectivity;
+  std::vector<std::int64_t> offsets;  // end offsets, as VTK
+  std::vector<std::uint8_t> cell_types;
+};
+
+template <int D>
+class Part {
+ public:
+  virtual ~Part() = default;
+
+  virtual const std::string& name() const = 0;
+  /// "sph", "dem" or "fem".
+  virtual const char* method() const = 0;
+  /// Number of live entities (particles, or elements for FEM).
+  virtual Index count() const = 0;
+  /// Total mass [kg] (per metre of depth in 2D).
+  virtual Real mass_kg() const = 0;
+
+  /// Largest step this part tolerates in its current state.
+  virtual StableStep stable_step() const = 0;
+  /// Stage "force": internal forces and rates for the current state at time t.
+  virtual void compute_forces(Real t_s) = 0;
+  /// Looks for non-finite or non-physical values after the force stage; the state itself
+  /// is still the last good one then.
+  virtual std::optional<Fault> check() const = 0;
+  /// Stage "advance" (first half of velocity Verlet / kick-drift-kick): v += a dt/2,
+  /// x += v dt, and the other state variables (density, energy, stress) by their rates.
+  virtual void advance(Real t_s, Real dt_s) = 0;
+  /// Stage "finish" (second half kick), after the forces of the new state are known:
+  /// v += a dt/2. Velocities and energies are then those of time t + dt.
+  virtual void finish_step(Real dt_s) = 0;
+
+  virtual Energies energies() const = 0;
+
+  /// For writers: point/cell geometry and the fields carrying the output role.
+  virtual Geometry<D> geometry() const = 0;
+  virtual std::vector<fields::FieldView> point_fields() const = 0;
+  virtual std::vector<fields::FieldView> cell_fields() const { return {}; }
+};
+
+}  // namespace crater::solver

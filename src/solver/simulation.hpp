@@ -1,0 +1,55 @@
+// The explicit time loop of the paper's Algorithm 1, shared by every method:
+//   1. dt = safety x min over parts of their stable step (or the user's fixed step, checked)
+//   2. advance every part from t to t + dt (half kick with the current forces, drift)
+//   3. compute forces of the new state: per part, then couplings between parts
+//   4. check every part for non-finite or non-physical values (exit 3 on failure)
+//   5. finish the step (second half kick); energy bookkeeping, history, output frames
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scenario/config.hpp"
+#include "solver/part.hpp"
+
+namespace crater::solver {
+
+struct RunOptions {
+  std::filesystem::path out_dir = "out";
+  int threads = 0;     // 0: all cores
+  bool force = false;  // overwrite a run directory that already holds a run
+  bool quiet = false;  // no progress output (tests)
+};
+
+/// Stable step of one part, as `crater check` prints it.
+struct PartReport {
+  std::string name;
+  std::string method;
+  Index count = 0;
+  Real mass_kg = 0;
+  StableStep stable;
+};
+
+/// What happened; also written to summary.json.
+struct RunResult {
+  Index steps = 0;
+  Real time_s = 0;
+  double wall_s = 0;
+  int threads = 1;
+};
+
+template <int D>
+std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config);
+
+/// Builds the parts, checks the time step, and reports counts, masses and stable steps.
+/// Throws InputError for a fixed step above the stable limit.
+std::vector<PartReport> check_scenario(const io::Config& config);
+
+/// Runs a scenario to its end time, writing outputs into options.out_dir.
+/// Throws InputError (exit 2) or NumericalError (exit 3, after writing the failure state).
+RunResult run_scenario(const io::Config& config, const RunOptions& options);
+
+}  // namespace crater::solver

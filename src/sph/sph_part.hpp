@@ -1,0 +1,18 @@
+// An SPH part: a body of fluid (detonation products, gas, water) discretised by particles
+// (paper section II-B). Per particle: position, velocity, mass, density (continuity, eq. 32),
+// specific internal energy (energy equation), pressure from the part's EOS.
+#pragma once
+
+#include <memory>
+
+#include "io/scenario/config.hpp"
+#include "solver/part.hpp"
+
+namespace crater::sph {
+
+/// Builds the SPH part described by `part` (particles on a lattice filling its region).
+template <int D>
+std::unique_ptr<solver::Part<D>> make_sph_part(const io::Config& config,
+                                               const io::PartConfig& part);
+
+}  // namespace crater::sph

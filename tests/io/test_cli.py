@@ -1,0 +1,76 @@
+"""The command-line contract (DESIGN section 1): version, list, check, exit codes, run
+directory protection, numerical failure (exit 3, part/entity/time named, last state written)."""
+import json
+import re
+import sys
+import unittest
+
+from crater_test import SOURCE_DIR, crater, read_vtu, scratch
+
+
+class Cli(unittest.TestCase):
+    def test_version(self):
+        p = crater("--version")
+        self.assertRegex(p.stdout, r"^crater \d+\.\d+\.\d+")
+
+    def test_list_names_bundled_scenarios(self):
+        p = crater("list")
+        self.assertIn("demo", p.stdout)
+        bundled = sorted(f.stem for f in (SOURCE_DIR / "scenarios").glob("*.toml"))
+        listed = sorted(line.split()[0] for line in p.stdout.splitlines() if line.strip())
+        self.assertEqual(listed, bundled)
+
+    def test_check_prints_counts_masses_and_steps(self):
+        p = crater("check", "demo")
+        self.assertRegex(p.stdout, r"charge\s+sph\s+\d+\s+[\d.]+\s+[\d.e+-]+")
+        self.assertIn("global step", p.stdout)
+
+    def test_bad_command_line_exits_2(self):
+        self.assertEqual(crater("run", check=False).returncode, 2)
+        self.assertEqual(crater("frobnicate", check=False).returncode, 2)
+        self.assertEqual(crater("run", "demo", "--threads", "0", check=False).returncode, 2)
+        p = crater("run", "no-such-scenario", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("no bundled scenario", p.stderr)
+
+    def test_run_directory_is_not_overwritten_without_force(self):
+        out = scratch("cli_force")
+        crater("run", "demo", "--out", out, "--quiet", "--set", "scenario.end_time_s=2e-6")
+        before = (out / "summary.json").read_bytes()
+        p = crater("run", "demo", "--out", out, "--quiet", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("--force", p.stderr)
+        self.assertEqual((out / "summary.json").read_bytes(), before)
+        crater("run", "demo", "--out", out, "--quiet", "--force", "--set",
+               "scenario.end_time_s=2e-6")
+
+    def test_particle_leaving_the_domain_exits_3_with_state(self):
+        # The demo's charge in a domain barely larger than itself: products leave it.
+        out = scratch("cli_unstable")
+        p = crater("run", "demo", "--out", out, "--quiet", "--force",
+                   "--set", "domain.min_m=[-0.12, -0.12]", "--set", "domain.max_m=[0.12, 0.12]",
+                   check=False)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        m = re.search(r"part 'charge', entity (\d+), t = ([0-9.e+-]+) s: particle left the domain",
+                      p.stderr)
+        self.assertIsNotNone(m, p.stderr)
+        pts, arrays, _, t = read_vtu(out / "charge_failure.vtu")
+        self.assertAlmostEqual(t, float(m.group(2)), delta=1e-12)
+        self.assertIn(int(m.group(1)), arrays["id"].tolist())
+        summary = json.loads((out / "summary.json").read_text())
+        self.assertEqual(summary["status"], "failed")
+        self.assertIn("left the domain", summary["message"])
+
+    def test_fixed_step_that_becomes_unstable_exits_3(self):
+        # Stable at t = 0 (so accepted), but the stable step falls as the products expand.
+        out = scratch("cli_fixed_dt")
+        p = crater("run", "demo", "--out", out, "--quiet", "--force",
+                   "--set", "time.fixed_dt_s=4.7e-7", check=False)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        self.assertRegex(p.stderr, r"numerical failure in part 'charge', entity \d+, t = "
+                                   r"[0-9.e+-]+ s: the fixed time step 4.7e-07 s exceeds")
+        self.assertTrue((out / "charge_failure.vtu").exists())
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -1,0 +1,123 @@
+"""Helpers for crater's Python tests (run by Debian's /usr/bin/python3).
+
+The environment (set by CTest, see tests/CMakeLists.txt):
+  CRATER_BIN         path of the crater binary
+  CRATER_SOURCE_DIR  repository root
+  CRATER_TEST_TMP    scratch directory for run outputs
+"""
+import filecmp
+import json
+import os
+import subprocess
+import tempfile
+from pathlib import Path
+
+BIN = os.environ.get("CRATER_BIN", "build/release/bin/crater")
+SOURCE_DIR = Path(os.environ.get("CRATER_SOURCE_DIR", Path(__file__).resolve().parents[2]))
+TMP = Path(os.environ.get("CRATER_TEST_TMP", tempfile.gettempdir()))
+
+
+def scratch(name):
+    """A fresh, empty scratch directory for one test."""
+    d = TMP / name
+    if d.exists():
+        for p in sorted(d.rglob("*"), reverse=True):
+            p.unlink() if p.is_file() else p.rmdir()
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+def crater(*args, timeout=900, check=True):
+    """Runs crater; returns the CompletedProcess. With check, a non-zero exit fails loudly."""
+    proc = subprocess.run([BIN, *map(str, args)], capture_output=True, text=True, timeout=timeout)
+    if check and proc.returncode != 0:
+        raise AssertionError(
+            f"crater {' '.join(map(str, args))} exited {proc.returncode}\n"
+            f"stdout:\n{proc.stdout}\nstderr:\n{proc.stderr}")
+    return proc
+
+
+def run_scenario(scenario, out_dir, threads=None, sets=(), extra=()):
+    """Runs a scenario quietly into out_dir (overwriting); returns the parsed summary.json."""
+    args = ["run", scenario, "--out", out_dir, "--force", "--quiet"]
+    if threads is not None:
+        args += ["--threads", threads]
+    for s in sets:
+        args += ["--set", s]
+    crater(*args, *extra)
+    with open(Path(out_dir) / "summary.json") as f:
+        return json.load(f)
+
+
+def summary_without_run_block(path):
+    """summary.json minus its "run" block (wall time, threads), which legitimately differs."""
+    with open(path) as f:
+        s = json.load(f)
+    s.pop("run", None)
+    return s
+
+
+def assert_bit_identical_runs(scenario, work_dir, sets=(), threads=(1, 2)):
+    """Runs `scenario` once per thread count and asserts every output file is bit-identical
+    (summary.json: everything but its "run" block). Returns the list of compared files."""
+    dirs = []
+    for n in threads:
+        d = Path(work_dir) / f"threads{n}"
+        run_scenario(scenario, d, threads=n, sets=sets)
+        dirs.append(d)
+    ref = dirs[0]
+    names = sorted(p.name for p in ref.iterdir() if p.is_file())
+    if not any(n.endswith(".vtu") for n in names):
+        raise AssertionError(f"{scenario}: no VTU output to compare in {ref}")
+    for other in dirs[1:]:
+        other_names = sorted(p.name for p in other.iterdir() if p.is_file())
+        if names != other_names:
+            raise AssertionError(f"different file sets: {names} vs {other_names}")
+        for n in names:
+            a, b = ref / n, other / n
+            if n == "summary.json":
+                if summary_without_run_block(a) != summary_without_run_block(b):
+                    raise AssertionError(f"{n} differs between {ref.name} and {other.name}")
+            elif not filecmp.cmp(a, b, shallow=False):
+                raise AssertionError(f"{n} differs between {ref.name} and {other.name}")
+    return names
+
+
+def read_vtu(path):
+    """Reads a .vtu with VTK's own XML reader; returns (points Nx3, {name: array}, n_cells)."""
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    if reader.GetErrorCode() != 0:
+        raise AssertionError(f"VTK could not read {path}")
+    grid = reader.GetOutput()
+    pts = vtk_to_numpy(grid.GetPoints().GetData()) if grid.GetPoints() else None
+    pd = grid.GetPointData()
+    arrays = {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)) for i in range(pd.GetNumberOfArrays())}
+    fd = grid.GetFieldData()
+    time = None
+    if fd.GetArray("TimeValue") is not None:
+        time = float(fd.GetArray("TimeValue").GetValue(0))
+    return pts, arrays, grid.GetNumberOfCells(), time
+
+
+def read_pvd(path):
+    """Reads a .pvd (ParaView collection) with VTK's own XML parser; returns [(time, file)].
+    VTK 9.1 has no PVD reader class (it is ParaView's); vtkXMLUtilities parses VTK XML files."""
+    import vtk
+
+    root = vtk.vtkXMLUtilities.ReadElementFromFile(str(path))
+    if root is None or root.GetName() != "VTKFile" or root.GetAttribute("type") != "Collection":
+        raise AssertionError(f"{path} is not a VTK Collection file")
+    coll = root.FindNestedElementWithName("Collection")
+    if coll is None:
+        raise AssertionError(f"{path} has no <Collection>")
+    out = []
+    for i in range(coll.GetNumberOfNestedElements()):
+        e = coll.GetNestedElement(i)
+        if e.GetName() == "DataSet":
+            out.append((float(e.GetAttribute("timestep")), e.GetAttribute("file")))
+    return out

@@ -1,0 +1,23 @@
+"""Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
+history.csv, and summary.json except its "run" block), in 2D (the demo) and 3D."""
+import sys
+import unittest
+
+from crater_test import SOURCE_DIR, assert_bit_identical_runs, scratch
+
+
+class ThreadDeterminism(unittest.TestCase):
+    def test_demo_2d(self):
+        # Enough particles that parallel loops and blocked reductions split across threads.
+        files = assert_bit_identical_runs("demo", scratch("det_demo"),
+                                          sets=["parts.charge.spacing_m=0.0025"])
+        self.assertIn("history.csv", files)
+
+    def test_sph_3d(self):
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",
+                                          scratch("det_sph3d"))
+        self.assertIn("charge.pvd", files)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
