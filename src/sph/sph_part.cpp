@@ -1,13 +1,19 @@
-// SPH equations as implemented (docs/theory.md has them with the paper's numbers):
-//   continuity (32):  d rho_i/dt = sum_j m_j (v_i - v_j) . grad_i W_ij
-//   momentum (34):    d v_i/dt   = -sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij + g
-//   energy:           d e_i/dt   = 1/2 sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij)
-//                                        (v_i - v_j) . grad_i W_ij
-//   Monaghan viscosity: Pi_ij = (-alpha cbar_ij mu_ij + beta mu_ij^2) / rhobar_ij when
-//                       v_ij . r_ij < 0, mu_ij = hbar v_ij . r_ij / (r_ij^2 + 0.01 hbar^2)
-// W_ij uses the pair's mean smoothing length hbar = (h_i + h_j)/2, so grad_i W_ij = -grad_j W_ji
-// and pair forces are equal and opposite: momentum is conserved to round-off, and total energy
-// (kinetic + internal) is conserved by the continuous equations.
+// SPH equations as implemented (docs/theory.md has them with the paper's numbers). With the
+// particle volume V_j = m_j / rho_j (the multiphase form of Colagrossi & Landrini 2003, J.
+// Comput. Phys. 191, 448, which stays well behaved across density jumps such as a shock
+// tube's contact or a charge's edge; for uniform mass it is the paper's eqs. 32 and 34):
+//   continuity (32):  d rho_i/dt = rho_i sum_j V_j v_ij . grad_i W_ij
+//   momentum (34):    d v_i/dt   = -1/rho_i sum_j V_j (p_i + p_j) grad_i W_ij
+//                                  - sum_j m_j (Pi_ij + R_ij f_ij^4) grad_i W_ij
+//                                  + (viscous term, eq. 36) + g
+//   energy:           d e_i/dt   = p_i/rho_i sum_j V_j v_ij . grad_i W_ij
+//                                  + 1/2 sum_j m_j Pi_ij v_ij . grad_i W_ij + viscous heating
+//   Monaghan viscosity: Pi_ij = (-alpha cbar mu + beta mu^2) / rhobar for v_ij . r_ij < 0,
+//                       mu = hbar v_ij . r_ij / (r_ij^2 + 0.01 hbar^2)
+// Pairs use hbar = (h_i + h_j)/2, so grad_i W_ij = -grad_j W_ji and pair forces are equal and
+// opposite: momentum is conserved to round-off; kinetic + internal energy is conserved by the
+// semi-discrete equations (the energy equation is the one that balances the momentum
+// equation's pressure work pair by pair), and by the wall terms (see `pair` in rates()).
 // Each particle gathers over its own neighbour list (ascending j), so the sums are evaluated in
 // the same order for any number of threads (bit-identical results).
 #include "sph/sph_part.hpp"
@@ -27,11 +33,14 @@
 namespace crater::sph {
 namespace {
 
+using fields::kHalo;
+using fields::kNone;
 using fields::kOutput;
 using fields::kRestart;
 using fields::kStateRoles;
 
 constexpr Index kResortEvery = 25;  // steps between re-sorting particles by cell (locality)
+constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
 template <int D>
 Vec<D> to_vec(const io::Vec3& a) {
@@ -70,7 +79,7 @@ std::vector<Vec<D>> lattice(const io::RegionConfig& r, Real s) {
   // Centre the lattice in the bounding box.
   Vec<D> start;
   for (int d = 0; d < D; ++d)
-    start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - (n[d] - 1) * s);
+    start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - static_cast<Real>(n[d] - 1) * s);
   std::vector<Vec<D>> pts;
   IVec<D> i = IVec<D>::Zero();
   while (true) {
@@ -86,6 +95,69 @@ std::vector<Vec<D>> lattice(const io::RegionConfig& r, Real s) {
   return pts;
 }
 
+/// Dummy wall particles behind the walled faces of the domain box, `layers` deep at pitch s
+/// (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057). A corner shared by faces of axes
+/// a < b is laid by the face of axis a only (when both are walled), so no point is doubled.
+template <int D>
+struct WallLattice {
+  std::vector<Vec<D>> x;
+  std::vector<Vec<D>> normal;  // unit normal of the face, pointing out of the domain
+};
+
+template <int D>
+WallLattice<D> wall_lattice(const io::Config& c, const std::vector<io::Face>& faces, int layers,
+                            Real s) {
+  const Vec<D> lo = to_vec<D>(c.domain.min_m), hi = to_vec<D>(c.domain.max_m);
+  auto walled = [&](int axis, int side) {
+    for (auto f : faces)
+      if (static_cast<int>(f) == 2 * axis + side) return true;
+    return false;
+  };
+  // Coordinates along an axis: inside [lo, hi] at lo + (i + 1/2) s; beyond a face at
+  // face -/+ (k + 1/2) s.
+  auto coords = [&](int axis, bool extend) {
+    std::vector<Real> v;
+    const auto n = static_cast<Index>(std::llround((hi[axis] - lo[axis]) / s));
+    if (extend && walled(axis, 0))
+      for (int k = layers - 1; k >= 0; --k)
+        v.push_back(lo[axis] - (k + 0.5) * s);
+    for (Index i = 0; i < n; ++i)
+      v.push_back(lo[axis] + (static_cast<Real>(i) + 0.5) * s);
+    if (extend && walled(axis, 1))
+      for (int k = 0; k < layers; ++k)
+        v.push_back(hi[axis] + (k + 0.5) * s);
+    return v;
+  };
+  WallLattice<D> out;
+  for (int a = 0; a < D; ++a)
+    for (int side = 0; side < 2; ++side) {
+      if (!walled(a, side)) continue;
+      const Vec<D> n = (side == 0 ? -1.0 : 1.0) * Vec<D>::Unit(a);
+      std::vector<std::vector<Real>> axes(D);
+      for (int d = 0; d < D; ++d) {
+        if (d == a) {
+          for (int k = 0; k < layers; ++k)
+            axes[d].push_back(side == 0 ? lo[a] - (k + 0.5) * s : hi[a] + (k + 0.5) * s);
+        } else {
+          axes[d] = coords(d, d > a);
+        }
+      }
+      std::vector<std::size_t> i(D, 0);
+      while (true) {
+        Vec<D> x;
+        for (int d = 0; d < D; ++d)
+          x[d] = axes[d][i[d]];
+        out.x.push_back(x);
+        out.normal.push_back(n);
+        int d = 0;
+        while (d < D && ++i[d] == axes[d].size())
+          i[d++] = 0;
+        if (d == D) break;
+      }
+    }
+  return out;
+}
+
 template <int D>
 class SphPart final : public solver::Part<D> {
  public:
@@ -98,58 +170,94 @@ class SphPart final : public solver::Part<D> {
         domain_lo_(to_vec<D>(c.domain.min_m)),
         domain_hi_(to_vec<D>(c.domain.max_m)),
         id_(f_.add_integer("id", "1", kStateRoles)),
-        x_(f_.add_vector("position", "m", kRestart | fields::kHalo)),
+        x_(f_.add_vector("position", "m", kRestart | kHalo)),
         v_(f_.add_vector("velocity", "m/s", kStateRoles)),
-        a_(f_.add_vector("acceleration", "m/s^2", fields::kNone)),
         m_(f_.add_scalar("mass", "kg", kStateRoles)),
         rho_(f_.add_scalar("density", "kg/m^3", kStateRoles)),
         e_(f_.add_scalar("specific_energy", "J/kg", kStateRoles)),
         h_(f_.add_scalar("smoothing_length", "m", kStateRoles)),
         p_(f_.add_scalar("pressure", "Pa", kOutput)),
         c_(f_.add_scalar("sound_speed", "m/s", kOutput)),
-        light_(f_.add_scalar("lighting_time", "s", kRestart | fields::kHalo)),
         burn_(f_.add_scalar("burn_fraction", "1", kOutput)),
-        drho_(f_.add_scalar("density_rate", "kg/m^3/s", fields::kNone)),
-        de_(f_.add_scalar("energy_rate", "W/kg", fields::kNone)),
-        dt_cv_(f_.add_scalar("dt_signal", "s", fields::kNone)) {
+        light_(f_.add_scalar("lighting_time", "s", kRestart | kHalo)),
+        a_(f_.add_vector("acceleration", "m/s^2", kRestart)),
+        drho_(f_.add_scalar("density_rate", "kg/m^3/s", kRestart)),
+        de_(f_.add_scalar("energy_rate", "W/kg", kRestart)),
+        dx_xsph_(f_.add_vector("xsph_velocity", "m/s", kRestart)),
+        vh_(f_.add_vector("velocity_half", "m/s", kNone)),
+        rhoh_(f_.add_scalar("density_half", "kg/m^3", kNone)),
+        eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
+        dt_cv_(f_.add_scalar("dt_signal", "s", kNone)) {
     const auto& mat = c.materials[pc.material];
-    const std::vector<Vec<D>> pts = lattice<D>(pc.region, spacing_);
+    // Particles: the part's lattice, except where a zone with its own spacing lays its own
+    // (equal-mass particles across a density jump, as a shock tube wants); each particle
+    // remembers its lattice pitch.
+    std::vector<Vec<D>> pts;
+    std::vector<Real> pitch;
+    auto owner = [&](const Vec<D>& x) {  // index of the last spacing zone holding x, or -1
+      int k = -1;
+      for (std::size_t z = 0; z < pc.zones.size(); ++z)
+        if (pc.zones[z].spacing_m && inside<D>(pc.zones[z].region, x)) k = static_cast<int>(z);
+      return k;
+    };
+    for (const auto& x : lattice<D>(pc.region, spacing_))
+      if (owner(x) < 0) pts.push_back(x), pitch.push_back(spacing_);
+    for (std::size_t z = 0; z < pc.zones.size(); ++z) {
+      if (!pc.zones[z].spacing_m) continue;
+      for (const auto& x : lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
+        if (inside<D>(pc.region, x) && owner(x) == static_cast<int>(z))
+          pts.push_back(x), pitch.push_back(*pc.zones[z].spacing_m);
+    }
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
-    const Real rho0 = pc.initial.density_kg_m3.value_or(mat.rho0_kg_m3);
-    const Real cell_volume = std::pow(spacing_, D);
-    const Real h0 = cfg_.h_factor * spacing_;
-    const Vec<D> v0 = to_vec<D>(pc.initial.velocity_m_s);
-
-    // Initial specific internal energy from the material and the initial pressure.
-    Real e0 = 0;
+    cell_volume_ = std::pow(spacing_, D);
+    h0_ = cfg_.h_factor * spacing_;
     if (const auto* jwl = std::get_if<materials::JwlParams>(&eos_)) {
-      e0 = jwl->e0_j_m3 / jwl->rho0_kg_m3;
       detonation_velocity_ = jwl->d_cj_m_s;
       is_explosive_ = true;
-    } else if (const auto* gas = std::get_if<materials::IdealGasParams>(&eos_)) {
-      e0 = pc.initial.pressure_pa.value_or(0.0) / ((gas->gamma - 1) * rho0);
     }
 
     for (Index i = 0; i < n; ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      id_[k] = i;
-      x_[k] = pts[k];
-      v_[k] = v0;
-      m_[k] = rho0 * cell_volume;
-      rho_[k] = rho0;
-      e_[k] = e0;
-      h_[k] = h0;
+      // The part's initial state, then the last zone containing the particle.
+      Real rho = pc.initial.density_kg_m3.value_or(mat.rho0_kg_m3);
+      std::optional<Real> pressure = pc.initial.pressure_pa;
+      Vec<D> vel = to_vec<D>(pc.initial.velocity_m_s);
+      for (const auto& z : pc.zones) {
+        if (!inside<D>(z.region, pts[i])) continue;
+        if (z.density_kg_m3) rho = *z.density_kg_m3;
+        if (z.pressure_pa) pressure = z.pressure_pa;
+        if (z.velocity_m_s) vel = to_vec<D>(*z.velocity_m_s);
+      }
+      id_[i] = i;
+      x_[i] = pts[i];
+      v_[i] = vel;
+      m_[i] = rho * std::pow(pitch[i], D);
+      rho_[i] = rho;
+      h_[i] = cfg_.h_factor * pitch[i];
+      e_[i] = initial_energy(rho, pressure);
       // Programmed burn: a particle lights when the detonation front, running at D from the
       // nearest detonation point, reaches it. No points: all lit at t = 0.
-      Real tl =
-          is_explosive_ && !pc.detonations.empty() ? std::numeric_limits<Real>::infinity() : 0;
+      Real tl = is_explosive_ && !pc.detonations.empty() ? kInf : 0;
       for (const auto& dp : pc.detonations)
         tl = std::min(tl,
-                      dp.time_s + (pts[k] - to_vec<D>(dp.point_m)).norm() / detonation_velocity_);
-      light_[k] = tl;
+                      dp.time_s + (pts[i] - to_vec<D>(dp.point_m)).norm() / detonation_velocity_);
+      light_[i] = tl;
     }
-    h_max_ = h0;
+    h_max_ = parallel::max_over(n, h0_, [&](Index i) { return h_[i]; });
+
+    // The wall must be as thick as the kernel support of the largest particle, or particles
+    // near it see a truncated kernel and too little repulsion.
+    const int layers =
+        std::max(cfg_.wall_layers,
+                 static_cast<int>(std::ceil(WendlandC2<D>::support * h_max_ / spacing_ - 1e-9)));
+    WallLattice<D> wl = wall_lattice<D>(c, cfg_.walls, layers, spacing_);
+    wall_x_ = std::move(wl.x);
+    wall_n_ = std::move(wl.normal);
+    const std::size_t nw = wall_x_.size();
+    wall_p_.assign(nw, 0);
+    wall_rho_.assign(nw, mat.rho0_kg_m3);
+    wall_c_.assign(nw, 0);
+    wall_v_.assign(nw, Vec<D>::Zero());
     resort();
   }
 
@@ -161,14 +269,13 @@ class SphPart final : public solver::Part<D> {
   }
 
   solver::StableStep stable_step() const override {
-    // Monaghan & Kos (1999): dt = cfl * min(dt_f, dt_cv); dt_f = sqrt(h/|a|),
-    // dt_cv = h / (c + max_j |h v_ij.r_ij / (r_ij^2 + eta^2)|) (computed in the force loop).
-    const Index n = f_.size();
+    // Monaghan & Kos (1999): dt = cfl * min(dt_f, dt_cv), dt_f = sqrt(h/|a|),
+    // dt_cv = h / (c + max_j |mu_ij|) (max over neighbours, from the force loop).
     solver::StableStep s;
-    s.dt_s = std::numeric_limits<Real>::infinity();
-    for (Index i = 0; i < n; ++i) {
+    s.dt_s = kInf;
+    for (Index i = 0; i < f_.size(); ++i) {
       const Real an = a_[i].norm();
-      const Real dt_f = an > 0 ? std::sqrt(h_[i] / an) : std::numeric_limits<Real>::infinity();
+      const Real dt_f = an > 0 ? std::sqrt(h_[i] / an) : kInf;
       const Real dt_i = cfg_.cfl * std::min(dt_f, dt_cv_[i]);
       if (dt_i < s.dt_s) {
         s.dt_s = dt_i;
@@ -182,37 +289,42 @@ class SphPart final : public solver::Part<D> {
   }
 
   void compute_forces(Real t) override {
-    t_ = t;
     if (++steps_since_sort_ >= kResortEvery) resort();
-    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_,
-                                      neighbors::Pairs::Full, list_);
+    update_smoothing_lengths();
+    const Real radius = WendlandC2<D>::support * h_max_;
+    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), radius, neighbors::Pairs::Full,
+                                      list_);
     update_eos(t);
-    if (cfg_.kernel == KernelKind::WendlandC2)
+    if (!wall_x_.empty()) {
+      const Real h_wall = h0_;
+      neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), std::span<const Vec<D>>(x_),
+                                     WendlandC2<D>::support * std::max(h_max_, h_wall),
+                                     wall_to_fluid_);
+      neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(wall_x_),
+                                     WendlandC2<D>::support * std::max(h_max_, h_wall),
+                                     fluid_to_wall_);
+    }
+    if (cfg_.kernel == KernelKind::WendlandC2) {
+      wall_state<WendlandC2<D>>();
       rates<WendlandC2<D>>();
-    else
+    } else {
+      wall_state<CubicSpline<D>>();
       rates<CubicSpline<D>>();
+    }
   }
 
   std::optional<solver::Fault> check() const override {
     const Index n = f_.size();
-    // First offending particle in index order (deterministic); the loop is cheap next to rates.
+    // First offending particle in index order (deterministic).
     Index bad = n;
 #pragma omp parallel for schedule(static) reduction(min : bad)
-    for (Index i = 0; i < n; ++i) {
-      bool ok = std::isfinite(drho_[i]) && std::isfinite(de_[i]) && a_[i].allFinite() &&
-                rho_[i] > 0 && std::isfinite(p_[i]);
-      for (int d = 0; d < D; ++d)
-        ok = ok && x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d];
-      if (!ok) bad = std::min(bad, i);
-    }
+    for (Index i = 0; i < n; ++i)
+      if (!healthy(i)) bad = std::min(bad, i);
     if (bad == n) return std::nullopt;
     const Index i = bad;
     std::string what;
-    bool in_domain = true;
-    for (int d = 0; d < D; ++d)
-      in_domain = in_domain && x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d];
-    if (!in_domain)
-      what = fmt::format("particle left the domain at x = ({}) m; enlarge [domain]",
+    if (!in_domain(i))
+      what = fmt::format("particle left the domain at x = ({}) m; enlarge [domain] or add walls",
                          fmt::join(x_[i].data(), x_[i].data() + D, ", "));
     else if (!(rho_[i] > 0))
       what = fmt::format("non-positive density {} kg/m^3", rho_[i]);
@@ -222,37 +334,46 @@ class SphPart final : public solver::Part<D> {
     return solver::Fault{id_[i], what};
   }
 
+  // Velocity Verlet with predicted rates: density and energy are kicked like the velocity, so
+  // the state of time t+dt (x, v, rho, e) is second-order accurate, and the forces at t+dt are
+  // evaluated with predicted v, rho, e of that time (Springel 2005 uses the same prediction).
   void advance(Real /*t*/, Real dt) override {
-    const Index n = f_.size();
     const Real half = 0.5 * dt;
-    parallel::for_each(n, [&](Index i) {
-      v_[i] += half * a_[i];
-      x_[i] += dt * v_[i];
-      rho_[i] += dt * drho_[i];
-      e_[i] += dt * de_[i];
+    parallel::for_each(f_.size(), [&](Index i) {
+      vh_[i] = v_[i] + half * a_[i];
+      rhoh_[i] = rho_[i] + half * drho_[i];
+      eh_[i] = e_[i] + half * de_[i];
+      x_[i] += dt * (vh_[i] + dx_xsph_[i]);
+      v_[i] = vh_[i] + half * a_[i];
+      rho_[i] = rhoh_[i] + half * drho_[i];
+      e_[i] = eh_[i] + half * de_[i];
     });
     // Work of gravity over the step, with the mid-step velocity.
     if (gravity_.squaredNorm() > 0)
       external_work_ += dt * parallel::deterministic_sum<Real>(
-                                 n, [&](Index i) { return m_[i] * gravity_.dot(v_[i]); });
+                                 f_.size(), [&](Index i) { return m_[i] * gravity_.dot(vh_[i]); });
   }
 
   void finish_step(Real dt) override {
     const Real half = 0.5 * dt;
-    parallel::for_each(f_.size(), [&](Index i) { v_[i] += half * a_[i]; });
+    parallel::for_each(f_.size(), [&](Index i) {
+      v_[i] = vh_[i] + half * a_[i];
+      rho_[i] = rhoh_[i] + half * drho_[i];
+      e_[i] = eh_[i] + half * de_[i];
+    });
   }
 
   solver::Energies energies() const override {
-    struct KI {
+    struct KU {
       Real k = 0, u = 0;
-      KI& operator+=(const KI& o) {
+      KU& operator+=(const KU& o) {
         k += o.k;
         u += o.u;
         return *this;
       }
     };
-    const KI s = parallel::deterministic_sum<KI>(f_.size(), [&](Index i) {
-      return KI{0.5 * m_[i] * v_[i].squaredNorm(), m_[i] * e_[i]};
+    const KU s = parallel::deterministic_sum<KU>(f_.size(), [&](Index i) {
+      return KU{0.5 * m_[i] * v_[i].squaredNorm(), m_[i] * e_[i]};
     });
     solver::Energies en;
     en.kinetic_j = s.k;
@@ -271,11 +392,42 @@ class SphPart final : public solver::Part<D> {
   }
 
  private:
+  Real initial_energy(Real rho, std::optional<Real> pressure) const {
+    if (const auto* jwl = std::get_if<materials::JwlParams>(&eos_))
+      return jwl->e0_j_m3 / jwl->rho0_kg_m3;  // chemical energy, released by the burn
+    if (const auto* gas = std::get_if<materials::IdealGasParams>(&eos_))
+      return pressure.value_or(0.0) / ((gas->gamma - 1) * rho);
+    return 0;  // Tait: pressure follows from density alone
+  }
+
+  bool in_domain(Index i) const {
+    for (int d = 0; d < D; ++d)
+      if (!(x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d])) return false;
+    return true;
+  }
+  bool healthy(Index i) const {
+    return std::isfinite(drho_[i]) && std::isfinite(de_[i]) && a_[i].allFinite() && rho_[i] > 0 &&
+           std::isfinite(p_[i]) && in_domain(i);
+  }
+
   void resort() {
     steps_since_sort_ = 0;
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
     f_.permute(order);
+  }
+
+  // Paper eq. 37, dh/dt = -(h / (D rho)) drho/dt, integrated exactly: h = h_factor (m/rho)^(1/D)
+  // (= h_factor x spacing in the initial state).
+  void update_smoothing_lengths() {
+    if (!cfg_.variable_h) return;
+    const Index n = f_.size();
+    const Real hf = cfg_.h_factor;
+    parallel::for_each(n, [&](Index i) {
+      const Real volume = m_[i] / rho_[i];
+      h_[i] = hf * (D == 2 ? std::sqrt(volume) : std::cbrt(volume));
+    });
+    h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
   }
 
   // Pressure and sound speed from the EOS, with the programmed-burn fraction for explosives.
@@ -300,44 +452,124 @@ class SphPart final : public solver::Part<D> {
         eos_);
   }
 
+  // Adami et al. (2012) eqs. 27-28: a wall particle's pressure is the kernel-weighted average of
+  // its fluid neighbours' plus the hydrostatic part, p_w = (sum_f p_f W_wf + g . sum_f rho_f
+  // r_wf W_wf) / sum_f W_wf (fixed walls: no wall acceleration); density and sound speed are
+  // the same averages (Shepard); the velocity for the viscous terms is the averaged fluid
+  // velocity mirrored in the wall (eq. 22 for no slip).
+  template <class Kernel>
+  void wall_state() {
+    const auto nw = static_cast<Index>(wall_x_.size());
+    if (nw == 0) return;
+    const Vec<D> g = gravity_;
+    parallel::for_each(nw, [&](Index w) {
+      Real sw = 0, sp = 0, srho = 0, sc = 0;
+      Vec<D> sv = Vec<D>::Zero(), srw = Vec<D>::Zero();
+      for (const Index f : wall_to_fluid_.of(w)) {
+        const Vec<D> rwf = wall_x_[w] - x_[f];
+        const Real hbar = 0.5 * (h0_ + h_[f]);
+        const Real wgt = Kernel::w(rwf.norm(), hbar);
+        sw += wgt;
+        sp += p_[f] * wgt;
+        srho += rho_[f] * wgt;
+        sc += c_[f] * wgt;
+        sv += v_[f] * wgt;
+        srw += rho_[f] * rwf * wgt;
+      }
+      if (sw > 0) {
+        wall_p_[w] = (sp + g.dot(srw)) / sw;
+        wall_rho_[w] = srho / sw;
+        wall_c_[w] = sc / sw;
+        // The velocity the viscous terms see: the fluid's, mirrored in the wall (no slip:
+        // all of it, 2 v_wall - v; free slip: only its normal part, so sliding costs nothing).
+        const Vec<D> vf = sv / sw;
+        const Vec<D>& nrm = wall_n_[w];
+        wall_v_[w] = cfg_.wall_no_slip ? Vec<D>(-vf) : Vec<D>(vf - 2 * vf.dot(nrm) * nrm);
+      } else {
+        wall_p_[w] = 0;
+        wall_c_[w] = 0;
+        wall_v_[w] = Vec<D>::Zero();
+      }
+    });
+  }
+
   template <class Kernel>
   void rates() {
     const Index n = f_.size();
     const Real alpha = cfg_.av_alpha, beta = cfg_.av_beta;
+    const Real mu_visc = cfg_.viscosity_pa_s;
+    const Real eps_xsph = cfg_.xsph_epsilon;
+    const Real eps_tensile = cfg_.tensile_epsilon;
     const Vec<D> g = gravity_;
+    const bool walls = !wall_x_.empty();
     parallel::for_each(n, [&](Index i) {
       const Vec<D> xi = x_[i], vi = v_[i];
       const Real hi = h_[i], rhoi = rho_[i], ci = c_[i];
-      const Real pi_rho2 = p_[i] / (rhoi * rhoi);
-      Vec<D> acc = Vec<D>::Zero();
+      const Real pi = p_[i];
+      // Monaghan (2000) artificial pressure, only where the pressure is negative.
+      const Real ri = pi < 0 ? eps_tensile * -pi / (rhoi * rhoi) : 0.0;
+      Vec<D> acc = Vec<D>::Zero(), xsph = Vec<D>::Zero();
       Real drho = 0, de = 0, mu_max = 0;
-      for (const Index j : list_.of(i)) {
-        const Vec<D> rij = xi - x_[j];
+
+      // One interaction with a neighbour of mass mj and volume vol_j = mj / rhoj. `wall` marks
+      // a fixed wall particle: it cannot take its share of the pressure work, so particle i
+      // books all of it, and kinetic plus internal energy stays conserved.
+      auto pair = [&](const Vec<D>& rij, Real hj, Real mj, Real rhoj, Real pj, Real cj,
+                      const Vec<D>& vj, const Vec<D>& vj_visc, bool wall) {
         const Real r2 = rij.squaredNorm();
-        const Real hbar = 0.5 * (hi + h_[j]);
-        if (r2 >= Kernel::support * Kernel::support * hbar * hbar) continue;
+        const Real hbar = 0.5 * (hi + hj);
+        if (r2 >= Kernel::support * Kernel::support * hbar * hbar) return;
         const Real r = std::sqrt(r2);
         const Vec<D> gw = Kernel::grad_w(rij, r, hbar);
-        const Vec<D> vij = vi - v_[j];
-        const Real vdotr = vij.dot(rij);
-        const Real mu = hbar * vdotr / (r2 + 0.01 * hbar * hbar);
+        const Vec<D> vij = vi - vj;
+        const Vec<D> vij_visc = vi - vj_visc;
+        const Real eta2 = 0.01 * hbar * hbar;
+        const Real vdotr = vij_visc.dot(rij);
+        const Real mu = hbar * vdotr / (r2 + eta2);
         mu_max = std::max(mu_max, std::abs(mu));
         Real visc = 0;
         if (vdotr < 0) {
-          const Real cbar = 0.5 * (ci + c_[j]);
-          const Real rhobar = 0.5 * (rhoi + rho_[j]);
+          const Real cbar = 0.5 * (ci + cj);
+          const Real rhobar = 0.5 * (rhoi + rhoj);
           visc = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
         }
-        const Real mj = m_[j];
-        const Real coef = pi_rho2 + p_[j] / (rho_[j] * rho_[j]) + visc;
+        Real tensile = 0;
+        if (eps_tensile > 0) {
+          const Real rj = pj < 0 ? eps_tensile * -pj / (rhoj * rhoj) : 0.0;
+          if (ri + rj > 0) {
+            const Real f = Kernel::w(r, hbar) / Kernel::w(spacing_, hbar);
+            const Real f2 = f * f;
+            tensile = (ri + rj) * f2 * f2;
+          }
+        }
+        const Real vol_j = mj / rhoj;
         const Real vdotgw = vij.dot(gw);
-        drho += mj * vdotgw;
-        acc -= mj * coef * gw;
-        de += 0.5 * mj * coef * vdotgw;
-      }
+        acc -= (vol_j * (pi + pj) / rhoi + mj * (visc + tensile)) * gw;
+        drho += vol_j * vdotgw;
+        de +=
+            vol_j * (wall ? pi + pj : pi) / rhoi * vdotgw + (wall ? 1.0 : 0.5) * mj * visc * vdotgw;
+        if (mu_visc > 0) {
+          // Paper eq. 36 (Lo & Shao 2002) with equal viscosities: k <= 0 since r . grad W <= 0.
+          const Real k = 2 * mu_visc * rij.dot(gw) / (rhoi * rhoj * (r2 + eta2));
+          acc += mj * k * vij_visc;
+          // Heating equals the work the viscous force takes out (v_ij . v_ij_visc: |v_ij|^2
+          // for particle pairs, v_i . (v_i - v_mirror) at a no-slip wall).
+          de -= (wall ? 1.0 : 0.5) * mj * k * vij.dot(vij_visc);
+        }
+        if (eps_xsph > 0) xsph -= (mj / (0.5 * (rhoi + rhoj))) * Kernel::w(r, hbar) * vij;
+      };
+
+      for (const Index j : list_.of(i))
+        pair(xi - x_[j], h_[j], m_[j], rho_[j], p_[j], c_[j], v_[j], v_[j], false);
+      if (walls)
+        for (const Index w : fluid_to_wall_.of(i))
+          pair(xi - wall_x_[w], h0_, wall_rho_[w] * cell_volume_, wall_rho_[w], wall_p_[w],
+               wall_c_[w], Vec<D>::Zero(), wall_v_[w], true);
+
       a_[i] = acc + g;
-      drho_[i] = drho;
+      drho_[i] = rhoi * drho;
       de_[i] = de;
+      dx_xsph_[i] = eps_xsph * xsph;
       dt_cv_[i] = hi / (ci + mu_max);
     });
   }
@@ -349,27 +581,37 @@ class SphPart final : public solver::Part<D> {
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool is_explosive_ = false;
   Real detonation_velocity_ = 0;
+  Real cell_volume_ = 0;
+  Real h0_ = 0;
 
   fields::FieldSet<D> f_;
   std::vector<std::int64_t>& id_;
   std::vector<Vec<D>>& x_;
   std::vector<Vec<D>>& v_;
-  std::vector<Vec<D>>& a_;
   std::vector<Real>& m_;
   std::vector<Real>& rho_;
   std::vector<Real>& e_;
   std::vector<Real>& h_;
   std::vector<Real>& p_;
   std::vector<Real>& c_;
-  std::vector<Real>& light_;
   std::vector<Real>& burn_;
+  std::vector<Real>& light_;
+  std::vector<Vec<D>>& a_;
   std::vector<Real>& drho_;
   std::vector<Real>& de_;
+  std::vector<Vec<D>>& dx_xsph_;
+  std::vector<Vec<D>>& vh_;
+  std::vector<Real>& rhoh_;
+  std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
 
-  neighbors::NeighborList list_;
+  // Fixed wall particles (not part of the FieldSet: they are not entities of the part).
+  std::vector<Vec<D>> wall_x_, wall_n_;
+  std::vector<Real> wall_p_, wall_rho_, wall_c_;
+  std::vector<Vec<D>> wall_v_;
+
+  neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_;
   Real h_max_ = 0;
-  Real t_ = 0;
   Real external_work_ = 0;
   Index steps_since_sort_ = 0;
 };

@@ -63,12 +63,31 @@ struct InitialConfig {
   Vec3 velocity_m_s{};
 };
 
+/// A sub-region with its own initial state; unset values fall back to the part's.
+struct ZoneConfig {
+  RegionConfig region;
+  std::optional<Real> spacing_m;  // own lattice pitch (unset: the part's lattice)
+  std::optional<Real> density_kg_m3;
+  std::optional<Real> pressure_pa;
+  std::optional<Vec3> velocity_m_s;
+};
+
+/// Faces of the domain box, for walls: 2*axis + (0 = min side, 1 = max side).
+enum class Face { Left = 0, Right = 1, Bottom = 2, Top = 3, Back = 4, Front = 5 };
+
 struct SphConfig {
   sph::KernelKind kernel = sph::KernelKind::WendlandC2;
   Real h_factor = 1.3;
   Real av_alpha = 1.0;
   Real av_beta = 2.0;
   Real cfl = 0.3;
+  bool variable_h = true;
+  Real xsph_epsilon = 0;
+  Real tensile_epsilon = 0;
+  Real viscosity_pa_s = 0;
+  std::vector<Face> walls;
+  int wall_layers = 3;
+  bool wall_no_slip = false;
 };
 
 struct DetonationPoint {
@@ -83,6 +102,7 @@ struct PartConfig {
   Real spacing_m = 0;
   RegionConfig region;
   InitialConfig initial;
+  std::vector<ZoneConfig> zones;
   SphConfig sph;
   std::vector<DetonationPoint> detonations;
   SourceLocation where;

@@ -261,6 +261,8 @@ class Builder {
     read_materials(c, top);
     read_parts(c, top);
     if (!errors_.empty()) throw InputErrors(std::move(errors_));
+    for (auto& wmsg : c_warnings_)
+      c.warnings.push_back(std::move(wmsg));
     return c;
   }
 
@@ -399,6 +401,22 @@ class Builder {
       p.initial.density_kg_m3 = opt_num(it_init, "density_kg_m3");
       p.initial.pressure_pa = opt_num(it_init, "pressure_pa");
       p.initial.velocity_m_s = vec3(it_init, "velocity_m_s");
+      if (const toml::node* zn = t.get("zones")) {
+        const auto& za = *zn->as_array();
+        for (std::size_t j = 0; j < za.size(); ++j) {
+          const auto& zt = *za.get(j)->as_table();
+          const SourceLocation zw = where_of(zt, w);
+          ZoneConfig z;
+          const auto& zr = table(zt, "region");
+          z.region =
+              read_region(zr, where_of(zr, zw), fmt::format("{}.zones[{}].region", key, j), dim);
+          z.spacing_m = opt_num(zt, "spacing_m");
+          z.density_kg_m3 = opt_num(zt, "density_kg_m3");
+          z.pressure_pa = opt_num(zt, "pressure_pa");
+          if (zt.get("velocity_m_s")) z.velocity_m_s = vec3(zt, "velocity_m_s");
+          p.zones.push_back(z);
+        }
+      }
 
       // Inside the domain (when both are well formed: one error per mistake).
       const Aabb b = bounds(p.region, dim);
@@ -455,6 +473,36 @@ class Builder {
     p.sph.av_alpha = num(st, "av_alpha");
     p.sph.av_beta = num(st, "av_beta");
     p.sph.cfl = num(st, "cfl");
+    p.sph.variable_h = st.get("variable_h")->as_boolean()->get();
+    p.sph.xsph_epsilon = num(st, "xsph_epsilon");
+    p.sph.tensile_epsilon = num(st, "tensile_epsilon");
+    p.sph.viscosity_pa_s = num(st, "viscosity_pa_s");
+    p.sph.wall_layers = static_cast<int>(st.get("wall_layers")->as_integer()->get());
+    p.sph.wall_no_slip = str(st, "wall_slip") == "no";
+    const auto& walls = *st.get("walls")->as_array();
+    for (std::size_t j = 0; j < walls.size(); ++j) {
+      static const char* names[] = {"left", "right", "bottom", "top", "back", "front"};
+      const std::string face = walls.get(j)->as_string()->get();
+      const int f =
+          static_cast<int>(std::find(std::begin(names), std::end(names), face) - std::begin(names));
+      if (f / 2 >= dim) {
+        error(where_of(*walls.get(j), w), fmt::format("{}.sph.walls[{}]", key, j),
+              fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+        continue;
+      }
+      p.sph.walls.push_back(static_cast<Face>(f));
+      // The wall lattice is laid at the part's spacing along the face: the domain's extent
+      // along the face's other axes should be a multiple of it, or gaps open at the far end.
+      for (int d = 0; d < dim; ++d) {
+        if (d == f / 2) continue;
+        const Real n = (c.domain.max_m[d] - c.domain.min_m[d]) / p.spacing_m;
+        if (std::abs(n - std::round(n)) > 1e-6 * n)
+          c_warnings_.push_back(
+              fmt::format("part '{}': the domain extent along axis {} ({} m) is not a multiple of "
+                          "spacing_m = {} m; the {} wall's particles leave a gap at the far end",
+                          p.name, d, c.domain.max_m[d] - c.domain.min_m[d], p.spacing_m, face));
+      }
+    }
     if (const toml::node* dn = t.get("detonation")) {
       const auto& da = *dn->as_array();
       const bool jwl = p.material < c.materials.size() && c.materials[p.material].model == "jwl";
@@ -482,6 +530,7 @@ class Builder {
   std::string file_;
   std::vector<InputError> errors_;
   bool domain_ok_ = true;
+  std::vector<std::string> c_warnings_;
 };
 
 Config load_table(toml::table root, const std::string& file,

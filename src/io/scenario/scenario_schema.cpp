@@ -1,6 +1,7 @@
 // Every key of a scenario file. Adding a key: one entry here (docs follow from it), one field in
 // Config, one line in the builder.
 #include <fmt/format.h>
+#include <algorithm>
 
 #include "io/scenario/schema.hpp"
 
@@ -46,6 +47,11 @@ KeySchema choice(std::string name, std::vector<std::string> choices, std::string
   k.type = KeyType::Choice;
   k.choices = std::move(choices);
   k.doc = std::move(doc);
+  return k;
+}
+KeySchema choice_list(std::string name, std::vector<std::string> choices, std::string doc) {
+  KeySchema k = choice(std::move(name), std::move(choices), std::move(doc));
+  k.type = KeyType::ChoiceList;
   return k;
 }
 KeySchema text(std::string name, std::string doc) {
@@ -219,6 +225,45 @@ TableSchema make_sph() {
                                          "speed).")),
                            1.0),
                    "0.3"),
+      with_default(of_type(real("variable_h", "",
+                                "Smoothing length follows the density, h = h_0 (rho_0/rho)^(1/D) "
+                                "(paper eq. 37, integrated)."),
+                           KeyType::Bool),
+                   "true"),
+      with_default(at_most(at_least(real("xsph_epsilon", "1",
+                                         "XSPH velocity smoothing epsilon (eq. 39); 0: off."),
+                                    0),
+                           1),
+                   "0"),
+      with_default(at_most(at_least(real("tensile_epsilon", "1",
+                                         "Tensile-instability correction epsilon (eq. 38, "
+                                         "Monaghan 2000); 0: off, 0.2 typical."),
+                                    0),
+                           1),
+                   "0"),
+      with_default(at_least(real("viscosity_pa_s", "Pa s",
+                                 "Dynamic viscosity of the laminar term (eq. 36); 0: inviscid."),
+                            0),
+                   "0"),
+      with_default(choice_list("walls", {"left", "right", "bottom", "top", "back", "front"},
+                               "Domain faces lined with fixed dummy wall particles (Adami et al. "
+                               "2012): left/right = x min/max, bottom/top = y min/max, back/front "
+                               "= z min/max (3D). The fluid fills up to a walled face."),
+                   "[]"),
+      with_default(
+          at_most(
+              at_least(
+                  of_type(
+                      real("wall_layers", "1",
+                           "Least number of layers of wall particles (at spacing_m); more are laid "
+                           "when the kernel support of the largest particle (2 h) needs them."),
+                      KeyType::Integer),
+                  1),
+              6),
+          "3"),
+      with_default(choice("wall_slip", {"free", "no"},
+                          "Wall condition for the viscous terms: free slip or no slip."),
+                   "\"free\""),
   };
   return t;
 }
@@ -235,6 +280,8 @@ TableSchema make_detonation() {
   return t;
 }
 
+TableSchema make_zone();
+
 const TableSchema& region_schema() {
   static const TableSchema s = make_region();
   return s;
@@ -247,9 +294,36 @@ const TableSchema& sph_schema() {
   static const TableSchema s = make_sph();
   return s;
 }
+const TableSchema& zone_schema() {
+  static const TableSchema s = make_zone();
+  return s;
+}
 const TableSchema& detonation_schema() {
   static const TableSchema s = make_detonation();
   return s;
+}
+
+TableSchema make_zone() {
+  TableSchema t{"parts.zones",
+                "Sub-regions of a part with their own initial state (e.g. the two states of a "
+                "shock tube). Entities inside a zone take its values; later zones win.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(sub("region", KeyType::Table, region_schema(), "Where the zone is.")),
+      positive(real("spacing_m", "m",
+                    "The zone's own particle spacing: its particles are laid on their own "
+                    "lattice (e.g. equal particle masses across a density jump: spacing ratio "
+                    "= (density ratio)^(1/D)). Unset: the part's lattice.")),
+      positive(real("density_kg_m3", "kg/m^3", "Density in the zone. Unset: the part's.")),
+      at_least(real("pressure_pa", "Pa",
+                    "Pressure in the zone (ideal gas: sets the internal energy). Unset: the "
+                    "part's."),
+               0),
+      vec("velocity_m_s", "m/s", "Velocity in the zone. Unset: the part's."),
+  };
+  return t;
 }
 
 TableSchema make_part() {
@@ -265,6 +339,8 @@ TableSchema make_part() {
       required(positive(real("spacing_m", "m", "Particle spacing (lattice pitch)."))),
       required(sub("region", KeyType::Table, region_schema(), "Where the part is.")),
       sub("initial", KeyType::Table, initial_schema(), "Initial state."),
+      sub("zones", KeyType::TableArray, zone_schema(),
+          "Zones with their own initial state, inside the part's region."),
   };
   t.variants["sph"] = {
       sub("sph", KeyType::Table, sph_schema(), "SPH numerics."),
@@ -317,6 +393,12 @@ std::string type_doc(const KeySchema& k) {
         s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
       return s;
     }
+    case KeyType::ChoiceList: {
+      std::string s = "array of ";
+      for (std::size_t i = 0; i < k.choices.size(); ++i)
+        s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
+      return s;
+    }
     case KeyType::RealVector:
       return "[number; dimension]";
     case KeyType::RealArray:
@@ -348,7 +430,11 @@ void key_rows(std::string& md, const std::vector<KeySchema>& keys) {
   md += "\n";
 }
 
-void table_section(std::string& md, const TableSchema& t, bool array) {
+void table_section(std::string& md, const TableSchema& t, bool array,
+                   std::vector<const TableSchema*>& done) {
+  // A table used in several places (a region) is documented once.
+  if (std::find(done.begin(), done.end(), &t) != done.end()) return;
+  done.push_back(&t);
   const std::string header = array ? "[[" + t.name + "]]" : "[" + t.name + "]";
   md += fmt::format("## `{}`\n\n{}\n\n", header, t.doc);
   key_rows(md, t.keys);
@@ -358,7 +444,7 @@ void table_section(std::string& md, const TableSchema& t, bool array) {
   }
   auto recurse = [&](const std::vector<KeySchema>& keys) {
     for (const auto& k : keys)
-      if (k.sub) table_section(md, *k.sub, k.type == KeyType::TableArray);
+      if (k.sub) table_section(md, *k.sub, k.type == KeyType::TableArray, done);
   };
   recurse(t.keys);
   for (const auto& [name, keys] : t.variants)
@@ -381,8 +467,9 @@ std::string schema_markdown() {
       "Vectors (`[number; dimension]`) have as many entries as `scenario.dimension`. In 2D "
       "(plane strain) masses and energies are per metre of depth.\n\n";
   const TableSchema& root = scenario_schema();
+  std::vector<const TableSchema*> done;
   for (const auto& k : root.keys)
-    if (k.sub) table_section(md, *k.sub, k.type == KeyType::TableArray);
+    if (k.sub) table_section(md, *k.sub, k.type == KeyType::TableArray, done);
   return md;
 }
 

@@ -16,6 +16,7 @@ enum class KeyType {
   Bool,        // true / false
   String,      // free text
   Choice,      // one of `choices`
+  ChoiceList,  // array of distinct strings, each one of `choices`
   RealVector,  // array of reals with `dimension` entries
   RealArray,   // array of reals of any length
   Table,       // sub-table described by `sub`

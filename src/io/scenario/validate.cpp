@@ -1,6 +1,7 @@
 #include "io/scenario/validate.hpp"
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -19,6 +20,8 @@ std::string type_name(KeyType t, int dimension) {
       return "a string";
     case KeyType::Choice:
       return "a string";
+    case KeyType::ChoiceList:
+      return "an array of strings";
     case KeyType::RealVector:
       return fmt::format("an array of {} numbers", dimension);
     case KeyType::RealArray:
@@ -154,6 +157,31 @@ void check_value(toml::node& node, const KeySchema& k, const std::string& key_pa
       for (const auto& c : k.choices)
         ok = ok || (c == s->get());
       if (!ok) expect("expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
+      break;
+    }
+    case KeyType::ChoiceList: {
+      auto* a = node.as_array();
+      if (!a) {
+        expect("expected an array of strings from " + join(k.choices) + ", got " +
+               node_type_name(node));
+        break;
+      }
+      std::set<std::string> seen;
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        auto* s = a->get(i)->as_string();
+        const SourceLocation w = where_of(*a->get(i), where);
+        const std::string kp = fmt::format("{}[{}]", key_path, i);
+        if (!s) {
+          errors.emplace_back(
+              w, kp, "expected one of " + join(k.choices) + ", got " + node_type_name(*a->get(i)));
+          continue;
+        }
+        if (std::find(k.choices.begin(), k.choices.end(), s->get()) == k.choices.end())
+          errors.emplace_back(w, kp,
+                              "expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
+        else if (!seen.insert(s->get()).second)
+          errors.emplace_back(w, kp, "\"" + s->get() + "\" is listed twice");
+      }
       break;
     }
     case KeyType::RealVector:
