@@ -5,6 +5,7 @@
 //   static Real w(Real r, Real h)         kernel value                         [1/m^D]
 //   static Real dw_dr(Real r, Real h)     radial derivative dW/dr (<= 0)        [1/m^(D+1)]
 //   static Vec<D> grad_w(rij, r, h)       gradient wrt x_i, rij = x_i - x_j    [1/m^(D+1)]
+//   static Real grad_factor(r, h)         (dW/dr)/r, so grad_w = grad_factor*rij [1/m^(D+2)]
 // so a hot loop can be templated on the kernel type and stays branch-free (STYLE habit 1).
 // q = r/h throughout; h is the smoothing length [m].
 #pragma once
@@ -81,6 +82,16 @@ struct WendlandC2 {
   static Vec<D> grad_w(const Vec<D>& rij, Real r, Real h) {
     return detail::radial_gradient<D>(rij, r, dw_dr(r, h));
   }
+
+  /// (dW/dr) / r = -(5 \alpha_D / h^2) (1 - q/2)^3, finite at r = 0; the hot loops use
+  /// grad_i W = grad_factor * r_ij, which needs no division by r.
+  static Real grad_factor(Real r, Real h) {
+    const Real inv_h = Real(1) / h;
+    const Real q = r * inv_h;
+    if (q >= support) return Real(0);
+    const Real a = Real(1) - Real(0.5) * q;
+    return -Real(5) * sigma * detail::inv_h_pow_d<D>(h) * inv_h * inv_h * a * a * a;
+  }
 };
 
 /// Cubic B-spline (M4) kernel (Monaghan 1992, Annu. Rev. Astron. Astrophys. 30, 543, eq. 2.6;
@@ -128,6 +139,20 @@ struct CubicSpline {
 
   static Vec<D> grad_w(const Vec<D>& rij, Real r, Real h) {
     return detail::radial_gradient<D>(rij, r, dw_dr(r, h));
+  }
+
+  /// (dW/dr) / r, finite at r = 0: s (-3 + 9q/4) / h for q < 1, -s (3/4)(2 - q)^2 / (q h)
+  /// for 1 <= q < 2, with s = \sigma_D / h^{D+1}.
+  static Real grad_factor(Real r, Real h) {
+    const Real inv_h = Real(1) / h;
+    const Real q = r * inv_h;
+    const Real s = sigma * detail::inv_h_pow_d<D>(h) * inv_h * inv_h;
+    if (q < Real(1)) return s * (-Real(3) + Real(2.25) * q);
+    if (q < support) {
+      const Real b = Real(2) - q;
+      return -s * Real(0.75) * b * b / q;
+    }
+    return Real(0);
   }
 };
 

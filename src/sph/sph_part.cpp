@@ -39,7 +39,7 @@ using fields::kOutput;
 using fields::kRestart;
 using fields::kStateRoles;
 
-constexpr Index kResortEvery = 25;  // steps between re-sorting particles by cell (locality)
+constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of the largest support
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
 template <int D>
@@ -178,7 +178,7 @@ class SphPart final : public solver::Part<D> {
         h_(f_.add_scalar("smoothing_length", "m", kStateRoles)),
         p_(f_.add_scalar("pressure", "Pa", kOutput)),
         c_(f_.add_scalar("sound_speed", "m/s", kOutput)),
-        burn_(f_.add_scalar("burn_fraction", "1", kOutput)),
+        burn_(f_.add_scalar("burn_fraction", "1", kOutput | kRestart)),
         light_(f_.add_scalar("lighting_time", "s", kRestart | kHalo)),
         a_(f_.add_vector("acceleration", "m/s^2", kRestart)),
         drho_(f_.add_scalar("density_rate", "kg/m^3/s", kRestart)),
@@ -215,6 +215,10 @@ class SphPart final : public solver::Part<D> {
     if (const auto* jwl = std::get_if<materials::JwlParams>(&eos_)) {
       detonation_velocity_ = jwl->d_cj_m_s;
       is_explosive_ = true;
+      rho_ref_ = jwl->rho0_kg_m3;
+      rho_cj_ = materials::jwl_cj_state(*jwl).density_kg_m3;
+      beta_burn_ = std::isfinite(rho_cj_) && rho_cj_ > rho_ref_ && !pc.detonations.empty();
+      burn_width_ = 1.5 * spacing_;
     }
 
     for (Index i = 0; i < n; ++i) {
@@ -289,21 +293,9 @@ class SphPart final : public solver::Part<D> {
   }
 
   void compute_forces(Real t) override {
-    if (++steps_since_sort_ >= kResortEvery) resort();
     update_smoothing_lengths();
-    const Real radius = WendlandC2<D>::support * h_max_;
-    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), radius, neighbors::Pairs::Full,
-                                      list_);
+    update_neighbors();
     update_eos(t);
-    if (!wall_x_.empty()) {
-      const Real h_wall = h0_;
-      neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), std::span<const Vec<D>>(x_),
-                                     WendlandC2<D>::support * std::max(h_max_, h_wall),
-                                     wall_to_fluid_);
-      neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(wall_x_),
-                                     WendlandC2<D>::support * std::max(h_max_, h_wall),
-                                     fluid_to_wall_);
-    }
     if (cfg_.kernel == KernelKind::WendlandC2) {
       wall_state<WendlandC2<D>>();
       rates<WendlandC2<D>>();
@@ -410,8 +402,33 @@ class SphPart final : public solver::Part<D> {
            std::isfinite(p_[i]) && in_domain(i);
   }
 
+  // Neighbour lists with a skin (Verlet 1967): built for the radius (1 + kSkin) x the largest
+  // kernel support and kept while no particle has moved more than half the margin beyond what
+  // the current supports need. Particles are re-sorted by cell at each rebuild (locality).
+  // The pair loops test the true support, so a longer list only costs rejected candidates.
+  void update_neighbors() {
+    const Real need = WendlandC2<D>::support * h_max_;
+    const Index n = f_.size();
+    if (list_radius_ > 0) {
+      const Real moved = parallel::max_over(
+          n, 0.0, [&](Index i) { return (x_[i] - x_built_[static_cast<std::size_t>(i)]).norm(); });
+      if (2 * moved + need <= list_radius_) return;
+    }
+    resort();
+    list_radius_ = (1 + kSkin) * need;
+    x_built_.assign(x_.begin(), x_.end());
+    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), list_radius_,
+                                      neighbors::Pairs::Full, list_);
+    if (!wall_x_.empty()) {
+      neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), std::span<const Vec<D>>(x_),
+                                     list_radius_, wall_to_fluid_);
+      neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(wall_x_),
+                                     list_radius_, fluid_to_wall_);
+    }
+    ++list_builds_;
+  }
+
   void resort() {
-    steps_since_sort_ = 0;
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
     f_.permute(order);
@@ -430,7 +447,13 @@ class SphPart final : public solver::Part<D> {
     h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
   }
 
-  // Pressure and sound speed from the EOS, with the programmed-burn fraction for explosives.
+  // Pressure and sound speed from the EOS, with the burn fraction F for explosives, as in the
+  // programmed burn of Wilkins (1964) and LS-DYNA's *MAT_HIGH_EXPLOSIVE_BURN:
+  //   F1 = (t - t_light) D / (1.5 dx)       (lighting time: the front reaches the particle)
+  //   F2 = (1 - V) / (1 - V_CJ), V = rho0/rho (beta burn: compressed to the CJ volume, it burns)
+  //   F  = min(1, max(F_previous, F1, F2)),  p = F p_JWL(rho, e).
+  // F never decreases. F2 lets the products' compression light the explosive just ahead of the
+  // front, which brings the front's pressure closer to P_CJ at a given resolution.
   void update_eos(Real t) {
     const Index n = f_.size();
     std::visit(
@@ -438,10 +461,11 @@ class SphPart final : public solver::Part<D> {
           parallel::for_each(n, [&](Index i) {
             Real burn = 1;
             if (is_explosive_) {
-              // Wilkins' burn fraction: ramps from 0 to 1 while the front crosses 1.5 spacings.
-              burn = t < light_[i]
-                         ? 0.0
-                         : std::min(1.0, (t - light_[i]) * detonation_velocity_ / (1.5 * spacing_));
+              const Real f1 =
+                  t < light_[i] ? 0.0 : (t - light_[i]) * detonation_velocity_ / (burn_width_);
+              const Real f2 =
+                  beta_burn_ ? (1 - rho_ref_ / rho_[i]) / (1 - rho_ref_ / rho_cj_) : 0.0;
+              burn = std::min(1.0, std::max({burn_[i], f1, f2}));
             }
             burn_[i] = burn;
             const Real p = materials::eos_pressure_of(law, rho_[i], e_[i]);
@@ -506,6 +530,7 @@ class SphPart final : public solver::Part<D> {
       const Vec<D> xi = x_[i], vi = v_[i];
       const Real hi = h_[i], rhoi = rho_[i], ci = c_[i];
       const Real pi = p_[i];
+      const Real inv_rhoi = 1 / rhoi;
       // Monaghan (2000) artificial pressure, only where the pressure is negative.
       const Real ri = pi < 0 ? eps_tensile * -pi / (rhoi * rhoi) : 0.0;
       Vec<D> acc = Vec<D>::Zero(), xsph = Vec<D>::Zero();
@@ -515,12 +540,13 @@ class SphPart final : public solver::Part<D> {
       // a fixed wall particle: it cannot take its share of the pressure work, so particle i
       // books all of it, and kinetic plus internal energy stays conserved.
       auto pair = [&](const Vec<D>& rij, Real hj, Real mj, Real rhoj, Real pj, Real cj,
-                      const Vec<D>& vj, const Vec<D>& vj_visc, bool wall) {
+                      const Vec<D>& vj, const Vec<D>& vj_visc, bool wall)
+          __attribute__((always_inline)) {
         const Real r2 = rij.squaredNorm();
         const Real hbar = 0.5 * (hi + hj);
         if (r2 >= Kernel::support * Kernel::support * hbar * hbar) return;
         const Real r = std::sqrt(r2);
-        const Vec<D> gw = Kernel::grad_w(rij, r, hbar);
+        const Vec<D> gw = Kernel::grad_factor(r, hbar) * rij;
         const Vec<D> vij = vi - vj;
         const Vec<D> vij_visc = vi - vj_visc;
         const Real eta2 = 0.01 * hbar * hbar;
@@ -544,10 +570,9 @@ class SphPart final : public solver::Part<D> {
         }
         const Real vol_j = mj / rhoj;
         const Real vdotgw = vij.dot(gw);
-        acc -= (vol_j * (pi + pj) / rhoi + mj * (visc + tensile)) * gw;
+        acc -= (vol_j * (pi + pj) * inv_rhoi + mj * (visc + tensile)) * gw;
         drho += vol_j * vdotgw;
-        de +=
-            vol_j * (wall ? pi + pj : pi) / rhoi * vdotgw + (wall ? 1.0 : 0.5) * mj * visc * vdotgw;
+        de += (vol_j * (wall ? pi + pj : pi) * inv_rhoi + (wall ? 1.0 : 0.5) * mj * visc) * vdotgw;
         if (mu_visc > 0) {
           // Paper eq. 36 (Lo & Shao 2002) with equal viscosities: k <= 0 since r . grad W <= 0.
           const Real k = 2 * mu_visc * rij.dot(gw) / (rhoi * rhoj * (r2 + eta2));
@@ -581,6 +606,10 @@ class SphPart final : public solver::Part<D> {
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool is_explosive_ = false;
   Real detonation_velocity_ = 0;
+  Real rho_ref_ = 0;  // unreacted density rho0 and CJ density, for the beta burn
+  Real rho_cj_ = 0;
+  bool beta_burn_ = false;
+  Real burn_width_ = 0;  // distance over which F1 ramps from 0 to 1 [m]
   Real cell_volume_ = 0;
   Real h0_ = 0;
 
@@ -613,7 +642,9 @@ class SphPart final : public solver::Part<D> {
   neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_;
   Real h_max_ = 0;
   Real external_work_ = 0;
-  Index steps_since_sort_ = 0;
+  Real list_radius_ = 0;  // radius the lists were built for; 0: not built yet
+  std::vector<Vec<D>> x_built_;
+  Index list_builds_ = 0;
 };
 
 }  // namespace

@@ -155,3 +155,28 @@ TEST(CubicSpline, CentralValueMatchesClosedForm) {
 
 }  // namespace
 }  // namespace crater::sph
+
+// grad_factor is (dW/dr)/r, the form the force loops use; it must agree with dw_dr / r and stay
+// finite at r = 0.
+template <class Kernel>
+void expect_grad_factor_consistent() {
+  const crater::Real h = 0.013;
+  for (int k = 1; k < 400; ++k) {
+    const crater::Real r = 2.0 * h * k / 400.0;
+    const crater::Real expected = Kernel::dw_dr(r, h) / r;
+    EXPECT_NEAR(Kernel::grad_factor(r, h), expected, 1e-12 * std::abs(expected) + 1e-300)
+        << "r/h = " << r / h;
+  }
+  EXPECT_TRUE(std::isfinite(Kernel::grad_factor(0.0, h)));
+  EXPECT_EQ(Kernel::grad_factor(2.0 * h * (1 + 1e-12), h), 0.0);
+}
+
+TEST(KernelGradFactor, WendlandC2) {
+  expect_grad_factor_consistent<crater::sph::WendlandC2<2>>();
+  expect_grad_factor_consistent<crater::sph::WendlandC2<3>>();
+}
+
+TEST(KernelGradFactor, CubicSpline) {
+  expect_grad_factor_consistent<crater::sph::CubicSpline<2>>();
+  expect_grad_factor_consistent<crater::sph::CubicSpline<3>>();
+}
