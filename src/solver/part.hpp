@@ -47,6 +47,12 @@ struct Fault {
   std::string what;
 };
 
+/// A named count or value a part reports about its run (summary.json, `parts[].diagnostics`).
+struct Diagnostic {
+  std::string name;
+  Real value = 0;
+};
+
 /// Entities of a part as the output writers see them: points (particles) or an unstructured
 /// mesh (nodes + cells). Cells use VTK cell type ids and connectivity.
 template <int D>
@@ -91,6 +97,9 @@ class Part {
   virtual Geometry<D> geometry() const = 0;
   virtual std::vector<fields::FieldView> point_fields() const = 0;
   virtual std::vector<fields::FieldView> cell_fields() const { return {}; }
+
+  /// Counters worth reporting (e.g. safeguards that acted); empty by default.
+  virtual std::vector<Diagnostic> diagnostics() const { return {}; }
 };
 
 }  // namespace crater::solver

@@ -188,6 +188,13 @@ void write_summary(const io::Config& c, const fs::path& dir,
     j.begin_object();
     j.field("name", p->name()).field("method", p->method());
     j.field("count", static_cast<std::int64_t>(p->count())).field("mass_kg", p->mass_kg());
+    const auto diags = p->diagnostics();
+    if (!diags.empty()) {
+      j.key("diagnostics").begin_object();
+      for (const auto& d : diags)
+        j.field(d.name, d.value);
+      j.end_object();
+    }
     j.end_object();
   }
   j.end_array();
