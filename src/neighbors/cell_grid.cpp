@@ -74,24 +74,33 @@ GridSpec<D> make_grid_spec(std::span<const Vec<D>> x, Real cell_size) {
     throw std::invalid_argument("cell grid: coordinate range overflows double");
   }
 
-  // Memory guard: at most `cap` cells. Bounding each axis first keeps the product finite.
+  // Memory guard: at most `cap` cells. Bounding each axis first keeps the product finite; the
+  // "+ 2" allows for the origin snapping below.
   const Real cap = 4.0 * static_cast<Real>(n) + 64.0;
   Real h = std::max(g.cell_size, extent.maxCoeff() / cap);
   const auto cells_for = [&extent](Real size) {
     Real prod = 1;
-    for (int k = 0; k < D; ++k)
-      prod *= std::floor(extent[k] / size) + 1;
+    for (int k = 0; k < D; ++k) {
+      prod *= std::floor(extent[k] / size) + 2;
+    }
     return prod;
   };
   for (Real prod = cells_for(h); prod > cap; prod = cells_for(h)) {
     h *= std::max(Real(1.01), std::pow(prod / cap, Real(1) / D));
   }
-
-  g.origin = lo;
   g.cell_size = h;
-  // Same expression as cell_coords, so a point on the max face lands in the last cell.
-  for (int k = 0; k < D; ++k)
-    g.dims[k] = static_cast<Index>(std::floor(extent[k] / h)) + 1;
+
+  // The origin snaps to a multiple of the cell size, so cell faces stay fixed in space while
+  // the box moves: between two re-sorts a point changes cell only by crossing a face, and a part
+  // sorted by cell_sort_order stays (nearly) in cell order.
+  for (int k = 0; k < D; ++k) {
+    // Rounding can miss when |lo| / h is huge; then the unsnapped minimum does.
+    const Real snapped = std::floor(lo[k] / h) * h;
+    const bool ok = std::isfinite(snapped) && snapped <= lo[k] && lo[k] - snapped < h;
+    g.origin[k] = ok ? snapped : lo[k];
+    // Same expression as cell_coords, so a point on the max face lands in the last cell.
+    g.dims[k] = static_cast<Index>(std::floor((hi[k] - g.origin[k]) / h)) + 1;
+  }
   return g;
 }
 
@@ -114,16 +123,20 @@ void bucket_by_cell(std::span<const Vec<D>> x, const GridSpec<D>& grid,
   // Counting sort, serial: it is a small part of the build and stays trivially stable.
   Index* start = cell_start.data();
   const Index* ci = cell.data();
-  for (Index i = 0; i < n; ++i)
+  for (Index i = 0; i < n; ++i) {
     ++start[ci[i] + 1];
-  for (Index c = 0; c < ncell; ++c)
+  }
+  for (Index c = 0; c < ncell; ++c) {
     start[c + 1] += start[c];
+  }
   Index* ord = order.data();
-  for (Index i = 0; i < n; ++i)
+  for (Index i = 0; i < n; ++i) {
     ord[start[ci[i]]++] = i;
+  }
   // The scatter advanced each start to the next cell's start; shift back.
-  for (Index c = ncell; c > 0; --c)
+  for (Index c = ncell; c > 0; --c) {
     start[c] = start[c - 1];
+  }
   start[0] = 0;
 }
 

@@ -41,8 +41,9 @@ struct GridSpec {
   /// Row-major linear cell index: the last axis varies fastest.
   Index linear(const IVec<D>& c) const {
     Index l = c[0];
-    for (int k = 1; k < D; ++k)
+    for (int k = 1; k < D; ++k) {
       l = l * dims[k] + c[k];
+    }
     return l;
   }
 
@@ -53,6 +54,8 @@ struct GridSpec {
 /// The cell size is enlarged by a relative 1e-6 so that rounding in cell_coords can never put two
 /// points at distance exactly cell_size two cells apart, and enlarged further if the box would
 /// need more than 4 * x.size() + 64 cells (memory guard; far outliers then make cells coarse).
+/// The origin is the box minimum rounded down to a multiple of the cell size, so that the cell
+/// faces do not move with the box.
 /// Throws std::invalid_argument if cell_size is not positive and finite, if a coordinate is not
 /// finite, or if the box extent overflows.
 template <int D>

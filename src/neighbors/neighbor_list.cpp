@@ -1,12 +1,14 @@
 // Cell-list build.
 //
-// The candidate set and the query set are bucketed on one grid (for a self list they are the
-// same). Work goes cell by cell: the candidates of the 3^D cells around a query cell form
-// 3^(D-1) contiguous ranges of the bucketed arrays (the three cells along the last axis are
-// adjacent in row-major order), and every query point of the cell scans them with a vectorised
-// loop. Lists must come out in ascending original index. When the original indices ascend
-// across the ranges, as they do for points re-sorted by cell_sort_order, the ranges are scanned
-// in place; otherwise the candidates are first copied and sorted by index, once per cell.
+// The candidate set and the query set are bucketed on one grid (for a self list
+// they are the same). Work goes cell by cell: the candidates of the 3^D cells
+// around a query cell form 3^(D-1) contiguous ranges of the bucketed arrays
+// (the three cells along the last axis are adjacent in row-major order), and
+// every query point of the cell scans them with a vectorised loop. Lists must
+// come out in ascending original index. When the original indices ascend across
+// the ranges, as they do for points re-sorted by cell_sort_order, the ranges
+// are scanned in place; otherwise the candidates are first copied and sorted by
+// index, once per cell.
 #include "neighbors/neighbor_list.hpp"
 
 #include <omp.h>
@@ -17,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -35,7 +38,8 @@ constexpr int ipow3(int d) {
   return d == 0 ? 1 : 3 * ipow3(d - 1);
 }
 
-// Copies of a dozen elements: an inline loop, not a library memmove call per copy.
+// Copies of a dozen elements: an inline loop, not a library memmove call per
+// copy.
 template <class T>
 inline void copy_short(const T* src, Index n, T* dst) {
 #pragma omp simd
@@ -44,16 +48,17 @@ inline void copy_short(const T* src, Index n, T* dst) {
   }
 }
 
-// Points bucketed by cell: coordinates per axis in cell order and the original index of each
-// sorted position.
+// Points bucketed by cell: coordinates per axis in cell order and the original
+// index of each sorted position.
 template <int D>
 struct Buckets {
   std::vector<Index> cell_start;
   std::vector<Index> order;  // sorted position -> original index
   std::vector<Index> cell;   // scratch of bucket_by_cell
   std::vector<Real> sorted;  // D blocks of n coordinates
-  // descents[s]: number of s' in [1, s] with order[s'] < order[s' - 1]; a range [b, e) of
-  // sorted positions has ascending original indices iff descents[e - 1] == descents[b].
+  // descents[s]: number of s' in [1, s] with order[s'] < order[s' - 1]; a range
+  // [b, e) of sorted positions has ascending original indices iff descents[e -
+  // 1] == descents[b].
   std::vector<Index> descents;
   Index n = 0;
 
@@ -73,18 +78,29 @@ struct Buckets {
       }
     }
     Index* desc = descents.data();
-    if (nn > 0) desc[0] = 0;
-    for (Index s = 1; s < nn; ++s)
+    if (nn > 0) {
+      desc[0] = 0;
+    }
+    for (Index s = 1; s < nn; ++s) {
       desc[s] = desc[s - 1] + (ord[s] < ord[s - 1]);
+    }
   }
 };
 
-// Per calling thread, reused across calls so that a rebuild every step does not allocate.
+// Per calling thread, reused across calls so that a rebuild every step does not
+// allocate. Where the count pass left the masks of one query cell: thread -1
+// when it kept none.
+struct MaskRef {
+  int thread = -1;
+  Index offset = 0;
+};
+
 template <int D>
 struct Workspace {
   GridSpec<D> grid;
   Buckets<D> cand;
   Buckets<D> query;  // cross lists only
+  std::vector<MaskRef> masks;
 };
 
 template <int D>
@@ -93,9 +109,9 @@ Workspace<D>& workspace() {
   return ws;
 }
 
-// The candidates of one stencil: ranges [begin[r], end[r]) into D blocks of `stride`
-// coordinates from c and into the original indices j. Unless noted, j ascends within each
-// range and from one range to the next.
+// The candidates of one stencil: ranges [begin[r], end[r]) into D blocks of
+// `stride` coordinates from c and into the original indices j. Unless noted, j
+// ascends within each range and from one range to the next.
 template <int D>
 struct Candidates {
   static constexpr int kMaxRanges = ipow3(D - 1);
@@ -108,7 +124,11 @@ struct Candidates {
   Index count = 0;
 };
 
-// Per-thread scratch: a sorted copy of one stencil's candidates and one output row.
+// Query points per block in the kernels below.
+constexpr int kRowLanes = 4;
+
+// Per-thread scratch: a sorted copy of one stencil's candidates and one output
+// row per lane.
 template <int D>
 struct Scratch {
   Index cap = 0;
@@ -116,15 +136,30 @@ struct Scratch {
   std::vector<Index> j;    // their original indices, ascending
   std::vector<Real> c;     // D blocks of cap coordinates
   std::vector<Index> row;
+  // Distance masks kept by the count pass for the fill pass (see build).
+  std::vector<std::uint64_t> masks;
+  Index masks_used = 0;
+
+  // Room for n more masks; returns the offset of the first.
+  Index take_masks(Index n) {
+    const Index at = masks_used;
+    masks_used += n;
+    if (static_cast<Index>(masks.size()) < masks_used) {
+      masks.resize(static_cast<std::size_t>(std::max(masks_used, 2 * at)));
+    }
+    return at;
+  }
 
   void reserve(Index m) {
-    if (m <= cap) return;
+    if (m <= cap) {
+      return;
+    }
     cap = std::max(m, 2 * cap);
     const auto u = static_cast<std::size_t>(cap);
     pos.resize(u);
     j.resize(u);
     c.resize(u * D);
-    row.resize(u);
+    row.resize(u * kRowLanes);
   }
 };
 
@@ -135,6 +170,17 @@ void check_radius(Real radius) {
     throw std::invalid_argument(std::string("neighbour search: radius must be positive and "
                                             "finite, got ") +
                                 buf);
+  }
+}
+
+// Cross lists name the set; self lists get the message of make_grid_spec.
+template <int D>
+void check_finite(std::span<const Vec<D>> x, const char* set) {
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!x[i].allFinite()) {
+      throw std::invalid_argument("neighbour search: non-finite coordinate at point " +
+                                  std::to_string(i) + " of the " + set + " set");
+    }
   }
 }
 
@@ -149,8 +195,8 @@ IVec<D> coords_of_linear(const GridSpec<D>& g, Index c) {
   return a;
 }
 
-// The candidate ranges around cell coordinates c, in place in the buckets (j not necessarily
-// ascending: see ascending()).
+// The candidate ranges around cell coordinates c, in place in the buckets (j
+// not necessarily ascending: see ascending()).
 template <int D>
 Candidates<D> stencil(const GridSpec<D>& g, const Buckets<D>& b, const IVec<D>& c) {
   Candidates<D> v;
@@ -164,7 +210,9 @@ Candidates<D> stencil(const GridSpec<D>& g, const Buckets<D>& b, const IVec<D>& 
   const auto add = [&](Index base) {
     const Index begin = cs[base + lo];
     const Index end = cs[base + hi + 1];
-    if (begin == end) return;
+    if (begin == end) {
+      return;
+    }
     v.begin[static_cast<std::size_t>(v.ranges)] = begin;
     v.end[static_cast<std::size_t>(v.ranges)] = end;
     v.count += end - begin;
@@ -173,26 +221,31 @@ Candidates<D> stencil(const GridSpec<D>& g, const Buckets<D>& b, const IVec<D>& 
   const Index a0_lo = std::max<Index>(c[0] - 1, 0);
   const Index a0_hi = std::min<Index>(c[0] + 1, g.dims[0] - 1);
   if constexpr (D == 2) {
-    for (Index a0 = a0_lo; a0 <= a0_hi; ++a0)
+    for (Index a0 = a0_lo; a0 <= a0_hi; ++a0) {
       add(a0 * dl);
+    }
   } else {
     const Index a1_lo = std::max<Index>(c[1] - 1, 0);
     const Index a1_hi = std::min<Index>(c[1] + 1, g.dims[1] - 1);
     for (Index a0 = a0_lo; a0 <= a0_hi; ++a0) {
-      for (Index a1 = a1_lo; a1 <= a1_hi; ++a1)
+      for (Index a1 = a1_lo; a1 <= a1_hi; ++a1) {
         add((a0 * g.dims[1] + a1) * dl);
+      }
     }
   }
   return v;
 }
 
-// Whether the original indices ascend through all ranges of v (taken in place from b).
+// Whether the original indices ascend through all ranges of v (taken in place
+// from b).
 template <int D>
 bool ascending(const Buckets<D>& b, const Candidates<D>& v) {
   const Index* desc = b.descents.data();
   for (int r = 0; r < v.ranges; ++r) {
     const auto ur = static_cast<std::size_t>(r);
-    if (desc[v.end[ur] - 1] != desc[v.begin[ur]]) return false;
+    if (desc[v.end[ur] - 1] != desc[v.begin[ur]]) {
+      return false;
+    }
     if (r > 0 && b.order[static_cast<std::size_t>(v.begin[ur])] <
                      b.order[static_cast<std::size_t>(v.end[ur - 1] - 1)]) {
       return false;
@@ -201,8 +254,9 @@ bool ascending(const Buckets<D>& b, const Candidates<D>& v) {
   return true;
 }
 
-// Copies the candidates of v into s in ascending original index; returns a one-range view.
-// Insertion sort for the usual few dozen candidates (ascending runs, often nearly in order).
+// Copies the candidates of v into s in ascending original index; returns a
+// one-range view. Insertion sort for the usual few dozen candidates (ascending
+// runs, often nearly in order).
 template <int D>
 Candidates<D> sorted_copy(const Buckets<D>& b, const Candidates<D>& v, Scratch<D>& s) {
   const Index m = v.count;
@@ -221,8 +275,9 @@ Candidates<D> sorted_copy(const Buckets<D>& b, const Candidates<D>& v, Scratch<D
   }
   if (m > 256) {
     std::sort(pos, pos + m, [order](Index u, Index w) { return order[u] < order[w]; });
-    for (Index q = 0; q < m; ++q)
+    for (Index q = 0; q < m; ++q) {
       j[q] = order[pos[q]];
+    }
   } else {
     for (Index q = 1; q < m; ++q) {
       const Index kj = j[q];
@@ -239,8 +294,9 @@ Candidates<D> sorted_copy(const Buckets<D>& b, const Candidates<D>& v, Scratch<D
   for (int a = 0; a < D; ++a) {
     const Real* src = b.sorted.data() + a * b.n;
     Real* dst = s.c.data() + a * s.cap;
-    for (Index q = 0; q < m; ++q)
+    for (Index q = 0; q < m; ++q) {
       dst[q] = src[pos[q]];
+    }
   }
   Candidates<D> out;
   out.c = s.c.data();
@@ -260,157 +316,278 @@ enum class Keep {
   Greater,     // Pairs::Half
 };
 
-// Squared distance from q to candidate b. Both passes evaluate this one expression (no FMA
-// contraction in ISO C++ mode), so they agree on every candidate.
+// Query points are processed in blocks of kLanes (points of one cell), so that
+// the loop over a candidate range is set up once per block rather than once per
+// point; the compiler vectorises over candidates or lanes as it sees fit.
+constexpr int kLanes = kRowLanes;
+
 template <int D>
-inline Real dist2(const Real* c, Index stride, Index b, const Real* q) {
-  Real d = c[b] - q[0];
-  Real d2 = d * d;
-  for (int a = 1; a < D; ++a) {
-    d = c[a * stride + b] - q[a];
-    d2 += d * d;
+struct QueryBlock {
+  std::array<std::array<Real, kLanes>, D> q;  // q[axis][lane]
+  std::array<Index, kLanes> i;                // original indices
+  int live;                                   // lanes in use; the others never match
+};
+
+// The helpers below are forced inline so that they are compiled for the
+// instruction set of the kernel clone that calls them (see
+// CRATER_NEIGHBORS_CLONES).
+template <int D>
+[[gnu::always_inline]] inline QueryBlock<D> load_block(const Buckets<D>& qb, Index t, Index t1) {
+  QueryBlock<D> blk;
+  blk.live = static_cast<int>(std::min<Index>(kLanes, t1 - t));
+  for (int l = 0; l < kLanes; ++l) {
+    const auto ul = static_cast<std::size_t>(l);
+    for (int a = 0; a < D; ++a) {
+      // An infinite coordinate puts an unused lane at infinite distance from
+      // every candidate.
+      blk.q[static_cast<std::size_t>(a)][ul] =
+          l < blk.live ? qb.sorted[static_cast<std::size_t>(a * qb.n + t + l)]
+                       : std::numeric_limits<Real>::infinity();
+    }
+    blk.i[ul] = l < blk.live ? qb.order[static_cast<std::size_t>(t + l)] : -1;
   }
-  return d2;
+  return blk;
 }
 
-// First candidate of range r to consider: with Keep::Greater, the first with j > i.
+// kLanes values, one per query point of a block (GCC/Clang vector extension):
+// the distance test of one candidate against a whole block is a handful of
+// vector instructions, whatever the instruction set the clone below is compiled
+// for.
+using Lanes = Real __attribute__((vector_size(kLanes * sizeof(Real))));
+using LaneBits = std::uint64_t __attribute__((vector_size(kLanes * sizeof(std::uint64_t))));
+
+// Bit b of mask[l] is set when candidate base + b is within the radius of lane
+// l (len <= 64). Both passes call this one function, so they agree on every
+// pair; each pair goes through the same IEEE operations whatever the vector
+// width (no FMA contraction in ISO C++ mode).
+template <int D>
+[[gnu::always_inline]] inline void block_masks(const Candidates<D>& v, Index base, Index len,
+                                               const QueryBlock<D>& blk, Real r2,
+                                               std::array<std::uint64_t, kLanes>& mask) {
+  const Real* x = v.c + base;
+  const Real* y = v.c + v.stride + base;
+  const Real* z = v.c + (D == 3 ? 2 * v.stride : 0) + base;
+  Lanes qx;
+  Lanes qy;
+  Lanes qz;
+  Lanes rr;
+  LaneBits bit;
+  for (int l = 0; l < kLanes; ++l) {
+    const auto ul = static_cast<std::size_t>(l);
+    qx[l] = blk.q[0][ul];
+    qy[l] = blk.q[1][ul];
+    qz[l] = blk.q[D == 3 ? 2 : 0][ul];
+    rr[l] = r2;
+    bit[l] = 1;
+  }
+  LaneBits m{};
+  for (Index b = 0; b < len; ++b, bit += bit) {
+    const Lanes dx = x[b] - qx;
+    const Lanes dy = y[b] - qy;
+    Lanes d2 = dx * dx + dy * dy;
+    if constexpr (D == 3) {
+      const Lanes dz = z[b] - qz;
+      d2 += dz * dz;
+    }
+    m |= reinterpret_cast<LaneBits>(d2 <= rr) & bit;
+  }
+  for (int l = 0; l < kLanes; ++l) {
+    mask[static_cast<std::size_t>(l)] = m[l];
+  }
+}
+
+// With Keep::Greater, clears the bits of candidates with j <= i (a prefix, j
+// ascending).
 template <int D, Keep keep>
-inline Index range_begin(const Candidates<D>& v, std::size_t r, Index i) {
+[[gnu::always_inline]] inline void keep_greater(const Candidates<D>& v, Index base, Index len,
+                                                const QueryBlock<D>& blk,
+                                                std::array<std::uint64_t, kLanes>& mask) {
   if constexpr (keep == Keep::Greater) {
-    return std::upper_bound(v.j + v.begin[r], v.j + v.end[r], i) - v.j;
-  } else {
-    return v.begin[r];
-  }
-}
-
-// Row length of query point q (original index i). Keep::Greater needs ascending j.
-template <int D, Keep keep>
-inline Index count_query(const Candidates<D>& v, const std::array<Real, D>& q, Index i, Real r2) {
-  // Counted in floating point: GCC vectorises a double compare into a double sum, not into an
-  // integer one. Exact below 2^53.
-  Real cnt = 0;
-  for (int r = 0; r < v.ranges; ++r) {
-    const auto ur = static_cast<std::size_t>(r);
-    const Index e = v.end[ur];
-#pragma omp simd reduction(+ : cnt)
-    for (Index b = range_begin<D, keep>(v, ur, i); b < e; ++b) {
-      cnt += dist2<D>(v.c, v.stride, b, q.data()) <= r2 ? Real(1) : Real(0);
+    const Index* j = v.j + base;
+    for (int l = 0; l < blk.live; ++l) {
+      const auto ul = static_cast<std::size_t>(l);
+      const Index first = std::upper_bound(j, j + len, blk.i[ul]) - j;
+      mask[ul] = first >= 64 ? 0 : mask[ul] & (~std::uint64_t{0} << first);
     }
   }
-  // The point itself is at distance 0 and was counted once.
-  if constexpr (keep == Keep::AllButSelf) cnt -= 1;
-  return static_cast<Index>(cnt);
 }
 
-// Writes the kept original indices of query point q, ascending, to row and returns their
-// number. The distance tests of up to 64 candidates are packed into a bit mask (vectorised) and
-// the kept candidates are read off its set bits.
-template <int D, Keep keep>
-inline Index fill_query(const Candidates<D>& v, const std::array<Real, D>& q, Index i, Real r2,
-                        Index* row) {
-  Index t = 0;
+// Number of chunks for_each_chunk visits.
+template <int D>
+inline Index chunk_count(const Candidates<D>& v) {
+  Index n = 0;
   for (int r = 0; r < v.ranges; ++r) {
     const auto ur = static_cast<std::size_t>(r);
-    const Index e = v.end[ur];
-    for (Index base = range_begin<D, keep>(v, ur, i); base < e; base += 64) {
-      const Index len = std::min<Index>(64, e - base);
-      std::uint64_t mask = 0;
-#pragma omp simd reduction(| : mask)
-      for (Index b = 0; b < len; ++b) {
-        const std::uint64_t kept = dist2<D>(v.c, v.stride, base + b, q.data()) <= r2 ? 1 : 0;
-        mask |= kept << b;
-      }
-      for (; mask != 0; mask &= mask - 1) {
-        const Index jj = v.j[base + std::countr_zero(mask)];
-        row[t] = jj;
-        if constexpr (keep == Keep::AllButSelf) {
-          t += jj != i;  // i itself is at distance 0
-        } else {
-          ++t;
-        }
-      }
-    }
+    n += (v.end[ur] - v.begin[ur] + 63) / 64;
   }
-  return t;
+  return n;
 }
 
-// The per-cell kernels are also compiled for AVX2 where GCC supports function multi-versioning
-// (the clone is chosen once at load time). Results do not depend on the clone: each candidate
-// goes through the same IEEE operations (no FMA), and counts are exact integers.
+// Calls f(base, mask) for each chunk of at most 64 candidates of each range of
+// v.
+template <int D, Keep keep, class F>
+[[gnu::always_inline]] inline void for_each_chunk(const Candidates<D>& v, const QueryBlock<D>& blk,
+                                                  Real r2, F&& f) {
+  std::array<std::uint64_t, kLanes> mask;
+  for (int r = 0; r < v.ranges; ++r) {
+    const auto ur = static_cast<std::size_t>(r);
+    for (Index base = v.begin[ur]; base < v.end[ur]; base += 64) {
+      const Index len = std::min<Index>(64, v.end[ur] - base);
+      block_masks<D>(v, base, len, blk, r2, mask);
+      keep_greater<D, keep>(v, base, len, blk, mask);
+      f(base, mask);
+    }
+  }
+}
+
+// The per-cell kernels are also compiled for AVX2 where GCC supports function
+// multi-versioning (the clone is chosen once at load time). Results do not
+// depend on the clone.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
 #define CRATER_NEIGHBORS_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define CRATER_NEIGHBORS_CLONES
 #endif
 
-template <int D>
-inline std::array<Real, D> query_point(const Buckets<D>& qb, Index t) {
-  std::array<Real, D> q;
-  for (int a = 0; a < D; ++a) {
-    q[static_cast<std::size_t>(a)] = qb.sorted[static_cast<std::size_t>(a * qb.n + t)];
-  }
-  return q;
-}
-
-// Row lengths of the query points [t0, t1) of one cell into count[i].
+// Row lengths of the query points [t0, t1) of one cell into count[i]; if store
+// is not null, the masks go there too, kLanes per chunk, in visiting order.
+// Keep::Greater needs ascending j; the other modes do not look at j.
 template <int D, Keep keep>
 CRATER_NEIGHBORS_CLONES void count_cell(const Candidates<D>& v, const Buckets<D>& qb, Index t0,
-                                        Index t1, Real r2, Index* count) {
-  for (Index t = t0; t < t1; ++t) {
-    const Index i = qb.order[static_cast<std::size_t>(t)];
-    count[i] = count_query<D, keep>(v, query_point(qb, t), i, r2);
+                                        Index t1, Real r2, Index* count, std::uint64_t* store) {
+  for (Index t = t0; t < t1; t += kLanes) {
+    const QueryBlock<D> blk = load_block(qb, t, t1);
+    std::array<Index, kLanes> n{};
+    for_each_chunk<D, keep>(v, blk, r2, [&](Index, const std::array<std::uint64_t, kLanes>& m) {
+      for (int l = 0; l < kLanes; ++l) {
+        n[static_cast<std::size_t>(l)] += std::popcount(m[static_cast<std::size_t>(l)]);
+      }
+      if (store != nullptr) {
+        std::copy(m.begin(), m.end(), store);
+        store += kLanes;
+      }
+    });
+    for (int l = 0; l < blk.live; ++l) {
+      const auto ul = static_cast<std::size_t>(l);
+      // In a self list the point itself is at distance 0 and was counted once.
+      count[blk.i[ul]] = n[ul] - (keep == Keep::AllButSelf ? 1 : 0);
+    }
   }
 }
 
-// Rows of the query points [t0, t1) of one cell, copied to their slots in out. Returns the
-// number of rows whose length disagrees with the count pass: 0 unless the distance test was
-// miscompiled, and then no row is written past its slot.
+// Rows of the query points [t0, t1) of one cell, written to their slots in out;
+// `rows` has room for kLanes rows of v.count entries. The masks come from
+// `cached` (left by count_cell for the same v) or, if it is null, are computed
+// again. Returns the number of rows whose length disagrees with the count pass:
+// 0 unless the distance test was miscompiled, and then no row is written past
+// its slot.
 template <int D, Keep keep>
 CRATER_NEIGHBORS_CLONES Index fill_cell(const Candidates<D>& v, const Buckets<D>& qb, Index t0,
-                                        Index t1, Real r2, Index* row, NeighborList& out) {
-  Index bad = 0;
+                                        Index t1, Real r2, const std::uint64_t* cached, Index* rows,
+                                        NeighborList& out) {
   const Index* off = out.offsets.data();
   Index* idx = out.indices.data();
-  for (Index t = t0; t < t1; ++t) {
-    const Index i = qb.order[static_cast<std::size_t>(t)];
-    const Index m = fill_query<D, keep>(v, query_point(qb, t), i, r2, row);
-    const Index len = off[i + 1] - off[i];
-    copy_short(row, std::min(m, len), idx + off[i]);
-    bad += m != len;
+  Index bad = 0;
+  for (Index t = t0; t < t1; t += kLanes) {
+    const QueryBlock<D> blk = load_block(qb, t, t1);
+    std::array<Index, kLanes> n{};
+    const auto append = [&](Index base, const std::array<std::uint64_t, kLanes>& m) {
+      const Index* j = v.j + base;
+      for (int l = 0; l < blk.live; ++l) {
+        const auto ul = static_cast<std::size_t>(l);
+        Index* row = rows + l * v.count;
+        const Index self = blk.i[ul];
+        Index k = n[ul];
+        for (std::uint64_t mm = m[ul]; mm != 0; mm &= mm - 1) {
+          const Index jj = j[std::countr_zero(mm)];
+          row[k] = jj;
+          if constexpr (keep == Keep::AllButSelf) {
+            k += jj != self;  // the point itself is at distance 0
+          } else {
+            ++k;
+          }
+        }
+        n[ul] = k;
+      }
+    };
+    if (cached != nullptr) {
+      std::array<std::uint64_t, kLanes> m;
+      for (int r = 0; r < v.ranges; ++r) {
+        const auto ur = static_cast<std::size_t>(r);
+        for (Index base = v.begin[ur]; base < v.end[ur]; base += 64) {
+          std::copy(cached, cached + kLanes, m.begin());
+          cached += kLanes;
+          append(base, m);
+        }
+      }
+    } else {
+      for_each_chunk<D, keep>(v, blk, r2, append);
+    }
+    for (int l = 0; l < blk.live; ++l) {
+      const auto ul = static_cast<std::size_t>(l);
+      const Index i = blk.i[ul];
+      const Index len = off[i + 1] - off[i];
+      copy_short(rows + l * v.count, std::min(n[ul], len), idx + off[i]);
+      bad += n[ul] != len;
+    }
   }
   return bad;
 }
 
-// Lists for the query points qb (bucketed on grid) against the candidates cb; for a self list
-// both are the same object. out.offsets must have (number of queries + 1) entries.
+// Lists for the query points qb (bucketed on grid) against the candidates cb;
+// for a self list both are the same object. out.offsets must have (number of
+// queries + 1) entries.
+//
+// For cells whose candidates are scanned in place (ascending indices: the usual
+// case once a part is re-sorted), the count pass keeps its distance masks in
+// per-thread scratch and the fill pass only reads them off, so each pair is
+// tested once. Other cells are tested again on a sorted copy.
 template <int D, Keep keep>
 void build(const GridSpec<D>& grid, const Buckets<D>& cb, const Buckets<D>& qb, Real radius,
-           bool par, NeighborList& out) {
+           bool par, std::vector<MaskRef>& refs, NeighborList& out) {
   const Index ncell = grid.cell_count();
   const Index* qcs = qb.cell_start.data();
   const Real r2 = radius * radius;
+  refs.resize(static_cast<std::size_t>(ncell));
+  MaskRef* ref = refs.data();
+  std::vector<const std::uint64_t*> masks_of_thread(
+      static_cast<std::size_t>(par ? omp_get_max_threads() : 1));
 
-  // Pass 1: row lengths into offsets[i + 1]. Only Half lists need ascending indices here.
+  // Pass 1: row lengths into offsets[i + 1].
   Index* count = out.offsets.data() + 1;
 #pragma omp parallel if (par)
   {
     thread_local Scratch<D> s;
+    const int thread = omp_get_thread_num();
+    s.masks_used = 0;
 #pragma omp for schedule(dynamic, kChunk)
     for (Index c = 0; c < ncell; ++c) {
-      if (qcs[c] == qcs[c + 1]) continue;
-      Candidates<D> v = stencil<D>(grid, cb, coords_of_linear(grid, c));
-      if constexpr (keep == Keep::Greater) {
-        if (!ascending(cb, v)) v = sorted_copy(cb, v, s);
+      ref[c] = MaskRef{};
+      const Index t0 = qcs[c];
+      const Index t1 = qcs[c + 1];
+      if (t0 == t1) {
+        continue;
       }
-      count_cell<D, keep>(v, qb, qcs[c], qcs[c + 1], r2, count);
+      Candidates<D> v = stencil<D>(grid, cb, coords_of_linear(grid, c));
+      std::uint64_t* store = nullptr;
+      if (ascending(cb, v)) {
+        const Index blocks = (t1 - t0 + kLanes - 1) / kLanes;
+        ref[c] = MaskRef{thread, s.take_masks(blocks * chunk_count(v) * kLanes)};
+        store = s.masks.data() + ref[c].offset;
+      } else if constexpr (keep == Keep::Greater) {
+        v = sorted_copy(cb, v, s);
+      }
+      count_cell<D, keep>(v, qb, t0, t1, r2, count, store);
     }
+    masks_of_thread[static_cast<std::size_t>(thread)] = s.masks.data();
   }
 
   Index* o = out.offsets.data();
   const Index nq = out.size();
   o[0] = 0;
-  for (Index i = 0; i < nq; ++i)
+  for (Index i = 0; i < nq; ++i) {
     o[i + 1] += o[i];
+  }
   out.indices.resize(static_cast<std::size_t>(o[nq]));
 
   // Pass 2: fill.
@@ -420,11 +597,18 @@ void build(const GridSpec<D>& grid, const Buckets<D>& cb, const Buckets<D>& qb, 
     thread_local Scratch<D> s;
 #pragma omp for schedule(dynamic, kChunk)
     for (Index c = 0; c < ncell; ++c) {
-      if (qcs[c] == qcs[c + 1]) continue;
+      if (qcs[c] == qcs[c + 1]) {
+        continue;
+      }
       Candidates<D> v = stencil<D>(grid, cb, coords_of_linear(grid, c));
-      if (!ascending(cb, v)) v = sorted_copy(cb, v, s);
+      const std::uint64_t* cached = nullptr;
+      if (ref[c].thread >= 0) {
+        cached = masks_of_thread[static_cast<std::size_t>(ref[c].thread)] + ref[c].offset;
+      } else {
+        v = sorted_copy(cb, v, s);
+      }
       s.reserve(v.count);
-      bad_rows += fill_cell<D, keep>(v, qb, qcs[c], qcs[c + 1], r2, s.row.data(), out);
+      bad_rows += fill_cell<D, keep>(v, qb, qcs[c], qcs[c + 1], r2, cached, s.row.data(), out);
     }
   }
   if (bad_rows != 0) {
@@ -449,9 +633,9 @@ void build_neighbor_list(std::span<const Vec<D>> x, Real radius, Pairs mode, Nei
   ws.grid = make_grid_spec<D>(x, radius);  // validates coordinates
   ws.cand.fill(x, ws.grid, par);
   if (mode == Pairs::Full) {
-    build<D, Keep::AllButSelf>(ws.grid, ws.cand, ws.cand, radius, par, out);
+    build<D, Keep::AllButSelf>(ws.grid, ws.cand, ws.cand, radius, par, ws.masks, out);
   } else {
-    build<D, Keep::Greater>(ws.grid, ws.cand, ws.cand, radius, par, out);
+    build<D, Keep::Greater>(ws.grid, ws.cand, ws.cand, radius, par, ws.masks, out);
   }
 }
 
@@ -459,13 +643,9 @@ template <int D>
 void build_cross_list(std::span<const Vec<D>> a, std::span<const Vec<D>> b, Real radius,
                       NeighborList& out) {
   check_radius(radius);
+  check_finite<D>(a, "query");
+  check_finite<D>(b, "candidate");
   const Index na = static_cast<Index>(a.size());
-  for (Index i = 0; i < na; ++i) {
-    if (!a[static_cast<std::size_t>(i)].allFinite()) {
-      throw std::invalid_argument("neighbour search: non-finite coordinate at point " +
-                                  std::to_string(i) + " of the query set");
-    }
-  }
   out.offsets.assign(static_cast<std::size_t>(na + 1), 0);
   if (na == 0 || b.empty()) {
     out.indices.clear();
@@ -473,12 +653,12 @@ void build_cross_list(std::span<const Vec<D>> a, std::span<const Vec<D>> b, Real
   }
   const bool par = std::max<Index>(na, static_cast<Index>(b.size())) >= kParallelMin;
   Workspace<D>& ws = workspace<D>();
-  ws.grid = make_grid_spec<D>(b, radius);  // validates b
+  ws.grid = make_grid_spec<D>(b, radius);
   ws.cand.fill(b, ws.grid, par);
-  // Query points outside b's box clamp to a boundary cell, whose stencil still covers every
-  // candidate within the radius (see cell_grid.hpp).
+  // Query points outside b's box clamp to a boundary cell, whose stencil still
+  // covers every candidate within the radius (see cell_grid.hpp).
   ws.query.fill(a, ws.grid, par);
-  build<D, Keep::All>(ws.grid, ws.cand, ws.query, radius, par, out);
+  build<D, Keep::All>(ws.grid, ws.cand, ws.query, radius, par, ws.masks, out);
 }
 
 template void build_neighbor_list<2>(std::span<const Vec<2>>, Real, Pairs, NeighborList&);
