@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "dem/dem_part.hpp"
 #include "io/output/atomic_file.hpp"
 #include "io/output/json.hpp"
 #include "io/output/vtu_writer.hpp"
@@ -24,6 +25,7 @@ std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
   std::vector<std::unique_ptr<Part<D>>> parts;
   for (const auto& pc : config.parts) {
     if (pc.method == "sph") parts.push_back(sph::make_sph_part<D>(config, pc));
+    if (pc.method == "dem") parts.push_back(dem::make_dem_part<D>(config, pc));
   }
   return parts;
 }

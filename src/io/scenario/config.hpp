@@ -39,10 +39,19 @@ struct DomainConfig {
   Vec3 gravity_m_s2{};
 };
 
+/// Grain material of a DEM part (model "granular").
+struct GranularMaterial {
+  Real shear_modulus_pa = 0;
+  Real poisson_ratio = 0;
+  Real friction = 0;
+  Real restitution = 1;
+};
+
 struct MaterialConfig {
   std::string name;
-  std::string model;  // "jwl", "ideal_gas", "tait"
-  materials::EosParams eos;
+  std::string model;          // "jwl", "ideal_gas", "tait"
+  materials::EosParams eos;   // SPH materials
+  GranularMaterial granular;  // DEM materials (model "granular")
   Real rho0_kg_m3 = 0;
   SourceLocation where;
 };
@@ -90,6 +99,24 @@ struct SphConfig {
   bool wall_no_slip = false;
 };
 
+struct DemParticle {
+  Vec3 center_m{};
+  Real radius_m = 0;
+  Vec3 velocity_m_s{};
+};
+
+struct DemConfig {
+  Real radius_min_m = 0;
+  Real radius_max_m = 0;
+  std::uint64_t seed = 1;
+  Real local_damping = 0;
+  Real rayleigh_fraction = 0.25;
+  std::vector<Face> walls;
+  Real wall_friction = 0.5;
+  Real wall_restitution = 0.5;
+  std::vector<DemParticle> particles;  // placed by hand; empty: the region's lattice
+};
+
 struct DetonationPoint {
   Vec3 point_m{};
   Real time_s = 0;
@@ -104,6 +131,7 @@ struct PartConfig {
   InitialConfig initial;
   std::vector<ZoneConfig> zones;
   SphConfig sph;
+  DemConfig dem;
   std::vector<DetonationPoint> detonations;
   SourceLocation where;
 };

@@ -310,6 +310,11 @@ class Builder {
         p.d_cj_m_s = num(t, "d_cj_m_s");
         report(t, w, key, materials::jwl_check(p));
         m.eos = p;
+      } else if (m.model == "granular") {
+        m.granular.shear_modulus_pa = num(t, "shear_modulus_pa");
+        m.granular.poisson_ratio = num(t, "poisson_ratio");
+        m.granular.friction = num(t, "friction");
+        m.granular.restitution = num(t, "restitution");
       } else if (m.model == "ideal_gas") {
         materials::IdealGasParams p;
         p.gamma = num(t, "gamma");
@@ -450,7 +455,17 @@ class Builder {
               fmt::format("spacing {} m gives about {:.3g} particles, above the limit of {:.0e}",
                           p.spacing_m, count, kMaxEntities));
 
+      // The material must suit the method.
+      if (p.material < c.materials.size()) {
+        const bool granular = c.materials[p.material].model == "granular";
+        if (granular != (p.method == "dem"))
+          error(loc(t, "material", w), key + ".material",
+                fmt::format("a {} part needs {} material; '{}' is \"{}\"", p.method,
+                            p.method == "dem" ? "a \"granular\"" : "an equation-of-state",
+                            c.materials[p.material].name, c.materials[p.material].model));
+      }
       if (p.method == "sph") read_sph(c, t, w, key, p);
+      if (p.method == "dem") read_dem(c, t, w, key, p);
       c.parts.push_back(std::move(p));
     }
 
@@ -461,6 +476,68 @@ class Builder {
           error(c.parts[b].region.where, fmt::format("parts[{}].region", b),
                 fmt::format("bodies overlap: part '{}' intersects part '{}' (line {})",
                             c.parts[b].name, c.parts[a].name, c.parts[a].region.where.line));
+  }
+
+  std::vector<Face> read_faces(const toml::array& walls, const SourceLocation& w,
+                               const std::string& key, int dim) {
+    static const char* names[] = {"left", "right", "bottom", "top", "back", "front"};
+    std::vector<Face> faces;
+    for (std::size_t j = 0; j < walls.size(); ++j) {
+      const std::string face = walls.get(j)->as_string()->get();
+      const int f =
+          static_cast<int>(std::find(std::begin(names), std::end(names), face) - std::begin(names));
+      if (f / 2 >= dim) {
+        error(where_of(*walls.get(j), w), fmt::format("{}[{}]", key, j),
+              fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+        continue;
+      }
+      faces.push_back(static_cast<Face>(f));
+    }
+    return faces;
+  }
+
+  void read_dem(const Config& c, const toml::table& t, const SourceLocation& w,
+                const std::string& key, PartConfig& p) {
+    const int dim = c.dimension;
+    const auto& dt = table(t, "dem");
+    const SourceLocation dw = where_of(dt, w);
+    p.dem.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
+    p.dem.radius_min_m = opt_num(dt, "radius_min_m").value_or(p.dem.radius_max_m);
+    if (p.dem.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
+      error(loc(dt, "radius_max_m", dw), key + ".dem.radius_max_m",
+            fmt::format("expected at most spacing_m / 2 = {} m (grains sit on a lattice of "
+                        "pitch spacing_m), got {} m",
+                        0.5 * p.spacing_m, p.dem.radius_max_m));
+    if (p.dem.radius_min_m > p.dem.radius_max_m)
+      error(loc(dt, "radius_min_m", dw), key + ".dem.radius_min_m",
+            fmt::format("expected at most radius_max_m = {} m, got {} m", p.dem.radius_max_m,
+                        p.dem.radius_min_m));
+    p.dem.seed = static_cast<std::uint64_t>(dt.get("seed")->as_integer()->get());
+    p.dem.local_damping = num(dt, "local_damping");
+    p.dem.rayleigh_fraction = num(dt, "rayleigh_fraction");
+    p.dem.walls = read_faces(*dt.get("walls")->as_array(), dw, key + ".dem.walls", dim);
+    p.dem.wall_friction = num(dt, "wall_friction");
+    p.dem.wall_restitution = num(dt, "wall_restitution");
+    if (const toml::node* pn = t.get("particles")) {
+      const auto& pa = *pn->as_array();
+      for (std::size_t j = 0; j < pa.size(); ++j) {
+        const auto& pt = *pa.get(j)->as_table();
+        DemParticle q;
+        q.center_m = vec3(pt, "center_m");
+        q.radius_m = num(pt, "radius_m");
+        q.velocity_m_s = vec3(pt, "velocity_m_s");
+        for (int d = 0; d < dim; ++d)
+          if (q.center_m[d] - q.radius_m < c.domain.min_m[d] ||
+              q.center_m[d] + q.radius_m > c.domain.max_m[d]) {
+            error(loc(pt, "center_m", where_of(pt, w)),
+                  fmt::format("{}.particles[{}].center_m", key, j),
+                  "expected the grain inside the domain, got centre " + vec_text(q.center_m, dim) +
+                      fmt::format(" and radius {} m", q.radius_m));
+            break;
+          }
+        p.dem.particles.push_back(q);
+      }
+    }
   }
 
   void read_sph(const Config& c, const toml::table& t, const SourceLocation& w,

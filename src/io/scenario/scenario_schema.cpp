@@ -154,7 +154,9 @@ TableSchema make_material() {
                 {}};
   t.keys = {
       required(text("name", "Name used by parts' `material`.")),
-      required(choice("model", {"jwl", "ideal_gas", "tait"}, "Equation of state.")),
+      required(choice("model", {"jwl", "ideal_gas", "tait", "granular"},
+                      "The law: an equation of state for SPH parts (jwl, ideal_gas, tait), or "
+                      "granular for DEM parts.")),
   };
   t.variants["jwl"] = {
       required(positive(real("rho0_kg_m3", "kg/m^3", "Unreacted explosive density rho_0."))),
@@ -176,6 +178,16 @@ TableSchema make_material() {
       required(positive(real("c0_m_s", "m/s", "Reference sound speed; B = rho_0 c_0^2 / gamma."))),
       with_default(positive(real("gamma", "1", "Tait exponent.")), "7"),
       with_default(real("background_pa", "Pa", "Background pressure added to eq. 35."), "0"),
+  };
+  t.variants["granular"] = {
+      required(positive(real("rho0_kg_m3", "kg/m^3", "Grain (solid) density."))),
+      required(positive(real("shear_modulus_pa", "Pa", "Grain shear modulus G."))),
+      required(at_most(at_least(real("poisson_ratio", "1", "Grain Poisson's ratio."), 0), 0.5)),
+      required(at_least(real("friction", "1", "Grain-grain Coulomb friction coefficient."), 0)),
+      required(at_most(positive(real("restitution", "1",
+                                     "Normal coefficient of restitution (sets the contact "
+                                     "damping).")),
+                       1)),
   };
   return t;
 }
@@ -290,6 +302,65 @@ const TableSchema& initial_schema() {
   static const TableSchema s = make_initial();
   return s;
 }
+TableSchema make_dem() {
+  TableSchema t{"parts.dem", "DEM numerics of the part (paper section II-A).", {}, {}, {}};
+  t.keys = {
+      with_default(choice("contact", {"hertz_mindlin"},
+                          "Contact law: Hertz normal, Mindlin no-slip tangential with history, "
+                          "Coulomb limit, damping from the restitution (LIGGGHTS' hertz)."),
+                   "\"hertz_mindlin\""),
+      positive(real("radius_min_m", "m",
+                    "Smallest grain radius; radii are uniform in [radius_min_m, radius_max_m]. "
+                    "Unset: spacing_m / 2.")),
+      positive(real("radius_max_m", "m",
+                    "Largest grain radius, at most spacing_m / 2. Unset: "
+                    "spacing_m / 2.")),
+      with_default(
+          at_least(of_type(real("seed", "1", "Seed of the radius draw."), KeyType::Integer), 0),
+          "1"),
+      with_default(at_most(at_least(real("local_damping", "1",
+                                         "Cundall local damping alpha (eq. 25): 0.157 dynamic, "
+                                         "0.7 quasi-static, 0 off."),
+                                    0),
+                           1),
+                   "0"),
+      with_default(at_most(positive(real("rayleigh_fraction", "1",
+                                         "Stable step = this x the Rayleigh step of the "
+                                         "smallest grain.")),
+                           1),
+                   "0.25"),
+      with_default(choice_list("walls", {"left", "right", "bottom", "top", "back", "front"},
+                               "Domain faces that are rigid walls for the grains."),
+                   "[]"),
+      with_default(at_least(real("wall_friction", "1", "Grain-wall friction coefficient."), 0),
+                   "0.5"),
+      with_default(
+          at_most(positive(real("wall_restitution", "1", "Grain-wall coefficient of restitution.")),
+                  1),
+          "0.5"),
+  };
+  return t;
+}
+
+TableSchema make_dem_particle() {
+  TableSchema t{"parts.particles", "One grain placed by hand.", {}, {}, {}};
+  t.keys = {
+      required(vec("center_m", "m", "Centre.")),
+      required(positive(real("radius_m", "m", "Radius."))),
+      vec("velocity_m_s", "m/s", "Initial velocity. Unset: at rest."),
+  };
+  return t;
+}
+
+const TableSchema& dem_schema() {
+  static const TableSchema s = make_dem();
+  return s;
+}
+const TableSchema& dem_particle_schema() {
+  static const TableSchema s = make_dem_particle();
+  return s;
+}
+
 const TableSchema& sph_schema() {
   static const TableSchema s = make_sph();
   return s;
@@ -334,13 +405,19 @@ TableSchema make_part() {
                 {}};
   t.keys = {
       required(text("name", "Unique part name; names output files.")),
-      required(choice("method", {"sph"}, "Discretisation: sph (more methods follow).")),
+      required(choice("method", {"sph", "dem"},
+                      "Discretisation: sph (fluids, explosives) or dem (grains).")),
       required(text("material", "Name of an entry of [[materials]].")),
       required(positive(real("spacing_m", "m", "Particle spacing (lattice pitch)."))),
       required(sub("region", KeyType::Table, region_schema(), "Where the part is.")),
       sub("initial", KeyType::Table, initial_schema(), "Initial state."),
       sub("zones", KeyType::TableArray, zone_schema(),
           "Zones with their own initial state, inside the part's region."),
+  };
+  t.variants["dem"] = {
+      sub("dem", KeyType::Table, dem_schema(), "DEM numerics."),
+      sub("particles", KeyType::TableArray, dem_particle_schema(),
+          "Grains placed one by one (tests, small setups) instead of the region's lattice."),
   };
   t.variants["sph"] = {
       sub("sph", KeyType::Table, sph_schema(), "SPH numerics."),

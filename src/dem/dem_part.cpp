@@ -1,0 +1,492 @@
+// The DEM pair loop gathers per grain: each grain sums the forces of all its contacts. A
+// contact is always evaluated with body 1 = the grain of lower id, so both grains compute the
+// same numbers bit for bit and take +F and -F: momentum is conserved exactly, and the result
+// does not depend on the number of threads. The grain of lower id owns the contact's history
+// (the tangential spring, LAMMPS-style), keyed by the partner's id, so it survives neighbour
+// rebuilds and re-sorting; histories are read from last step's buffer and written to a new
+// one, so no grain writes what another reads.
+#include "dem/dem_part.hpp"
+
+#include <Eigen/Geometry>  // cross products of 3D contact laws
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+
+#include "dem/laws/contact_geometry.hpp"
+#include "dem/laws/hertz_mindlin.hpp"
+#include "dem/laws/local_damping.hpp"
+#include "fields/field_set.hpp"
+#include "neighbors/cell_grid.hpp"
+#include "neighbors/neighbor_list.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::dem {
+namespace {
+
+using fields::kHalo;
+using fields::kNone;
+using fields::kOutput;
+using fields::kRestart;
+using fields::kStateRoles;
+
+constexpr Real kSkin = 0.3;  // neighbour-list margin, as a fraction of the largest diameter
+constexpr std::int64_t kNoContact = std::numeric_limits<std::int64_t>::min();
+
+template <int D>
+Vec<D> to_vec(const io::Vec3& a) {
+  Vec<D> v;
+  for (int d = 0; d < D; ++d)
+    v[d] = a[static_cast<std::size_t>(d)];
+  return v;
+}
+
+template <int D>
+bool inside(const io::RegionConfig& r, const Vec<D>& x) {
+  if (r.type == io::RegionType::Box) {
+    for (int d = 0; d < D; ++d)
+      if (x[d] < r.min_m[static_cast<std::size_t>(d)] ||
+          x[d] > r.max_m[static_cast<std::size_t>(d)])
+        return false;
+    return true;
+  }
+  return (x - to_vec<D>(r.center_m)).norm() <= r.radius_m;
+}
+
+template <int D>
+std::vector<Vec<D>> lattice(const io::RegionConfig& r, Real s) {
+  Vec<D> lo, hi;
+  for (int d = 0; d < D; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    lo[d] = r.type == io::RegionType::Box ? r.min_m[k] : r.center_m[k] - r.radius_m;
+    hi[d] = r.type == io::RegionType::Box ? r.max_m[k] : r.center_m[k] + r.radius_m;
+  }
+  IVec<D> n;
+  for (int d = 0; d < D; ++d)
+    n[d] = std::max<std::int64_t>(
+        1, static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / s + 1e-9)));
+  Vec<D> start;
+  for (int d = 0; d < D; ++d)
+    start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - static_cast<Real>(n[d] - 1) * s);
+  std::vector<Vec<D>> pts;
+  IVec<D> i = IVec<D>::Zero();
+  while (true) {
+    Vec<D> x;
+    for (int d = 0; d < D; ++d)
+      x[d] = start[d] + static_cast<Real>(i[d]) * s;
+    if (inside<D>(r, x)) pts.push_back(x);
+    int d = 0;
+    while (d < D && ++i[d] == n[d])
+      i[d++] = 0;
+    if (d == D) break;
+  }
+  return pts;
+}
+
+template <int D>
+std::vector<AngularVec<D>>& add_angular(fields::FieldSet<D>& f, const char* name, const char* unit,
+                                        unsigned roles) {
+  if constexpr (D == 2)
+    return f.add_scalar(name, unit, roles);
+  else
+    return f.add_vector(name, unit, roles);
+}
+
+template <int D>
+Real angular_kinetic(Real inertia, const AngularVec<D>& w) {
+  if constexpr (D == 2)
+    return 0.5 * inertia * w * w;
+  else
+    return 0.5 * inertia * w.squaredNorm();
+}
+
+template <int D>
+bool angular_finite(const AngularVec<D>& w) {
+  if constexpr (D == 2)
+    return std::isfinite(w);
+  else
+    return w.allFinite();
+}
+
+template <int D>
+class DemPart final : public solver::Part<D> {
+ public:
+  static constexpr int kMaxContacts = D == 2 ? 12 : 24;
+
+  DemPart(const io::Config& c, const io::PartConfig& pc)
+      : name_(pc.name),
+        cfg_(pc.dem),
+        gravity_(to_vec<D>(c.domain.gravity_m_s2)),
+        domain_lo_(to_vec<D>(c.domain.min_m)),
+        domain_hi_(to_vec<D>(c.domain.max_m)),
+        id_(f_.add_integer("id", "1", kStateRoles)),
+        x_(f_.add_vector("position", "m", kRestart | kHalo)),
+        v_(f_.add_vector("velocity", "m/s", kStateRoles)),
+        w_(add_angular<D>(f_, "angular_velocity", "rad/s", kStateRoles)),
+        r_(f_.add_scalar("radius", "m", kStateRoles)),
+        m_(f_.add_scalar("mass", "kg", kStateRoles)),
+        inertia_(f_.add_scalar("moment_of_inertia", "kg m^2", kRestart | kHalo)),
+        force_(f_.add_vector("force", "N", kOutput | kRestart)),
+        torque_(add_angular<D>(f_, "torque", "N m", kRestart)),
+        contacts_(f_.add_scalar("contacts", "1", kOutput)),
+        elastic_(f_.add_scalar("contact_energy", "J", kNone)),
+        dissipated_(f_.add_scalar("contact_dissipation_rate", "W", kNone)),
+        local_power_(f_.add_scalar("local_damping_rate", "W", kNone)) {
+    const auto& mat = c.materials[pc.material];
+    rho_ = mat.rho0_kg_m3;
+    const ElasticMaterial grain{
+        youngs_modulus_from_shear(mat.granular.shear_modulus_pa, mat.granular.poisson_ratio),
+        mat.granular.poisson_ratio};
+    shear_modulus_ = mat.granular.shear_modulus_pa;
+    poisson_ = mat.granular.poisson_ratio;
+    grain_law_ =
+        hertz_mindlin_params(grain, grain, mat.granular.restitution, mat.granular.friction);
+    // Rigid walls of the grain's own elastic constants (as LIGGGHTS' walls of the same
+    // material): E* halves the grain-grain one, for a wall radius of infinity.
+    wall_law_ = hertz_mindlin_params(grain, grain, cfg_.wall_restitution, cfg_.wall_friction);
+
+    std::vector<Vec<D>> pts;
+    std::vector<Real> radii;
+    std::vector<Vec<D>> vel;
+    if (!cfg_.particles.empty()) {
+      for (const auto& q : cfg_.particles) {
+        pts.push_back(to_vec<D>(q.center_m));
+        radii.push_back(q.radius_m);
+        vel.push_back(to_vec<D>(q.velocity_m_s));
+      }
+    } else {
+      pts = lattice<D>(pc.region, pc.spacing_m);
+      std::mt19937_64 rng(cfg_.seed);
+      std::uniform_real_distribution<Real> draw(cfg_.radius_min_m, cfg_.radius_max_m);
+      for (std::size_t k = 0; k < pts.size(); ++k) {
+        radii.push_back(cfg_.radius_min_m == cfg_.radius_max_m ? cfg_.radius_max_m : draw(rng));
+        vel.push_back(to_vec<D>(pc.initial.velocity_m_s));
+      }
+    }
+    const Index n = static_cast<Index>(pts.size());
+    f_.resize(n);
+    r_min_ = std::numeric_limits<Real>::infinity();
+    for (Index i = 0; i < n; ++i) {
+      const Real r = radii[static_cast<std::size_t>(i)];
+      id_[i] = i;
+      x_[i] = pts[static_cast<std::size_t>(i)];
+      v_[i] = vel[static_cast<std::size_t>(i)];
+      r_[i] = r;
+      // 2D: disks per metre of depth, I = m r^2 / 2; 3D: spheres, I = 2 m r^2 / 5.
+      m_[i] = D == 2 ? rho_ * std::numbers::pi * r * r
+                     : rho_ * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+      inertia_[i] = (D == 2 ? 0.5 : 0.4) * m_[i] * r * r;
+      r_min_ = std::min(r_min_, r);
+      r_max_ = std::max(r_max_, r);
+    }
+    partner_.assign(static_cast<std::size_t>(n) * kMaxContacts, kNoContact);
+    xi_.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
+    partner_new_ = partner_;
+    xi_new_ = xi_;
+  }
+
+  const std::string& name() const override { return name_; }
+  const char* method() const override { return "dem"; }
+  Index count() const override { return f_.size(); }
+  Real mass_kg() const override {
+    return parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return m_[i]; });
+  }
+
+  solver::StableStep stable_step() const override {
+    // Rayleigh step of the smallest grain (Li, Xu & Thornton 2005): the time a Rayleigh wave
+    // takes across it; DEM codes run at 10-30 % of it.
+    solver::StableStep s;
+    s.dt_s = cfg_.rayleigh_fraction * rayleigh_time_step(r_min_, rho_, shear_modulus_, poisson_);
+    for (Index i = 0; i < f_.size(); ++i)
+      if (r_[i] == r_min_) {
+        s.entity_id = id_[i];
+        break;
+      }
+    s.reason = fmt::format("{} x Rayleigh step of the smallest grain (r = {:.4g} m)",
+                           cfg_.rayleigh_fraction, r_min_);
+    return s;
+  }
+
+  void compute_forces(Real /*t*/) override {
+    update_neighbors();
+    const Index n = f_.size();
+    const Real dt = last_dt_;
+    overflow_ = n;
+    parallel::for_each(n, [&](Index i) { grain_forces(i, dt); });
+    // Contact histories of this step become last step's.
+    partner_.swap(partner_new_);
+    xi_.swap(xi_new_);
+    // Energy taken out over the last step by contacts and local damping (rates times dt).
+    struct Sums {
+      Real dissipated = 0, local = 0;
+      Sums& operator+=(const Sums& o) {
+        dissipated += o.dissipated;
+        local += o.local;
+        return *this;
+      }
+    };
+    const Sums s = parallel::deterministic_sum<Sums>(n, [&](Index i) {
+      return Sums{dissipated_[i], local_power_[i]};
+    });
+    contact_dissipated_ += dt * s.dissipated;
+    local_dissipated_ += dt * s.local;
+  }
+
+  std::optional<solver::Fault> check() const override {
+    const Index n = f_.size();
+    if (overflow_ < n)
+      return solver::Fault{id_[overflow_],
+                           fmt::format("more than {} contacts on one grain: grains overlap far "
+                                       "beyond what the contact law allows (time step too "
+                                       "large or grains placed overlapping)",
+                                       kMaxContacts)};
+    Index bad = n;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+    for (Index i = 0; i < n; ++i)
+      if (!healthy(i)) bad = std::min(bad, i);
+    if (bad == n) return std::nullopt;
+    const Index i = bad;
+    if (!in_domain(i))
+      return solver::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
+                                               "[domain] or add walls",
+                                               fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
+    return solver::Fault{id_[i], "non-finite force or torque"};
+  }
+
+  void advance(Real /*t*/, Real dt) override {
+    const Real half = 0.5 * dt;
+    last_dt_ = dt;
+    parallel::for_each(f_.size(), [&](Index i) {
+      v_[i] += (half / m_[i]) * force_[i];
+      w_[i] += (half / inertia_[i]) * torque_[i];
+      x_[i] += dt * v_[i];
+    });
+    if (gravity_.squaredNorm() > 0)
+      external_work_ += dt * parallel::deterministic_sum<Real>(
+                                 f_.size(), [&](Index i) { return m_[i] * gravity_.dot(v_[i]); });
+  }
+
+  void finish_step(Real dt) override {
+    const Real half = 0.5 * dt;
+    parallel::for_each(f_.size(), [&](Index i) {
+      v_[i] += (half / m_[i]) * force_[i];
+      w_[i] += (half / inertia_[i]) * torque_[i];
+    });
+  }
+
+  solver::Energies energies() const override {
+    struct KE {
+      Real k = 0, e = 0;
+      KE& operator+=(const KE& o) {
+        k += o.k;
+        e += o.e;
+        return *this;
+      }
+    };
+    const KE s = parallel::deterministic_sum<KE>(f_.size(), [&](Index i) {
+      return KE{0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]),
+                elastic_[i]};
+    });
+    solver::Energies en;
+    en.kinetic_j = s.k;
+    en.contact_j = s.e + contact_dissipated_;  // stored in the springs + lost in contacts
+    en.damping_j = local_dissipated_;
+    en.external_work_j = external_work_;
+    return en;
+  }
+
+  solver::Geometry<D> geometry() const override {
+    solver::Geometry<D> g;
+    g.points = &x_;
+    return g;
+  }
+  std::vector<fields::FieldView> point_fields() const override {
+    return f_.views(kOutput);
+  }
+
+ private:
+  bool in_domain(Index i) const {
+    for (int d = 0; d < D; ++d)
+      if (!(x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d])) return false;
+    return true;
+  }
+  bool healthy(Index i) const {
+    return force_[i].allFinite() && angular_finite<D>(torque_[i]) && in_domain(i);
+  }
+
+  // Slot of `partner` in grain i's history (last step's buffer), or -1.
+  int find_slot(Index owner, std::int64_t partner) const {
+    const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
+    for (int k = 0; k < kMaxContacts; ++k)
+      if (partner_[base + static_cast<std::size_t>(k)] == partner) return k;
+    return -1;
+  }
+  Vec<D> history(Index owner, std::int64_t partner) const {
+    const int k = find_slot(owner, partner);
+    return k < 0
+               ? Vec<D>::Zero()
+               : xi_[static_cast<std::size_t>(owner) * kMaxContacts + static_cast<std::size_t>(k)];
+  }
+
+  void grain_forces(Index i, Real dt) {
+    Vec<D> force = m_[i] * gravity_;
+    AngularVec<D> torque = angular_zero<D>();
+    Real elastic = 0, dissipated = 0;
+    int slots = 0;
+    const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+    auto keep = [&](std::int64_t partner, const Vec<D>& xi) {
+      if (slots == kMaxContacts) {
+#pragma omp critical(crater_dem_overflow)
+        overflow_ = std::min(overflow_, i);
+        return;
+      }
+      partner_new_[base + static_cast<std::size_t>(slots)] = partner;
+      xi_new_[base + static_cast<std::size_t>(slots)] = xi;
+      ++slots;
+    };
+
+    for (const Index j : list_.of(i)) {
+      const bool first = id_[i] < id_[j];  // body 1 = the grain of lower id
+      const Index a = first ? i : j, b = first ? j : i;
+      const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_[a], r_[a], x_[b], r_[b]);
+      if (!g.touching()) continue;
+      const RelativeVelocity<D> rel =
+          relative_velocity<D>(g, BodyMotion<D>{v_[a], w_[a]}, BodyMotion<D>{v_[b], w_[b]});
+      const ContactForce<D> cf = HertzMindlin::evaluate<D>(
+          grain_law_, g, rel, effective_mass(m_[a], m_[b]), history(a, id_[b]), dt);
+      if (first) {
+        force += cf.force_on_1;
+        torque += cf.torque_on_1;
+        keep(id_[j], cf.shear_history);
+        elastic += cf.elastic_energy;
+        dissipated += cf.dissipated_power;
+      } else {
+        force -= cf.force_on_1;
+        torque += cf.torque_on_2;
+      }
+    }
+
+    for (const io::Face face : cfg_.walls) {
+      const int axis = static_cast<int>(face) / 2;
+      const bool low = static_cast<int>(face) % 2 == 0;
+      Vec<D> foot = x_[i];
+      foot[axis] = low ? domain_lo_[axis] : domain_hi_[axis];
+      const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+      if (!g.touching()) continue;
+      const std::int64_t key = -1 - static_cast<std::int64_t>(face);
+      const RelativeVelocity<D> rel =
+          relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
+      const ContactForce<D> cf =
+          HertzMindlin::evaluate<D>(wall_law_, g, rel, m_[i], history(i, key), dt);
+      force += cf.force_on_1;
+      torque += cf.torque_on_1;
+      keep(key, cf.shear_history);
+      elastic += cf.elastic_energy;
+      dissipated += cf.dissipated_power;
+    }
+    for (int k = slots; k < kMaxContacts; ++k)
+      partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
+
+    Real local_power = 0;
+    if (cfg_.local_damping > 0) {
+      // Cundall (1987), paper eq. 25: each component of the unbalanced force opposes the
+      // motion with alpha times its magnitude.
+      const auto fd = local_damping_force<D>(cfg_.local_damping, force, v_[i]);
+      const auto td = local_damping_torque<D>(cfg_.local_damping, torque, w_[i]);
+      force += fd.load;
+      torque += td.load;
+      local_power = fd.dissipated_power + td.dissipated_power;
+    }
+    force_[i] = force;
+    torque_[i] = torque;
+    contacts_[i] = slots;
+    elastic_[i] = elastic;
+    dissipated_[i] = dissipated;
+    local_power_[i] = local_power;
+  }
+
+  // Verlet list with a skin, as in the SPH part; grains are re-sorted at each rebuild and the
+  // history slots move with them.
+  void update_neighbors() {
+    const Index n = f_.size();
+    const Real need = 2 * r_max_;
+    if (list_radius_ > 0) {
+      const Real moved = parallel::max_over(
+          n, 0.0, [&](Index i) { return (x_[i] - x_built_[static_cast<std::size_t>(i)]).norm(); });
+      if (2 * moved + need <= list_radius_) return;
+    }
+    const auto order =
+        neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
+    f_.permute(order);
+    permute_slots(order);
+    list_radius_ = (1 + kSkin) * need;
+    x_built_.assign(x_.begin(), x_.end());
+    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), list_radius_,
+                                      neighbors::Pairs::Full, list_);
+  }
+
+  void permute_slots(std::span<const Index> order) {
+    const auto copy_partner = partner_;
+    const auto copy_xi = xi_;
+    for (std::size_t i = 0; i < order.size(); ++i)
+      for (int k = 0; k < kMaxContacts; ++k) {
+        const std::size_t to = i * kMaxContacts + static_cast<std::size_t>(k);
+        const std::size_t from =
+            static_cast<std::size_t>(order[i]) * kMaxContacts + static_cast<std::size_t>(k);
+        partner_[to] = copy_partner[from];
+        xi_[to] = copy_xi[from];
+      }
+  }
+
+  std::string name_;
+  io::DemConfig cfg_;
+  Vec<D> gravity_, domain_lo_, domain_hi_;
+  Real rho_ = 0, shear_modulus_ = 0, poisson_ = 0;
+  HertzMindlinParams grain_law_, wall_law_;
+  Real r_min_ = 0, r_max_ = 0;
+
+  fields::FieldSet<D> f_;
+  std::vector<std::int64_t>& id_;
+  std::vector<Vec<D>>& x_;
+  std::vector<Vec<D>>& v_;
+  std::vector<AngularVec<D>>& w_;
+  std::vector<Real>& r_;
+  std::vector<Real>& m_;
+  std::vector<Real>& inertia_;
+  std::vector<Vec<D>>& force_;
+  std::vector<AngularVec<D>>& torque_;
+  std::vector<Real>& contacts_;
+  std::vector<Real>& elastic_;
+  std::vector<Real>& dissipated_;
+  std::vector<Real>& local_power_;
+
+  // Contact history: kMaxContacts slots per grain (partner id, tangential spring), last step's
+  // and this step's.
+  std::vector<std::int64_t> partner_, partner_new_;
+  std::vector<Vec<D>> xi_, xi_new_;
+
+  neighbors::NeighborList list_;
+  Real list_radius_ = 0;
+  std::vector<Vec<D>> x_built_;
+  Real last_dt_ = 0;
+  Index overflow_ = 0;
+  Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
+};
+
+}  // namespace
+
+template <int D>
+std::unique_ptr<solver::Part<D>> make_dem_part(const io::Config& config,
+                                               const io::PartConfig& part) {
+  return std::make_unique<DemPart<D>>(config, part);
+}
+
+template std::unique_ptr<solver::Part<2>> make_dem_part<2>(const io::Config&,
+                                                           const io::PartConfig&);
+template std::unique_ptr<solver::Part<3>> make_dem_part<3>(const io::Config&,
+                                                           const io::PartConfig&);
+
+}  // namespace crater::dem

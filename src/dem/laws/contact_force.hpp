@@ -1,0 +1,81 @@
+// What a normal + tangential contact law returns for one pair at one step, and how the normal
+// and tangential sub-model results combine into forces and torques on both bodies.
+//
+// A law is a value type with a parameter struct and one static function, so a DEM pair loop can
+// take it as a template parameter and stay branch-free (STYLE habit 1):
+//   struct SomeLaw {
+//     using Params = SomeParams;
+//     template <int D>
+//     static ContactForce<D> evaluate(const Params&, const ContactGeometry<D>&,
+//                                     const RelativeVelocity<D>&, Real mass_eff,
+//                                     const Vec<D>& shear_history, Real dt);
+//   };
+// (HertzMindlin in hertz_mindlin.hpp, LinearSpring in linear_spring.hpp.) The law is pure: the
+// updated shear history comes back in the result; the caller stores it with the contact.
+#pragma once
+
+#include "core/types.hpp"
+#include "dem/laws/contact_geometry.hpp"
+#include "dem/laws/tangential_history.hpp"
+
+namespace crater::dem {
+
+/// Result of a normal sub-model (scalars along n).
+struct NormalForce {
+  Real force = 0;             // F_n [N], > 0 repulsive, elastic + dashpot
+  Real elastic_force = 0;     // F_n^el [N], the spring part alone
+  Real stiffness = 0;         // tangent stiffness dF_n^el/dδ [N/m]
+  Real elastic_energy = 0;    // \int F_n^el dδ [J]
+  Real dissipated_power = 0;  // v_n (F_n^el - F_n) >= 0 [W]: the dashpot's work rate
+};
+
+/// Forces, torques and energies of one contact.
+template <int D>
+struct ContactForce {
+  Vec<D> force_on_1 = Vec<D>::Zero();             // F_n n + F_t [N]; body 2 gets -force_on_1
+  AngularVec<D> torque_on_1 = angular_zero<D>();  // (-a_1 n) x F_t [N m], about centre 1
+  AngularVec<D> torque_on_2 = angular_zero<D>();  // (a_2 n) x (-F_t) [N m], about centre 2
+  Real normal_force = 0;                          // F_n [N], > 0 repulsive
+  Vec<D> tangential_force = Vec<D>::Zero();       // F_t on body 1 [N]
+  Vec<D> shear_history = Vec<D>::Zero();          // updated \xi [m], to store
+  Real normal_stiffness = 0;                      // dF_n^el/dδ [N/m] (rolling resistance uses it)
+  Real elastic_energy = 0;                        // normal + tangential spring energy [J]
+  Real dissipated_power = 0;                      // dashpots + sliding, >= 0 [W]
+  bool sliding = false;                           // at the Coulomb limit, spring cut back
+};
+
+/// Combine the normal and tangential parts at the contact point of g.
+template <int D>
+inline ContactForce<D> combine_contact_force(const ContactGeometry<D>& g, const NormalForce& n,
+                                             const TangentialForce<D>& t) {
+  ContactForce<D> out;
+  out.normal_force = n.force;
+  out.tangential_force = t.force;
+  out.force_on_1 = n.force * g.normal + t.force;
+  // The normal part acts along the line of centres and has no moment about either centre.
+  out.torque_on_1 = moment_of<D>(-g.arm1 * g.normal, t.force);
+  out.torque_on_2 = moment_of<D>(g.arm2 * g.normal, Vec<D>(-t.force));
+  out.shear_history = t.history;
+  out.normal_stiffness = n.stiffness;
+  out.elastic_energy = n.elastic_energy + t.elastic_energy;
+  out.dissipated_power = n.dissipated_power + t.dissipated_power;
+  out.sliding = t.sliding;
+  return out;
+}
+
+/// Adds the normal dashpot to a spring-only NormalForce (force, elastic_force, stiffness and
+/// elastic_energy set by the normal law): F_n = F_n^el - \gamma_n v_n [N], with \gamma_n [N s/m]
+/// and v_n [m/s] (< 0 approaching, so the dashpot pushes apart while approaching). With
+/// limit_attractive_force (LIGGGHTS `limitForce`) F_n is clamped to >= 0.
+inline NormalForce add_normal_dashpot(NormalForce spring, Real dashpot, Real normal_velocity,
+                                      bool limit_attractive_force) {
+  NormalForce out = spring;
+  out.force = spring.elastic_force - dashpot * normal_velocity;
+  if (limit_attractive_force && out.force < Real(0)) {
+    out.force = Real(0);
+  }
+  out.dissipated_power = normal_velocity * (spring.elastic_force - out.force);
+  return out;
+}
+
+}  // namespace crater::dem
