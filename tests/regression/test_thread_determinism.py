@@ -1,5 +1,6 @@
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
-history.csv, and summary.json except its "run" block), in 2D (the demo) and 3D."""
+history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, and a
+settling DEM bed in 2D."""
 import sys
 import unittest
 
@@ -12,6 +13,11 @@ class ThreadDeterminism(unittest.TestCase):
         files = assert_bit_identical_runs("demo", scratch("det_demo"),
                                           sets=["parts.charge.spacing_m=0.0025"])
         self.assertIn("history.csv", files)
+
+    def test_dem_bed_2d(self):
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/dem_bed_2d.toml",
+                                          scratch("det_dem_bed"))
+        self.assertIn("sand.pvd", files)
 
     def test_sph_3d(self):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",
