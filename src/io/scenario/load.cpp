@@ -527,8 +527,7 @@ class Builder {
         q.radius_m = num(pt, "radius_m");
         q.velocity_m_s = vec3(pt, "velocity_m_s");
         for (int d = 0; d < dim; ++d)
-          if (q.center_m[d] - q.radius_m < c.domain.min_m[d] ||
-              q.center_m[d] + q.radius_m > c.domain.max_m[d]) {
+          if (q.center_m[d] < c.domain.min_m[d] || q.center_m[d] > c.domain.max_m[d]) {
             error(loc(pt, "center_m", where_of(pt, w)),
                   fmt::format("{}.particles[{}].center_m", key, j),
                   "expected the grain inside the domain, got centre " + vec_text(q.center_m, dim) +
