@@ -20,6 +20,7 @@
 #include "dem/laws/hertz_mindlin.hpp"
 #include "dem/laws/local_damping.hpp"
 #include "fields/field_set.hpp"
+#include "io/scenario/region.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
 #include "parallel/parallel.hpp"
@@ -36,55 +37,7 @@ using fields::kStateRoles;
 constexpr Real kSkin = 0.3;  // neighbour-list margin, as a fraction of the largest diameter
 constexpr std::int64_t kNoContact = std::numeric_limits<std::int64_t>::min();
 
-template <int D>
-Vec<D> to_vec(const io::Vec3& a) {
-  Vec<D> v;
-  for (int d = 0; d < D; ++d)
-    v[d] = a[static_cast<std::size_t>(d)];
-  return v;
-}
-
-template <int D>
-bool inside(const io::RegionConfig& r, const Vec<D>& x) {
-  if (r.type == io::RegionType::Box) {
-    for (int d = 0; d < D; ++d)
-      if (x[d] < r.min_m[static_cast<std::size_t>(d)] ||
-          x[d] > r.max_m[static_cast<std::size_t>(d)])
-        return false;
-    return true;
-  }
-  return (x - to_vec<D>(r.center_m)).norm() <= r.radius_m;
-}
-
-template <int D>
-std::vector<Vec<D>> lattice(const io::RegionConfig& r, Real s) {
-  Vec<D> lo, hi;
-  for (int d = 0; d < D; ++d) {
-    const auto k = static_cast<std::size_t>(d);
-    lo[d] = r.type == io::RegionType::Box ? r.min_m[k] : r.center_m[k] - r.radius_m;
-    hi[d] = r.type == io::RegionType::Box ? r.max_m[k] : r.center_m[k] + r.radius_m;
-  }
-  IVec<D> n;
-  for (int d = 0; d < D; ++d)
-    n[d] = std::max<std::int64_t>(
-        1, static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / s + 1e-9)));
-  Vec<D> start;
-  for (int d = 0; d < D; ++d)
-    start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - static_cast<Real>(n[d] - 1) * s);
-  std::vector<Vec<D>> pts;
-  IVec<D> i = IVec<D>::Zero();
-  while (true) {
-    Vec<D> x;
-    for (int d = 0; d < D; ++d)
-      x[d] = start[d] + static_cast<Real>(i[d]) * s;
-    if (inside<D>(r, x)) pts.push_back(x);
-    int d = 0;
-    while (d < D && ++i[d] == n[d])
-      i[d++] = 0;
-    if (d == D) break;
-  }
-  return pts;
-}
+using io::to_vec;
 
 template <int D>
 std::vector<AngularVec<D>>& add_angular(fields::FieldSet<D>& f, const char* name, const char* unit,
@@ -158,7 +111,7 @@ class DemPart final : public solver::Part<D> {
         vel.push_back(to_vec<D>(q.velocity_m_s));
       }
     } else {
-      pts = lattice<D>(pc.region, pc.spacing_m);
+      pts = io::region_lattice<D>(pc.region, pc.spacing_m);
       std::mt19937_64 rng(cfg_.seed);
       std::uniform_real_distribution<Real> draw(cfg_.radius_min_m, cfg_.radius_max_m);
       for (std::size_t k = 0; k < pts.size(); ++k) {

@@ -24,6 +24,7 @@
 #include <limits>
 
 #include "fields/field_set.hpp"
+#include "io/scenario/region.hpp"
 #include "materials/eos/eos.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
@@ -42,58 +43,7 @@ using fields::kStateRoles;
 constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of the largest support
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
-template <int D>
-Vec<D> to_vec(const io::Vec3& a) {
-  Vec<D> v;
-  for (int d = 0; d < D; ++d)
-    v[d] = a[static_cast<std::size_t>(d)];
-  return v;
-}
-
-template <int D>
-bool inside(const io::RegionConfig& r, const Vec<D>& x) {
-  if (r.type == io::RegionType::Box) {
-    for (int d = 0; d < D; ++d)
-      if (x[d] < r.min_m[static_cast<std::size_t>(d)] ||
-          x[d] > r.max_m[static_cast<std::size_t>(d)])
-        return false;
-    return true;
-  }
-  return (x - to_vec<D>(r.center_m)).norm() <= r.radius_m;
-}
-
-/// Particles at the centres of a lattice of pitch s over the region's bounding box, kept when
-/// inside the region. Each particle stands for a cell of volume s^D.
-template <int D>
-std::vector<Vec<D>> lattice(const io::RegionConfig& r, Real s) {
-  Vec<D> lo, hi;
-  for (int d = 0; d < D; ++d) {
-    const auto k = static_cast<std::size_t>(d);
-    lo[d] = r.type == io::RegionType::Box ? r.min_m[k] : r.center_m[k] - r.radius_m;
-    hi[d] = r.type == io::RegionType::Box ? r.max_m[k] : r.center_m[k] + r.radius_m;
-  }
-  IVec<D> n;
-  for (int d = 0; d < D; ++d)
-    n[d] = std::max<std::int64_t>(
-        1, static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / s + 1e-9)));
-  // Centre the lattice in the bounding box.
-  Vec<D> start;
-  for (int d = 0; d < D; ++d)
-    start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - static_cast<Real>(n[d] - 1) * s);
-  std::vector<Vec<D>> pts;
-  IVec<D> i = IVec<D>::Zero();
-  while (true) {
-    Vec<D> x;
-    for (int d = 0; d < D; ++d)
-      x[d] = start[d] + static_cast<Real>(i[d]) * s;
-    if (inside<D>(r, x)) pts.push_back(x);
-    int d = 0;
-    while (d < D && ++i[d] == n[d])
-      i[d++] = 0;
-    if (d == D) break;
-  }
-  return pts;
-}
+using io::to_vec;
 
 /// Dummy wall particles behind the walled faces of the domain box, `layers` deep at pitch s
 /// (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057). A corner shared by faces of axes
@@ -201,15 +151,16 @@ class SphPart final : public solver::Part<D> {
     auto owner = [&](const Vec<D>& x) {  // index of the last spacing zone holding x, or -1
       int k = -1;
       for (std::size_t z = 0; z < pc.zones.size(); ++z)
-        if (pc.zones[z].spacing_m && inside<D>(pc.zones[z].region, x)) k = static_cast<int>(z);
+        if (pc.zones[z].spacing_m && io::region_contains<D>(pc.zones[z].region, x))
+          k = static_cast<int>(z);
       return k;
     };
-    for (const auto& x : lattice<D>(pc.region, spacing_))
+    for (const auto& x : io::region_lattice<D>(pc.region, spacing_))
       if (owner(x) < 0) pts.push_back(x), pitch.push_back(spacing_);
     for (std::size_t z = 0; z < pc.zones.size(); ++z) {
       if (!pc.zones[z].spacing_m) continue;
-      for (const auto& x : lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
-        if (inside<D>(pc.region, x) && owner(x) == static_cast<int>(z))
+      for (const auto& x : io::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
+        if (io::region_contains<D>(pc.region, x) && owner(x) == static_cast<int>(z))
           pts.push_back(x), pitch.push_back(*pc.zones[z].spacing_m);
     }
     const Index n = static_cast<Index>(pts.size());
@@ -231,7 +182,7 @@ class SphPart final : public solver::Part<D> {
       std::optional<Real> pressure = pc.initial.pressure_pa;
       Vec<D> vel = to_vec<D>(pc.initial.velocity_m_s);
       for (const auto& z : pc.zones) {
-        if (!inside<D>(z.region, pts[i])) continue;
+        if (!io::region_contains<D>(z.region, pts[i])) continue;
         if (z.density_kg_m3) rho = *z.density_kg_m3;
         if (z.pressure_pa) pressure = z.pressure_pa;
         if (z.velocity_m_s) vel = to_vec<D>(*z.velocity_m_s);

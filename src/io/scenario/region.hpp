@@ -1,0 +1,67 @@
+// Geometry of a scenario's regions, shared by the methods that fill them with entities.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/types.hpp"
+#include "io/scenario/config.hpp"
+
+namespace crater::io {
+
+/// The first D entries of a config vector.
+template <int D>
+Vec<D> to_vec(const Vec3& a) {
+  Vec<D> v;
+  for (int d = 0; d < D; ++d)
+    v[d] = a[static_cast<std::size_t>(d)];
+  return v;
+}
+
+/// Whether x lies in the region (boundary included).
+template <int D>
+bool region_contains(const RegionConfig& r, const Vec<D>& x) {
+  if (r.type == RegionType::Box) {
+    for (int d = 0; d < D; ++d)
+      if (x[d] < r.min_m[static_cast<std::size_t>(d)] ||
+          x[d] > r.max_m[static_cast<std::size_t>(d)])
+        return false;
+    return true;
+  }
+  return (x - to_vec<D>(r.center_m)).norm() <= r.radius_m;
+}
+
+/// Centres of a square/cubic lattice of pitch s over the region's bounding box, centred in
+/// it, kept when inside the region. Each point stands for a cell of volume s^D.
+template <int D>
+std::vector<Vec<D>> region_lattice(const RegionConfig& r, Real s) {
+  Vec<D> lo, hi;
+  for (int d = 0; d < D; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    lo[d] = r.type == RegionType::Box ? r.min_m[k] : r.center_m[k] - r.radius_m;
+    hi[d] = r.type == RegionType::Box ? r.max_m[k] : r.center_m[k] + r.radius_m;
+  }
+  IVec<D> n;
+  for (int d = 0; d < D; ++d)
+    n[d] = std::max<std::int64_t>(
+        1, static_cast<std::int64_t>(std::floor((hi[d] - lo[d]) / s + 1e-9)));
+  Vec<D> start;
+  for (int d = 0; d < D; ++d)
+    start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - static_cast<Real>(n[d] - 1) * s);
+  std::vector<Vec<D>> pts;
+  IVec<D> i = IVec<D>::Zero();
+  while (true) {
+    Vec<D> x;
+    for (int d = 0; d < D; ++d)
+      x[d] = start[d] + static_cast<Real>(i[d]) * s;
+    if (region_contains<D>(r, x)) pts.push_back(x);
+    int d = 0;
+    while (d < D && ++i[d] == n[d])
+      i[d++] = 0;
+    if (d == D) break;
+  }
+  return pts;
+}
+
+}  // namespace crater::io
