@@ -23,6 +23,7 @@
 #include "io/scenario/region.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
+#include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
 
 namespace crater::dem {
@@ -364,21 +365,15 @@ class DemPart final : public solver::Part<D> {
   // Verlet list with a skin, as in the SPH part; grains are re-sorted at each rebuild and the
   // history slots move with them.
   void update_neighbors() {
-    const Index n = f_.size();
     const Real need = 2 * r_max_;
-    if (list_radius_ > 0) {
-      const Real moved = parallel::max_over(
-          n, 0.0, [&](Index i) { return (x_[i] - x_built_[static_cast<std::size_t>(i)]).norm(); });
-      if (2 * moved + need <= list_radius_) return;
-    }
+    if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
     f_.permute(order);
     permute_slots(order);
-    list_radius_ = (1 + kSkin) * need;
-    x_built_.assign(x_.begin(), x_.end());
-    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), list_radius_,
-                                      neighbors::Pairs::Full, list_);
+    const Real radius = skin_.built(std::span<const Vec<D>>(x_), need);
+    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), radius, neighbors::Pairs::Full,
+                                      list_);
   }
 
   void permute_slots(std::span<const Index> order) {
@@ -422,8 +417,7 @@ class DemPart final : public solver::Part<D> {
   std::vector<Vec<D>> xi_, xi_new_;
 
   neighbors::NeighborList list_;
-  Real list_radius_ = 0;
-  std::vector<Vec<D>> x_built_;
+  neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;
   Index overflow_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;

@@ -28,6 +28,7 @@
 #include "materials/eos/eos.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
+#include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
 #include "sph/kernels.hpp"
 
@@ -391,24 +392,17 @@ class SphPart final : public solver::Part<D> {
   // The pair loops test the true support, so a longer list only costs rejected candidates.
   void update_neighbors() {
     const Real need = WendlandC2<D>::support * h_max_;
-    const Index n = f_.size();
-    if (list_radius_ > 0) {
-      const Real moved = parallel::max_over(
-          n, 0.0, [&](Index i) { return (x_[i] - x_built_[static_cast<std::size_t>(i)]).norm(); });
-      if (2 * moved + need <= list_radius_) return;
-    }
+    if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
     resort();
-    list_radius_ = (1 + kSkin) * need;
-    x_built_.assign(x_.begin(), x_.end());
-    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), list_radius_,
-                                      neighbors::Pairs::Full, list_);
+    const Real radius = skin_.built(std::span<const Vec<D>>(x_), need);
+    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), radius, neighbors::Pairs::Full,
+                                      list_);
     if (!wall_x_.empty()) {
       neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), std::span<const Vec<D>>(x_),
-                                     list_radius_, wall_to_fluid_);
+                                     radius, wall_to_fluid_);
       neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(wall_x_),
-                                     list_radius_, fluid_to_wall_);
+                                     radius, fluid_to_wall_);
     }
-    ++list_builds_;
   }
 
   void resort() {
@@ -629,9 +623,7 @@ class SphPart final : public solver::Part<D> {
   Real external_work_ = 0;
   bool has_walls_ = false;
   Index reflections_ = 0;
-  Real list_radius_ = 0;  // radius the lists were built for; 0: not built yet
-  std::vector<Vec<D>> x_built_;
-  Index list_builds_ = 0;
+  neighbors::VerletSkin<D> skin_{kSkin};
 };
 
 }  // namespace

@@ -1,0 +1,48 @@
+// When to rebuild a neighbour list built with a margin (Verlet 1967): a list built for the
+// radius (1 + skin) x need holds every pair within `need` until some point has moved half the
+// margin. The owner re-sorts its entities and rebuilds when stale() says so, then calls
+// built().
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/types.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::neighbors {
+
+template <int D>
+class VerletSkin {
+ public:
+  explicit VerletSkin(Real skin_fraction) : skin_(skin_fraction) {}
+
+  /// True when no list exists or a point of x has moved too far for `need` (the interaction
+  /// radius the owner needs now).
+  bool stale(std::span<const Vec<D>> x, Real need) const {
+    if (radius_ <= 0 || x.size() != built_.size()) return true;
+    const Real moved = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
+      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).norm();
+    });
+    return 2 * moved + need > radius_;
+  }
+
+  /// Records a rebuild at positions x (after any re-sort) and returns the radius to build for.
+  Real built(std::span<const Vec<D>> x, Real need) {
+    built_.assign(x.begin(), x.end());
+    radius_ = (1 + skin_) * need;
+    ++builds_;
+    return radius_;
+  }
+
+  Real radius() const { return radius_; }
+  Index builds() const { return builds_; }
+
+ private:
+  Real skin_;
+  Real radius_ = 0;
+  std::vector<Vec<D>> built_;
+  Index builds_ = 0;
+};
+
+}  // namespace crater::neighbors
