@@ -18,7 +18,9 @@
 #   particle_steps_per_s = particles x steps / run.wall_time_s
 # and the whole-process wall time (exec to exit, measured here). run.wall_time_s includes the
 # setup (lattice, first neighbour list and forces, summary); with these step counts that is
-# well under 1 % of the run. The last line of each configuration is
+# 0.2-3 % of the run (docs/performance.md). steal_s is the CPU time the hypervisor took from
+# this VM during the repetition (all CPUs); repetitions with a large steal_s are not
+# representative. The last line of each configuration is
 #   case=... threads=N particles=P steps=S particle_steps_per_s=<median> process_s=<median>
 set -euo pipefail
 HERE="$(cd "$(dirname "$0")" && pwd)"
@@ -45,6 +47,9 @@ median() {
     awk '{a[NR]=$1} END{ if (NR%2) print a[(NR+1)/2]; else printf "%.6g\n", (a[NR/2]+a[NR/2+1])/2 }'
 }
 now() { date +%s.%N; }
+# CPU time stolen by the hypervisor so far, all CPUs, in clock ticks (/proc/stat "cpu" field 9)
+steal_ticks() { awk '/^cpu /{print $9}' /proc/stat; }
+TCK=$(getconf CLK_TCK)
 
 # run_case NAME FILE STEPS [key=value ...]
 run_case() {
@@ -62,6 +67,8 @@ run_case() {
       t0=$(now)
       local started
       started=$(date -u +%H:%M:%S)
+      local st0
+      st0=$(steal_ticks)
       if ! "$CRATER" run "$file" --out "$out" --force --quiet --threads "$th" "${sets[@]}" \
         > "$out/stdout.txt" 2>&1; then
         echo "ERROR: crater run failed (run directory $out):" >&2
@@ -85,9 +92,10 @@ PYEOF
         echo "ERROR: status=$status steps=$nsteps (wanted $steps) threads=$thr; see $out" >&2
         return 1
       fi
-      local ps
+      local ps stolen
       ps=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')
-      echo "rep=$r start=$started threads=$th particles=$parts steps=$nsteps wall_time_s=$wall process_s=$ps sim_time_s=$tsim particle_steps_per_s=$p$([ "$allc" = - ] || echo " part_counts=$allc")"
+      stolen=$(awk -v a="$st0" -v b="$(steal_ticks)" -v t="$TCK" 'BEGIN{printf "%.2f", (b-a)/t}')
+      echo "rep=$r start=$started threads=$th particles=$parts steps=$nsteps wall_time_s=$wall process_s=$ps sim_time_s=$tsim steal_s=$stolen particle_steps_per_s=$p$([ "$allc" = - ] || echo " part_counts=$allc")"
       pss+=("$p"); proc+=("$ps")
       if [ "$KEEP" = 1 ]; then echo "# kept $out"; else rm -rf "$out"; fi
     done
