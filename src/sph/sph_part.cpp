@@ -20,6 +20,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -210,10 +211,12 @@ class SphPart final : public solver::Part<D> {
     const int layers =
         std::max(cfg_.wall_layers,
                  static_cast<int>(std::ceil(WendlandC2<D>::support * h_max_ / spacing_ - 1e-9)));
-    WallLattice<D> wl = wall_lattice<D>(c, cfg_.walls, layers, spacing_);
-    wall_x_ = std::move(wl.x);
-    wall_mirror_ = std::move(wl.mirror);
     has_walls_ = !cfg_.walls.empty();
+    if (cfg_.wall_no_slip) {
+      WallLattice<D> wl = wall_lattice<D>(c, cfg_.walls, layers, spacing_);
+      wall_x_ = std::move(wl.x);
+      wall_mirror_ = std::move(wl.mirror);
+    }
     const std::size_t nw = wall_x_.size();
     wall_p_.assign(nw, 0);
     wall_rho_.assign(nw, mat.rho0_kg_m3);
@@ -253,6 +256,7 @@ class SphPart final : public solver::Part<D> {
     update_smoothing_lengths();
     update_neighbors();
     update_eos(t);
+    ghost_state();
     if (cfg_.kernel == KernelKind::WendlandC2) {
       wall_state<WendlandC2<D>>();
       rates<WendlandC2<D>>();
@@ -343,7 +347,8 @@ class SphPart final : public solver::Part<D> {
 
   std::vector<solver::Diagnostic> diagnostics() const override {
     if (!has_walls_) return {};
-    return {{"wall_reflections", static_cast<Real>(reflections_)}};
+    return {{"wall_reflections", static_cast<Real>(reflections_)},
+            {"wall_max_penetration_m", max_penetration_}};
   }
 
  private:
@@ -355,11 +360,14 @@ class SphPart final : public solver::Part<D> {
     return 0;  // Tait: pressure follows from density alone
   }
 
-  // The wall's pressure stops particles in all but the most violent impacts (a Mach 3 shock
-  // of a gas whose smoothing length has shrunk below the wall's spacing gets through). As a
-  // safeguard, a particle that crosses a walled face is put back by elastic reflection (its
-  // normal velocity reversed), and counted: `wall_reflections` in summary.json. Reflection
-  // conserves kinetic energy; the wall takes the momentum.
+  // A particle that crosses a walled face in a step is put back by specular reflection (its
+  // normal velocity reversed): at a free-slip wall this is the symmetry condition itself (the
+  // particle and its image trade places); at a no-slip wall it is a safeguard behind the
+  // dummy particles' pressure. Reflection conserves kinetic energy; the wall takes the
+  // momentum. Counted in summary.json: `wall_reflections` and `wall_max_penetration_m`, the
+  // deepest crossing (a particle sliding on a free-slip floor at a free surface, where the
+  // pressure is about zero, can dip below it by round-off-sized amounts: the image's push
+  // vanishes as the kernel gradient does at r = 0).
   void reflect_at_walls(Index i) {
     for (const io::Face f : cfg_.walls) {
       const int axis = static_cast<int>(f) / 2;
@@ -370,8 +378,11 @@ class SphPart final : public solver::Part<D> {
         x_[i][axis] = low ? face + depth : face - depth;
         vh_[i][axis] = -vh_[i][axis];
         a_[i][axis] = -a_[i][axis];
-#pragma omp atomic
-        ++reflections_;
+#pragma omp critical(crater_sph_reflections)
+        {
+          ++reflections_;
+          max_penetration_ = std::max(max_penetration_, depth);
+        }
       }
     }
   }
@@ -403,6 +414,83 @@ class SphPart final : public solver::Part<D> {
       neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(wall_x_),
                                      radius, fluid_to_wall_);
     }
+    if (has_walls_ && !cfg_.wall_no_slip) {
+      select_ghosts(radius);
+      ghost_positions();
+      neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(ghost_x_),
+                                     radius, fluid_to_ghost_);
+    }
+  }
+
+  // Free-slip walls are planes of symmetry: each particle within `radius` of a walled face has
+  // a mirror image behind it (Libersky et al. 1993), with the parent's mass, density, smoothing
+  // length and sound speed, its position and velocity reflected in the face, and its pressure
+  // extended hydrostatically, p_g = p + rho g . (x_g - x). Near a corner the particle also has
+  // the image in both faces. The images make the flow next to the wall that of the symmetric
+  // problem: the continuity and pressure sums see a complete kernel, and the normal velocity
+  // vanishes on the face. The image of particle j moves with j, so the images chosen at a list
+  // rebuild serve until the next one (the parent must come within `radius` to interact).
+  void select_ghosts(Real radius) {
+    ghost_parent_.clear();
+    ghost_sign_.clear();
+    ghost_offset_.clear();
+    const Index n = f_.size();
+    for (Index j = 0; j < n; ++j) {
+      // Per axis: no reflection (0), in the low face (1) or in the high face (2), if walled and
+      // within reach.
+      std::array<std::array<int, 3>, D> options{};
+      std::array<int, D> count{};
+      for (int a = 0; a < D; ++a) {
+        options[a][count[a]++] = 0;
+        for (const io::Face f : cfg_.walls) {
+          if (static_cast<int>(f) / 2 != a) continue;
+          const bool low = static_cast<int>(f) % 2 == 0;
+          const Real d = low ? x_[j][a] - domain_lo_[a] : domain_hi_[a] - x_[j][a];
+          if (d < radius) options[a][count[a]++] = low ? 1 : 2;
+        }
+      }
+      std::array<int, D> k{};
+      while (true) {
+        bool any = false;
+        Vec<D> sign = Vec<D>::Ones(), offset = Vec<D>::Zero();
+        for (int a = 0; a < D; ++a) {
+          const int o = options[a][k[a]];
+          if (o == 0) continue;
+          any = true;
+          sign[a] = -1;
+          offset[a] = 2 * (o == 1 ? domain_lo_[a] : domain_hi_[a]);
+        }
+        if (any) {
+          ghost_parent_.push_back(j);
+          ghost_sign_.push_back(sign);
+          ghost_offset_.push_back(offset);
+        }
+        int a = 0;
+        while (a < D && ++k[a] == count[a])
+          k[a++] = 0;
+        if (a == D) break;
+      }
+    }
+    ghost_x_.resize(ghost_parent_.size());
+    ghost_v_.resize(ghost_parent_.size());
+    ghost_p_.resize(ghost_parent_.size());
+  }
+
+  void ghost_positions() {
+    parallel::for_each(static_cast<Index>(ghost_parent_.size()), [&](Index g) {
+      ghost_x_[g] = ghost_offset_[g] + ghost_sign_[g].cwiseProduct(x_[ghost_parent_[g]]);
+    });
+  }
+
+  void ghost_state() {
+    if (ghost_parent_.empty()) return;
+    ghost_positions();
+    const Vec<D> g = gravity_;
+    parallel::for_each(static_cast<Index>(ghost_parent_.size()), [&](Index k) {
+      const Index j = ghost_parent_[k];
+      ghost_v_[k] = ghost_sign_[k].cwiseProduct(v_[j]);
+      ghost_p_[k] = p_[j] + rho_[j] * g.dot(ghost_x_[k] - x_[j]);
+    });
   }
 
   void resort() {
@@ -502,6 +590,7 @@ class SphPart final : public solver::Part<D> {
     const Real eps_tensile = cfg_.tensile_epsilon;
     const Vec<D> g = gravity_;
     const bool walls = !wall_x_.empty();
+    const bool ghosts = !ghost_parent_.empty();
     parallel::for_each(n, [&](Index i) {
       const Vec<D> xi = x_[i], vi = v_[i];
       const Real hi = h_[i], rhoi = rho_[i], ci = c_[i];
@@ -569,6 +658,12 @@ class SphPart final : public solver::Part<D> {
         for (const Index w : fluid_to_wall_.of(i))
           pair(xi - wall_x_[w], h0_, wall_rho_[w] * cell_volume_, wall_rho_[w], wall_p_[w],
                wall_c_[w], Vec<D>::Zero(), wall_v_[w], true);
+      if (ghosts)
+        for (const Index k : fluid_to_ghost_.of(i)) {
+          const Index j = ghost_parent_[k];
+          pair(xi - ghost_x_[k], h_[j], m_[j], rho_[j], ghost_p_[k], c_[j], ghost_v_[k],
+               ghost_v_[k], false);
+        }
 
       a_[i] = acc + g;
       drho_[i] = rhoi * drho;
@@ -618,11 +713,18 @@ class SphPart final : public solver::Part<D> {
   std::vector<Real> wall_p_, wall_rho_, wall_c_;
   std::vector<Vec<D>> wall_v_;
 
-  neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_;
+  // Mirror images behind free-slip walls (select_ghosts): parent index, reflection (-1 on the
+  // mirrored axes) and offset (twice the face coordinate there), and the image's state.
+  std::vector<Index> ghost_parent_;
+  std::vector<Vec<D>> ghost_sign_, ghost_offset_, ghost_x_, ghost_v_;
+  std::vector<Real> ghost_p_;
+
+  neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_, fluid_to_ghost_;
   Real h_max_ = 0;
   Real external_work_ = 0;
   bool has_walls_ = false;
   Index reflections_ = 0;
+  Real max_penetration_ = 0;  // deepest crossing of a walled face that was reflected [m]
   neighbors::VerletSkin<D> skin_{kSkin};
 };
 

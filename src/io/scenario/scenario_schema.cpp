@@ -258,23 +258,25 @@ TableSchema make_sph() {
                             0),
                    "0"),
       with_default(choice_list("walls", {"left", "right", "bottom", "top", "back", "front"},
-                               "Domain faces lined with fixed dummy wall particles (Adami et al. "
-                               "2012): left/right = x min/max, bottom/top = y min/max, back/front "
-                               "= z min/max (3D). The fluid fills up to a walled face."),
+                               "Domain faces that are walls: left/right = x min/max, bottom/top = "
+                               "y min/max, back/front = z min/max (3D). The fluid fills up to a "
+                               "walled face. How the wall is held: see wall_slip."),
                    "[]"),
       with_default(
           at_most(
               at_least(
-                  of_type(
-                      real("wall_layers", "1",
-                           "Least number of layers of wall particles (at spacing_m); more are laid "
-                           "when the kernel support of the largest particle (2 h) needs them."),
-                      KeyType::Integer),
+                  of_type(real("wall_layers", "1",
+                               "No-slip walls: least number of layers of dummy wall particles (at "
+                               "spacing_m); more are laid when the kernel support of the largest "
+                               "particle (2 h) needs them. Unused by free-slip walls."),
+                          KeyType::Integer),
                   1),
               6),
           "3"),
       with_default(choice("wall_slip", {"free", "no"},
-                          "Wall condition for the viscous terms: free slip or no slip."),
+                          "free: each wall is a plane of symmetry, held by mirror images of the "
+                          "particles near it (exact for a symmetry plane, e.g. half a charge). "
+                          "no: no slip, held by fixed dummy particles (Adami et al. 2012)."),
                    "\"free\""),
   };
   return t;

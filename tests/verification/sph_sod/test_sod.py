@@ -102,13 +102,9 @@ class SodShockTube(unittest.TestCase):
         self.assertLess(e2, e1, f"L1 error {100 * e1:.3f} % (dx = 1/400) -> {100 * e2:.3f} % "
                                 f"(dx = 1/800)")
 
-    @unittest.expectedFailure
-    def test_walls_hold_without_the_safeguard(self):
-        """Known defect, kept visible: at the contact, next to the free-slip walls, gas still
-        reaches the wall faces and crater's safeguard reflects it (hundreds of reflections at
-        dx = 1/400). Mirroring the fluid velocity in the walls' continuity term cured this
-        (0 reflections, L1 1.5 %) but pushed the dam-break surge into the floor, so it is not
-        used. When this passes, remove the decorator."""
+    def test_walls_hold_the_gas(self):
+        """Free-slip walls are mirror planes (docs/theory.md): the images' pressure must keep
+        the gas off the wall faces, so crater never has to reflect a particle."""
         for r in (self.coarse, self.fine):
             self.assertEqual(r["summary"]["parts"][0]["diagnostics"]["wall_reflections"], 0)
 
