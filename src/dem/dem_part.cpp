@@ -11,14 +11,18 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "dem/laws/contact_geometry.hpp"
 #include "dem/laws/hertz_mindlin.hpp"
 #include "dem/laws/local_damping.hpp"
+#include "dem/packing.hpp"
 #include "fields/field_set.hpp"
 #include "io/scenario/region.hpp"
 #include "neighbors/cell_grid.hpp"
@@ -70,7 +74,11 @@ class DemPart final : public solver::Part<D> {
  public:
   static constexpr int kMaxContacts = D == 2 ? 12 : 24;
 
-  DemPart(const io::Config& c, const io::PartConfig& pc)
+  /// The grains are `grains` if given (a packing, docs/theory.md), else those placed by hand,
+  /// else one per lattice site. `local_damping` overrides the part's (settling).
+  DemPart(const io::Config& c, const io::PartConfig& pc,
+          const std::vector<Grain<D>>* grains = nullptr,
+          std::optional<Real> local_damping = std::nullopt)
       : name_(pc.name),
         cfg_(pc.dem),
         gravity_(to_vec<D>(c.domain.gravity_m_s2)),
@@ -105,7 +113,14 @@ class DemPart final : public solver::Part<D> {
     std::vector<Vec<D>> pts;
     std::vector<Real> radii;
     std::vector<Vec<D>> vel;
-    if (!cfg_.particles.empty()) {
+    if (local_damping) cfg_.local_damping = *local_damping;
+    if (grains) {
+      for (const auto& q : *grains) {
+        pts.push_back(q.x);
+        radii.push_back(q.r);
+        vel.push_back(to_vec<D>(pc.initial.velocity_m_s));
+      }
+    } else if (!cfg_.particles.empty()) {
       for (const auto& q : cfg_.particles) {
         pts.push_back(to_vec<D>(q.center_m));
         radii.push_back(q.radius_m);
@@ -259,6 +274,31 @@ class DemPart final : public solver::Part<D> {
   }
   std::vector<fields::FieldView> point_fields() const override {
     return f_.views(kOutput);
+  }
+
+  std::vector<solver::Diagnostic> diagnostics() const override {
+    return diagnostics_;
+  }
+  void add_diagnostic(std::string name, Real value) {
+    diagnostics_.push_back({std::move(name), value});
+  }
+
+  /// The grains in id order (positions and radii).
+  std::vector<Grain<D>> grains() const {
+    std::vector<Grain<D>> g(static_cast<std::size_t>(f_.size()));
+    for (Index i = 0; i < f_.size(); ++i)
+      g[static_cast<std::size_t>(id_[i])] = {x_[i], r_[i]};
+    return g;
+  }
+
+  /// Mean kinetic energy per grain, and m g r of the mean grain (the settling scale).
+  std::pair<Real, Real> settling_measure() const {
+    const Index n = f_.size();
+    const Real k = energies().kinetic_j / static_cast<Real>(std::max<Index>(n, 1));
+    const Real m = mass_kg() / static_cast<Real>(std::max<Index>(n, 1));
+    const Real r = parallel::deterministic_sum<Real>(n, [&](Index i) { return r_[i]; }) /
+                   static_cast<Real>(std::max<Index>(n, 1));
+    return {k, m * gravity_.norm() * r};
   }
 
  private:
@@ -421,14 +461,166 @@ class DemPart final : public solver::Part<D> {
   Real last_dt_ = 0;
   Index overflow_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
+  std::vector<solver::Diagnostic> diagnostics_;
 };
+
+// Everything that shapes a settled packing, as text for its cache key (hex floats: exact).
+template <int D>
+std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
+  std::string s = fmt::format("crater packing v1|D={}|", D);
+  auto v3 = [](const io::Vec3& v) { return fmt::format("{:a},{:a},{:a}", v[0], v[1], v[2]); };
+  const auto& mat = c.materials[pc.material];
+  const auto& g = mat.granular;
+  s += fmt::format("domain={};{};g={}|", v3(c.domain.min_m), v3(c.domain.max_m),
+                   v3(c.domain.gravity_m_s2));
+  s += fmt::format("mat={:a},{:a},{:a},{:a},{:a}|", mat.rho0_kg_m3, g.shear_modulus_pa,
+                   g.poisson_ratio, g.friction, g.restitution);
+  s += fmt::format("region={},{},{},{},{:a}|spacing={:a}|", static_cast<int>(pc.region.type),
+                   v3(pc.region.min_m), v3(pc.region.max_m), v3(pc.region.center_m),
+                   pc.region.radius_m, pc.spacing_m);
+  const auto& d = pc.dem;
+  s += fmt::format("dem={:a},{:a},{},{:a},{:a},{:a}|walls=", d.radius_min_m, d.radius_max_m, d.seed,
+                   d.rayleigh_fraction, d.wall_friction, d.wall_restitution);
+  for (const auto f : d.walls)
+    s += fmt::format("{},", static_cast<int>(f));
+  const auto& k = pc.packing;
+  s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.random, k.porosity,
+                   k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,
+                   c.time.safety_factor);
+  for (std::size_t j = 0; j < k.sieve_diameter_m.size(); ++j)
+    s += fmt::format("{:a}:{:a},", k.sieve_diameter_m[j], k.sieve_passing[j]);
+  return s;
+}
+
+struct PackingReport {
+  bool reused = false;
+  Real settle_time_s = 0;
+  long long settle_steps = 0;
+  std::string file;
+};
+
+// The grains of a packed and/or settled part: from the cache if it holds this packing, else
+// generated (and settled under gravity with the domain's walls, then saved). The run starts
+// from the saved state (positions and radii; grains at rest, no contact history) in both
+// cases, so a run that settled and a run that reused give identical results.
+template <int D>
+std::vector<Grain<D>> prepare_packing(const io::Config& c, const io::PartConfig& pc,
+                                      PackingReport& report) {
+  const auto& k = pc.packing;
+  const std::string key_name = fmt::format("parts[{}].packing", pc.name);
+  std::uint64_t key = 0;
+  std::filesystem::path file;
+  if (k.settle) {
+    key = fnv1a(packing_key_text<D>(c, pc));
+    file = std::filesystem::path(k.cache_dir) / fmt::format("{}-{:016x}.pack", pc.name, key);
+    report.file = file.string();
+    if (auto g = load_packing<D>(file.string(), key)) {
+      report.reused = true;
+      spdlog::info("part '{}': settled packing of {} grains reused from {}", pc.name, g->size(),
+                   file.string());
+      return std::move(*g);
+    }
+  }
+  std::vector<Grain<D>> grains;
+  if (k.random) {
+    const Real solid = (1 - k.porosity) * region_volume<D>(pc.region);
+    std::vector<Real> radii =
+        draw_radii<D>(k, pc.dem.radius_min_m, pc.dem.radius_max_m, solid, pc.dem.seed,
+                      std::size_t{50'000'000}, pc.where, key_name);
+    grains = random_packing<D>(pc.region, std::move(radii), to_vec<D>(c.domain.gravity_m_s2),
+                               to_vec<D>(c.domain.min_m), to_vec<D>(c.domain.max_m), pc.dem.seed,
+                               pc.where, key_name);
+  }
+  if (!k.settle) return grains;
+
+  // Settle: the part alone under gravity, with its walls and the settling damping, until the
+  // grains have had the time to fall the column's height and their mean kinetic energy is
+  // below settle_kinetic_ratio x m g r.
+  DemPart<D> part(c, pc, k.random ? &grains : nullptr, k.settle_damping);
+  const Vec<D> g = to_vec<D>(c.domain.gravity_m_s2);
+  Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
+  for (const auto& q : part.grains()) {
+    lo = std::min(lo, q.x.dot(g) / g.norm());
+    hi = std::max(hi, q.x.dot(g) / g.norm());
+  }
+  const Real t_fall = std::sqrt(2 * std::max(hi - lo, 0.0) / g.norm());
+  spdlog::info("part '{}': settling {} grains under gravity (at least {:.3g} s)", pc.name,
+               part.count(), t_fall);
+  Real t = 0;
+  long long steps = 0;
+  part.compute_forces(t);
+  while (true) {
+    const Real dt = c.time.safety_factor * part.stable_step().dt_s;
+    part.advance(t, dt);
+    t += dt;
+    part.compute_forces(t);
+    if (auto fault = part.check())
+      throw InputError(pc.where, key_name,
+                       fmt::format("settling failed at t = {:.4g} s, grain {}: {}", t,
+                                   fault->entity_id, fault->what));
+    part.finish_step(dt);
+    ++steps;
+    if (steps % 200 != 0 || t < t_fall) continue;
+    const auto [ke, scale] = part.settling_measure();
+    if (ke < k.settle_kinetic_ratio * scale) break;
+    if (t > k.settle_max_time_s)
+      throw InputError(pc.where, key_name + ".settle_max_time_s",
+                       fmt::format("the grains did not settle in {} s: mean kinetic energy {:.3g} "
+                                   "x m g r, settled below {:.3g}; raise settle_max_time_s or "
+                                   "settle_damping",
+                                   k.settle_max_time_s, ke / scale, k.settle_kinetic_ratio));
+  }
+  report.settle_time_s = t;
+  report.settle_steps = steps;
+  grains = part.grains();
+  std::filesystem::create_directories(file.parent_path());
+  save_packing<D>(file.string(), key, grains);
+  spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", pc.name, t, steps,
+               file.string());
+  // Read back what was saved, so this run starts from exactly what a reuse would.
+  if (auto back = load_packing<D>(file.string(), key)) return std::move(*back);
+  throw std::runtime_error("could not read back the settled packing " + file.string());
+}
 
 }  // namespace
 
 template <int D>
 std::unique_ptr<solver::Part<D>> make_dem_part(const io::Config& config,
                                                const io::PartConfig& part) {
-  return std::make_unique<DemPart<D>>(config, part);
+  if (!part.packing.random && !part.packing.settle)
+    return std::make_unique<DemPart<D>>(config, part);
+  PackingReport report;
+  const std::vector<Grain<D>> grains = prepare_packing<D>(config, part, report);
+  auto p = std::make_unique<DemPart<D>>(config, part, &grains);
+  // Porosity of the packed grains over the region's cross-section times the bed's height
+  // (box regions; along gravity), and how the packing was obtained.
+  if (part.region.type == io::RegionType::Box && !grains.empty()) {
+    const Vec<D> g = to_vec<D>(config.domain.gravity_m_s2);
+    int up = 0;
+    for (int d = 1; d < D; ++d)
+      if (std::abs(g[d]) > std::abs(g[up])) up = d;
+    Real top = -std::numeric_limits<Real>::infinity(), bottom = -top, solid = 0;
+    for (const auto& q : grains) {
+      top = std::max(top, q.x[up] + q.r);
+      bottom = std::min(bottom, q.x[up] - q.r);
+      solid += grain_volume<D>(q.r);
+    }
+    Real area = 1;
+    for (int d = 0; d < D; ++d)
+      if (d != up)
+        area *= part.region.max_m[static_cast<std::size_t>(d)] -
+                part.region.min_m[static_cast<std::size_t>(d)];
+    p->add_diagnostic("packing_porosity", 1 - solid / (area * (top - bottom)));
+    p->add_diagnostic("packing_bed_height_m", top - bottom);
+  }
+  if (part.packing.settle) {
+    p->add_diagnostic("packing_reused", report.reused ? 1.0 : 0.0);
+    if (!report.reused) {
+      p->add_diagnostic("settle_time_s", report.settle_time_s);
+      p->add_diagnostic("settle_steps", static_cast<Real>(report.settle_steps));
+    }
+  }
+  return p;
 }
 
 template std::unique_ptr<solver::Part<2>> make_dem_part<2>(const io::Config&,

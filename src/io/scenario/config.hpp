@@ -117,6 +117,19 @@ struct DemConfig {
   std::vector<DemParticle> particles;  // placed by hand; empty: the region's lattice
 };
 
+/// How a DEM part's grains are laid out ([parts.packing]).
+struct PackingConfig {
+  bool random = false;  // false: lattice
+  Real porosity = 0.4;
+  std::vector<Real> sieve_diameter_m;  // empty: radii uniform in [radius_min_m, radius_max_m]
+  std::vector<Real> sieve_passing;
+  bool settle = false;
+  Real settle_kinetic_ratio = 1e-4;
+  Real settle_max_time_s = 2.0;
+  Real settle_damping = 0.7;
+  std::string cache_dir;  // absolute, or relative to the working directory
+};
+
 struct DetonationPoint {
   Vec3 point_m{};
   Real time_s = 0;
@@ -132,6 +145,7 @@ struct PartConfig {
   std::vector<ZoneConfig> zones;
   SphConfig sph;
   DemConfig dem;
+  PackingConfig packing;
   std::vector<DetonationPoint> detonations;
   SourceLocation where;
 };

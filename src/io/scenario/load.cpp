@@ -501,9 +501,10 @@ class Builder {
     const int dim = c.dimension;
     const auto& dt = table(t, "dem");
     const SourceLocation dw = where_of(dt, w);
+    read_packing(c, t, w, key, p);
     p.dem.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
     p.dem.radius_min_m = opt_num(dt, "radius_min_m").value_or(p.dem.radius_max_m);
-    if (p.dem.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
+    if (!p.packing.random && p.dem.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
       error(loc(dt, "radius_max_m", dw), key + ".dem.radius_max_m",
             fmt::format("expected at most spacing_m / 2 = {} m (grains sit on a lattice of "
                         "pitch spacing_m), got {} m",
@@ -536,6 +537,78 @@ class Builder {
           }
         p.dem.particles.push_back(q);
       }
+    }
+  }
+
+  void read_packing(const Config& c, const toml::table& t, const SourceLocation& w,
+                    const std::string& key, PartConfig& p) {
+    const auto& pt = table(t, "packing");
+    const SourceLocation pw = where_of(pt, w);
+    PackingConfig& k = p.packing;
+    k.random = str(pt, "method") == "random";
+    k.settle = pt.get("settle")->as_boolean()->get();
+    k.settle_kinetic_ratio = num(pt, "settle_kinetic_ratio");
+    k.settle_max_time_s = num(pt, "settle_max_time_s");
+    k.settle_damping = num(pt, "settle_damping");
+    fs::path cache = str(pt, "cache_dir");
+    if (cache.is_relative()) cache = fs::path(file_).parent_path() / cache;
+    k.cache_dir = cache.lexically_normal().string();
+    const std::string kp = key + ".packing";
+    if (k.random) {
+      if (!pt.get("porosity"))
+        error(pw, kp + ".porosity", "missing: method = \"random\" needs a target porosity");
+      else
+        k.porosity = num(pt, "porosity");
+      if (t.get("particles"))
+        error(loc(t, "particles", w), key + ".particles",
+              "grains placed by hand cannot also be packed at random; remove one of "
+              "[[" +
+                  key + ".particles]] and [" + kp + "] method = \"random\"");
+    }
+    auto reals = [&](const char* name) {
+      std::vector<Real> v;
+      if (const toml::node* n = pt.get(name))
+        for (const auto& e : *n->as_array())
+          v.push_back(e.value<double>().value_or(0.0));
+      return v;
+    };
+    k.sieve_diameter_m = reals("sieve_diameter_m");
+    k.sieve_passing = reals("sieve_passing");
+    if (!k.sieve_diameter_m.empty() || !k.sieve_passing.empty()) {
+      const SourceLocation sw = loc(pt, "sieve_diameter_m", pw);
+      if (!k.random)
+        error(sw, kp + ".sieve_diameter_m", "a grading curve needs method = \"random\"");
+      if (k.sieve_diameter_m.size() != k.sieve_passing.size() || k.sieve_diameter_m.size() < 2)
+        error(sw, kp + ".sieve_diameter_m",
+              fmt::format("expected sieve_diameter_m and sieve_passing of the same length, at "
+                          "least 2, got {} and {}",
+                          k.sieve_diameter_m.size(), k.sieve_passing.size()));
+      for (std::size_t j = 0; j < k.sieve_diameter_m.size(); ++j) {
+        if (!(k.sieve_diameter_m[j] > 0) ||
+            (j > 0 && !(k.sieve_diameter_m[j] > k.sieve_diameter_m[j - 1])))
+          error(sw, fmt::format("{}.sieve_diameter_m[{}]", kp, j),
+                fmt::format("expected positive diameters in ascending order, got {} m",
+                            k.sieve_diameter_m[j]));
+      }
+      for (std::size_t j = 0; j < k.sieve_passing.size(); ++j) {
+        const Real f = k.sieve_passing[j];
+        if (!(f >= 0 && f <= 1) || (j > 0 && !(f >= k.sieve_passing[j - 1])))
+          error(loc(pt, "sieve_passing", pw), fmt::format("{}.sieve_passing[{}]", kp, j),
+                fmt::format("expected fractions in [0, 1], non-decreasing, got {}", f));
+      }
+      if (!k.sieve_passing.empty() && k.sieve_passing.back() != 1.0)
+        error(loc(pt, "sieve_passing", pw), kp + ".sieve_passing",
+              fmt::format("expected the last sieve to pass everything (1), got {}",
+                          k.sieve_passing.back()));
+    }
+    if (k.settle) {
+      Real g2 = 0;
+      for (int d = 0; d < c.dimension; ++d)
+        g2 += c.domain.gravity_m_s2[static_cast<std::size_t>(d)] *
+              c.domain.gravity_m_s2[static_cast<std::size_t>(d)];
+      if (!(g2 > 0))
+        error(loc(pt, "settle", pw), kp + ".settle",
+              "settling needs gravity: set [domain] gravity_m_s2");
     }
   }
 

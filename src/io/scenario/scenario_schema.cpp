@@ -344,6 +344,64 @@ TableSchema make_dem() {
   return t;
 }
 
+TableSchema make_packing() {
+  TableSchema t{"parts.packing",
+                "How the grains of a DEM part are laid: on the lattice (default) or at random to "
+                "a porosity, then optionally settled under gravity. A settled packing is saved "
+                "in cache_dir and reused by any later run with the same inputs.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      with_default(choice("method", {"lattice", "random"},
+                          "lattice: one grain per lattice site (spacing_m) with radii drawn "
+                          "from [radius_min_m, radius_max_m]. random: grains placed at random, "
+                          "without overlap, until their volume is (1 - porosity) x the region's "
+                          "(the column is extended against gravity when they do not fit)."),
+                   "\"lattice\""),
+      at_most(at_least(real("porosity", "1",
+                            "random: target porosity of the region (void volume / region "
+                            "volume). Sand 0.35-0.45."),
+                       0.2),
+              0.95),
+      of_type(real("sieve_diameter_m", "m",
+                   "random: sieve sizes of a grading curve, ascending (grain diameters). "
+                   "Unset: radii uniform in [radius_min_m, radius_max_m] of [parts.dem]."),
+              KeyType::RealArray),
+      of_type(real("sieve_passing", "1",
+                   "random: mass fraction passing each sieve of sieve_diameter_m, ascending "
+                   "from 0 to 1 (grains are uniform in diameter within each class)."),
+              KeyType::RealArray),
+      with_default(of_type(real("settle", "", "Settle the grains under gravity before the run."),
+                           KeyType::Bool),
+                   "false"),
+      with_default(positive(real("settle_kinetic_ratio", "1",
+                                 "Settled when the grains' mean kinetic energy is below this x "
+                                 "m g r of the mean grain.")),
+                   "1e-4"),
+      with_default(positive(real("settle_max_time_s", "s",
+                                 "Settling gives up (input error, exit 2) after this much "
+                                 "simulated time.")),
+                   "2.0"),
+      with_default(at_most(at_least(real("settle_damping", "1",
+                                         "Cundall local damping during settling (0.7: "
+                                         "quasi-static)."),
+                                    0),
+                           1),
+                   "0.7"),
+      with_default(text("cache_dir",
+                        "Directory for settled packings, relative to the scenario file. A file "
+                        "is keyed by a hash of every input that shapes the packing."),
+                   "\".crater-cache\""),
+  };
+  return t;
+}
+
+const TableSchema& packing_schema() {
+  static const TableSchema s = make_packing();
+  return s;
+}
+
 TableSchema make_dem_particle() {
   TableSchema t{"parts.particles", "One grain placed by hand.", {}, {}, {}};
   t.keys = {
@@ -420,6 +478,8 @@ TableSchema make_part() {
       sub("dem", KeyType::Table, dem_schema(), "DEM numerics."),
       sub("particles", KeyType::TableArray, dem_particle_schema(),
           "Grains placed one by one (tests, small setups) instead of the region's lattice."),
+      sub("packing", KeyType::Table, packing_schema(),
+          "How the grains are laid and settled. Unset: on the lattice, not settled."),
   };
   t.variants["sph"] = {
       sub("sph", KeyType::Table, sph_schema(), "SPH numerics."),

@@ -1,0 +1,263 @@
+#include "dem/packing.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "io/output/atomic_file.hpp"
+
+namespace crater::dem {
+
+template <int D>
+Real grain_volume(Real r) {
+  if constexpr (D == 2)
+    return std::numbers::pi * r * r;
+  else
+    return 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+
+template <int D>
+Real region_volume(const io::RegionConfig& region) {
+  if (region.type == io::RegionType::Box) {
+    Real v = 1;
+    for (int d = 0; d < D; ++d) {
+      const auto k = static_cast<std::size_t>(d);
+      v *= region.max_m[k] - region.min_m[k];
+    }
+    return v;
+  }
+  return grain_volume<D>(region.radius_m);
+}
+
+template <int D>
+std::vector<Real> draw_radii(const io::PackingConfig& packing, Real r_min, Real r_max,
+                             Real solid_volume, std::uint64_t seed, std::size_t max_grains,
+                             const SourceLocation& where, const std::string& key) {
+  std::mt19937_64 rng(seed);
+  std::vector<Real> radii;
+  auto too_many = [&] {
+    throw InputError(where, key,
+                     fmt::format("a packing of more than {} grains (the region is too large "
+                                 "for the grain size); enlarge the grains or shrink the region",
+                                 max_grains));
+  };
+  // Grains of radius in [a, b] until their volume reaches `target` (the last grain is kept if
+  // it brings the total nearer the target than without it).
+  auto fill = [&](Real a, Real b, Real target) {
+    std::uniform_real_distribution<Real> draw(a, b);
+    Real got = 0;
+    while (true) {
+      const Real r = a == b ? a : draw(rng);
+      const Real v = grain_volume<D>(r);
+      if (got + 0.5 * v > target) break;
+      radii.push_back(r);
+      got += v;
+      if (radii.size() > max_grains) too_many();
+    }
+  };
+  const auto& d = packing.sieve_diameter_m;
+  const auto& f = packing.sieve_passing;
+  if (d.empty()) {
+    fill(r_min, r_max, solid_volume);
+  } else {
+    // Mass (= solid volume, one density) fraction f_k - f_{k-1} in diameters [d_{k-1}, d_k];
+    // what passes the finest sieve is taken at its size.
+    fill(0.5 * d[0], 0.5 * d[0], f[0] * solid_volume);
+    for (std::size_t k = 1; k < d.size(); ++k)
+      fill(0.5 * d[k - 1], 0.5 * d[k], (f[k] - f[k - 1]) * solid_volume);
+  }
+  return radii;
+}
+
+namespace {
+
+template <int D>
+struct HashGrid {
+  Real cell;
+  Vec<D> origin;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+
+  std::array<std::int64_t, 3> index(const Vec<D>& x) const {
+    std::array<std::int64_t, 3> c{0, 0, 0};
+    for (int d = 0; d < D; ++d)
+      c[static_cast<std::size_t>(d)] =
+          static_cast<std::int64_t>(std::floor((x[d] - origin[d]) / cell));
+    return c;
+  }
+  static std::uint64_t key(const std::array<std::int64_t, 3>& c) {
+    const auto u = [](std::int64_t v) { return static_cast<std::uint64_t>(v + (1 << 20)); };
+    return (u(c[0]) << 42) | (u(c[1]) << 21) | u(c[2]);
+  }
+};
+
+}  // namespace
+
+template <int D>
+std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector<Real> radii,
+                                     const Vec<D>& gravity, const Vec<D>& domain_lo,
+                                     const Vec<D>& domain_hi, std::uint64_t seed,
+                                     const SourceLocation& where, const std::string& key) {
+  std::sort(radii.begin(), radii.end(), std::greater<>());
+  const bool box = region.type == io::RegionType::Box;
+  Vec<D> lo, hi, center;
+  for (int d = 0; d < D; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    center[d] = region.center_m[k];
+    lo[d] = box ? region.min_m[k] : region.center_m[k] - region.radius_m;
+    hi[d] = box ? region.max_m[k] : region.center_m[k] + region.radius_m;
+  }
+  // The column grows against gravity, in steps of a quarter of the region's height, up to the
+  // domain's face.
+  int up = 0;
+  for (int d = 1; d < D; ++d)
+    if (std::abs(gravity[d]) > std::abs(gravity[up])) up = d;
+  const bool can_grow = box && gravity[up] != 0;
+  const bool grow_high = gravity[up] < 0;
+  const Real step = 0.25 * (hi[up] - lo[up]);
+  const Real limit = grow_high ? domain_hi[up] : domain_lo[up];
+
+  std::vector<Grain<D>> out;
+  out.reserve(radii.size());
+  if (radii.empty()) return out;
+  HashGrid<D> grid{2 * radii.front(), lo, {}};
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ULL);
+  std::uniform_real_distribution<Real> unit(0.0, 1.0);
+  constexpr int kAttempts = 2000;
+
+  auto fits = [&](const Vec<D>& x, Real r) {
+    if (!box && (x - center).norm() > region.radius_m - r) return false;
+    auto c = grid.index(x);
+    std::array<std::int64_t, 3> n = c;
+    const int zr = D == 3 ? 1 : 0;
+    for (n[0] = c[0] - 1; n[0] <= c[0] + 1; ++n[0])
+      for (n[1] = c[1] - 1; n[1] <= c[1] + 1; ++n[1])
+        for (n[2] = c[2] - zr; n[2] <= c[2] + zr; ++n[2]) {
+          const auto it = grid.cells.find(HashGrid<D>::key(n));
+          if (it == grid.cells.end()) continue;
+          for (const std::uint32_t j : it->second) {
+            const Real s = r + out[j].r;
+            if ((out[j].x - x).squaredNorm() < s * s) return false;
+          }
+        }
+    return true;
+  };
+
+  for (const Real r : radii) {
+    bool placed = false;
+    while (!placed) {
+      for (int attempt = 0; attempt < kAttempts && !placed; ++attempt) {
+        Vec<D> x;
+        for (int d = 0; d < D; ++d)
+          x[d] = lo[d] + r + unit(rng) * std::max(0.0, hi[d] - lo[d] - 2 * r);
+        if (fits(x, r)) {
+          grid.cells[HashGrid<D>::key(grid.index(x))].push_back(
+              static_cast<std::uint32_t>(out.size()));
+          out.push_back({x, r});
+          placed = true;
+        }
+      }
+      if (placed) break;
+      const bool at_limit = grow_high ? hi[up] >= limit : lo[up] <= limit;
+      if (!can_grow || at_limit)
+        throw InputError(
+            where, key,
+            fmt::format("could not place grain {} of {} (r = {:.4g} m) without overlap: the "
+                        "random packing needs a looser start than the {} allows; raise the "
+                        "porosity, or (box regions under gravity) the domain's face above the "
+                        "region, so the column can grow",
+                        out.size() + 1, radii.size(), r, can_grow ? "domain" : "region"));
+      if (grow_high)
+        hi[up] = std::min(limit, hi[up] + step);
+      else
+        lo[up] = std::max(limit, lo[up] - step);
+    }
+  }
+  return out;
+}
+
+std::uint64_t fnv1a(const std::string& text) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const unsigned char c : text) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+namespace {
+constexpr const char* kMagic = "crater settled packing v1";
+
+std::uint64_t checksum(const std::string& payload) {
+  return fnv1a(payload);
+}
+}  // namespace
+
+template <int D>
+void save_packing(const std::string& path, std::uint64_t key, const std::vector<Grain<D>>& g) {
+  std::string payload;
+  payload.resize(g.size() * (D + 1) * sizeof(double));
+  char* p = payload.data();
+  for (const auto& q : g) {
+    for (int d = 0; d < D; ++d, p += sizeof(double))
+      std::memcpy(p, &q.x[d], sizeof(double));
+    std::memcpy(p, &q.r, sizeof(double));
+    p += sizeof(double);
+  }
+  const std::string header = fmt::format("{} key={:016x} dim={} count={} checksum={:016x}\n",
+                                         kMagic, key, D, g.size(), checksum(payload));
+  io::write_file_atomic(path, header + payload);
+}
+
+template <int D>
+std::optional<std::vector<Grain<D>>> load_packing(const std::string& path, std::uint64_t key) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string header;
+  if (!std::getline(in, header)) return std::nullopt;
+  unsigned long long k = 0, sum = 0;
+  int dim = 0;
+  std::size_t count = 0;
+  const std::string expect = std::string(kMagic) + " key=%16llx dim=%d count=%zu checksum=%16llx";
+  if (std::sscanf(header.c_str(), expect.c_str(), &k, &dim, &count, &sum) != 4) return std::nullopt;
+  if (k != key || dim != D || count > (std::size_t{1} << 32)) return std::nullopt;
+  std::string payload((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (payload.size() != count * (D + 1) * sizeof(double) || checksum(payload) != sum)
+    return std::nullopt;
+  std::vector<Grain<D>> g(count);
+  const char* p = payload.data();
+  for (auto& q : g) {
+    for (int d = 0; d < D; ++d, p += sizeof(double))
+      std::memcpy(&q.x[d], p, sizeof(double));
+    std::memcpy(&q.r, p, sizeof(double));
+    p += sizeof(double);
+    if (!q.x.allFinite() || !(q.r > 0)) return std::nullopt;
+  }
+  return g;
+}
+
+#define CRATER_PACKING(D)                                                                         \
+  template Real grain_volume<D>(Real);                                                            \
+  template Real region_volume<D>(const io::RegionConfig&);                                        \
+  template std::vector<Real> draw_radii<D>(const io::PackingConfig&, Real, Real, Real,            \
+                                           std::uint64_t, std::size_t, const SourceLocation&,     \
+                                           const std::string&);                                   \
+  template std::vector<Grain<D>> random_packing<D>(                                               \
+      const io::RegionConfig&, std::vector<Real>, const Vec<D>&, const Vec<D>&, const Vec<D>&,    \
+      std::uint64_t, const SourceLocation&, const std::string&);                                  \
+  template void save_packing<D>(const std::string&, std::uint64_t, const std::vector<Grain<D>>&); \
+  template std::optional<std::vector<Grain<D>>> load_packing<D>(const std::string&, std::uint64_t);
+CRATER_PACKING(2)
+CRATER_PACKING(3)
+#undef CRATER_PACKING
+
+}  // namespace crater::dem

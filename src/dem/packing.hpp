@@ -1,0 +1,63 @@
+// Packing of a DEM part's grains ([parts.packing], docs/theory.md "Packing"):
+//   - the radii that fill a solids volume (1 - n) V_region, uniform in radius or from a
+//     grading (sieve) curve given as mass fraction passing;
+//   - random sequential addition: grains placed one by one, largest first, at uniformly random
+//     positions that overlap no grain already placed; a column that cannot hold them all is
+//     extended against gravity (the settled bed then comes down to about the target porosity);
+//   - a file cache for settled packings, keyed by a hash of every input that shapes them.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "io/scenario/config.hpp"
+
+namespace crater::dem {
+
+template <int D>
+struct Grain {
+  Vec<D> x;
+  Real r = 0;
+};
+
+/// Volume of a grain: disk area (per metre of depth) in 2D, sphere volume in 3D.
+template <int D>
+Real grain_volume(Real r);
+
+/// Radii whose grain volumes sum to `solid_volume` (to within half the last grain), drawn with
+/// `seed`: from the sieve curve of `packing` if it has one, else uniform in [r_min, r_max].
+/// Throws InputError (key `key`) if that takes more than `max_grains` grains.
+template <int D>
+std::vector<Real> draw_radii(const io::PackingConfig& packing, Real r_min, Real r_max,
+                             Real solid_volume, std::uint64_t seed, std::size_t max_grains,
+                             const SourceLocation& where, const std::string& key);
+
+/// Random sequential addition of grains of the given radii (placed largest first) inside
+/// `region`, extended against `gravity` up to the domain's face when they do not fit. Throws
+/// InputError when even the tallest column cannot hold them.
+template <int D>
+std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector<Real> radii,
+                                     const Vec<D>& gravity, const Vec<D>& domain_lo,
+                                     const Vec<D>& domain_hi, std::uint64_t seed,
+                                     const SourceLocation& where, const std::string& key);
+
+/// Volume of the region (area in 2D).
+template <int D>
+Real region_volume(const io::RegionConfig& region);
+
+/// 64-bit FNV-1a hash of a text (the cache key of a settled packing).
+std::uint64_t fnv1a(const std::string& text);
+
+/// Settled packing file: header line, raw little-endian doubles (x, r per grain), checksum.
+template <int D>
+void save_packing(const std::string& path, std::uint64_t key, const std::vector<Grain<D>>& g);
+
+/// The grains of a packing file, or nothing if it is missing, of another key or dimension, or
+/// damaged (a cache miss, never an error).
+template <int D>
+std::optional<std::vector<Grain<D>>> load_packing(const std::string& path, std::uint64_t key);
+
+}  // namespace crater::dem

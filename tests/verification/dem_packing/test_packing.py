@@ -1,0 +1,252 @@
+# ctest-timeout: 600
+"""Packing of DEM grains ([parts.packing]): the random packing generator, settling under
+gravity, and the reuse of a settled packing.
+
+1. Grading. A 2D random packing (no settling) from a sieve curve, d = 2, 3, 4, 6 mm with mass
+   fraction passing 0, 0.3, 0.7, 1, to porosity 0.5 of a 0.3 m x 0.15 m region (about 2,000
+   disks). Independent references: the sieve curve itself and the region's volume.
+   - mass fraction passing each sieve, recomputed from the radii in the VTU output: within
+     0.01 of the curve (each class is filled to its volume within half a grain: < 0.3 %);
+   - total grain volume = (1 - n) x region volume within one largest grain;
+   - no two grains overlap (brute force over all pairs: gap >= -1e-12 m), all inside the
+     region's sides and above its floor.
+2. Settling and reuse. 2D disks, r = 4-6 mm, settled under gravity in an open box. The run's
+   grains start from the settled packing:
+   - static equilibrium, by the settling criterion itself (mean kinetic energy per grain below
+     1e-4 m g r of the mean grain): over the following run (50 ms) the mean kinetic energy
+     stays below 1e-3 m g r and is back below 1e-4 m g r at the end. (The run restarts without
+     the contacts' tangential springs, which the packing file does not keep: friction rebuilds
+     them with a small readjustment, measured at about 2e-4 m g r.)
+   - the bed rests on the floor: no grain sinks into it deeper than the Hertz overlap of one
+     grain carrying the weight of the whole bed (the largest overlap statics allows);
+   - a second run with the same inputs reuses the saved packing (summary diagnostics and log),
+     on 1 thread instead of 2, and its VTU frames and history.csv are bit-identical to the
+     first run's (the first run also starts from the saved file);
+   - a packing file with one flipped byte is not used: the run settles again and writes the
+     same result; changing an input that shapes the packing (friction) settles anew into a
+     second file.
+   The grains' shear modulus is 50 MPa instead of sand's 29 GPa: it makes the time step ~25x
+   larger and does not change what is checked here.
+"""
+import itertools
+import math
+import sys
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+from crater_test import crater, read_pvd, read_vtu, run_scenario, scratch
+
+SIEVE_D = [0.002, 0.003, 0.004, 0.006]
+SIEVE_PASS = [0.0, 0.3, 0.7, 1.0]
+REGION = (0.3, 0.15)
+POROSITY = 0.5
+
+
+def material(g_pa):
+    return f"""
+[[materials]]
+name = "sand"
+model = "granular"
+rho0_kg_m3 = 1920
+shear_modulus_pa = {g_pa}
+poisson_ratio = 0.2
+friction = 0.84
+restitution = 0.5
+"""
+
+
+GRADING = f"""
+[scenario]
+name = "packing-grading"
+dimension = 2
+end_time_s = 1.0e-7
+[output]
+interval_s = 1.0e-7
+[domain]
+min_m = [0.0, 0.0]
+max_m = [{REGION[0]}, 0.6]
+gravity_m_s2 = [0.0, -9.81]
+{material(29e9)}
+[[parts]]
+name = "soil"
+method = "dem"
+material = "sand"
+spacing_m = 0.01
+region = {{ type = "box", min_m = [0.0, 0.0], max_m = [{REGION[0]}, {REGION[1]}] }}
+[parts.dem]
+walls = ["left", "right", "bottom"]
+seed = 7
+[parts.packing]
+method = "random"
+porosity = {POROSITY}
+sieve_diameter_m = {SIEVE_D}
+sieve_passing = {SIEVE_PASS}
+"""
+
+SETTLE = f"""
+[scenario]
+name = "packing-settle"
+dimension = 2
+end_time_s = 0.05
+[output]
+interval_s = 0.01
+history_every = 20
+[domain]
+min_m = [0.0, 0.0]
+max_m = [0.1, 0.15]
+gravity_m_s2 = [0.0, -9.81]
+{material(5e7)}
+[[parts]]
+name = "soil"
+method = "dem"
+material = "sand"
+spacing_m = 0.012
+region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.1, 0.03] }}
+[parts.dem]
+radius_min_m = 0.004
+radius_max_m = 0.006
+walls = ["left", "right", "bottom"]
+local_damping = 0.157
+[parts.packing]
+method = "random"
+porosity = 0.3
+settle = true
+"""
+
+
+def last_frame(out):
+    frames = read_pvd(out / "soil.pvd")
+    return read_vtu(out / frames[-1][1])
+
+
+def all_frames(out):
+    return [read_vtu(out / f) for _, f in read_pvd(out / "soil.pvd")]
+
+
+class Grading(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        d = scratch("dem_packing_grading")
+        (d / "grading.toml").write_text(GRADING)
+        cls.summary = run_scenario(d / "grading.toml", d / "out")
+        pts, arrays, _, _ = read_vtu(d / "out" / read_pvd(d / "out" / "soil.pvd")[0][1])
+        cls.x = pts[:, :2]
+        cls.r = arrays["radius"]
+        print(f"grading: {len(cls.r)} grains", file=sys.stderr)
+
+    def test_grading_curve(self):
+        area = math.pi * self.r ** 2
+        for dk, fk in zip(SIEVE_D, SIEVE_PASS):
+            passing = area[2 * self.r <= dk * (1 + 1e-12)].sum() / area.sum()
+            print(f"  sieve {dk * 1e3:.0f} mm: passing {passing:.4f} (curve {fk})",
+                  file=sys.stderr)
+            with self.subTest(sieve_m=dk):
+                self.assertLessEqual(abs(passing - fk), 0.01)
+
+    def test_solid_volume(self):
+        solid = (math.pi * self.r ** 2).sum()
+        target = (1 - POROSITY) * REGION[0] * REGION[1]
+        self.assertLessEqual(abs(solid - target), math.pi * max(self.r) ** 2,
+                             f"solid area {solid:.6g} vs {target:.6g} m^2")
+
+    def test_no_overlap_and_inside(self):
+        x, r = self.x, self.r
+        min_gap = np.inf
+        for i in range(len(r) - 1):
+            d = np.linalg.norm(x[i + 1:] - x[i], axis=1) - r[i + 1:] - r[i]
+            min_gap = min(min_gap, d.min())
+        print(f"  smallest gap {min_gap:.3g} m", file=sys.stderr)
+        self.assertGreaterEqual(min_gap, -1e-12)
+        self.assertTrue(np.all(x[:, 0] - r >= -1e-12) and np.all(x[:, 0] + r <= REGION[0] + 1e-12))
+        self.assertTrue(np.all(x[:, 1] - r >= -1e-12))
+
+
+class SettleAndReuse(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = scratch("dem_packing_settle")
+        cls.toml = cls.dir / "settle.toml"
+        cls.toml.write_text(SETTLE)
+        cls.cache = cls.dir / ".crater-cache"
+        cls.first = run_scenario(cls.toml, cls.dir / "first", threads=2)
+        cls.files = sorted(cls.cache.glob("soil-*.pack"))
+        proc = crater("run", cls.toml, "--out", cls.dir / "second", "--force", "--threads", 1)
+        cls.second_log = proc.stdout + proc.stderr
+        cls.second = run_summary(cls.dir / "second")
+
+    def diag(self, summary):
+        return summary["parts"][0]["diagnostics"]
+
+    def test_first_run_settled_and_saved(self):
+        d = self.diag(self.first)
+        print(f"settle: {self.first['parts'][0]['count']} grains, {d}", file=sys.stderr)
+        self.assertEqual(d["packing_reused"], 0)
+        self.assertGreater(d["settle_steps"], 0)
+        self.assertEqual(len(self.files), 1, f"cache files: {self.files}")
+
+    def test_bed_is_static(self):
+        _, a, _, _ = last_frame(self.dir / "first")
+        n = len(a["radius"])
+        m, r = a["mass"].mean(), a["radius"].mean()
+        scale = m * 9.81 * r
+        ke = []
+        with open(self.dir / "first" / "history.csv") as f:
+            head = f.readline().strip().split(",")
+            k = head.index("kinetic_j")
+            for line in f:
+                ke.append(float(line.split(",")[k]) / n / scale)
+        print(f"  mean kinetic energy after settling: max {max(ke):.3g}, end {ke[-1]:.3g} "
+              f"x m g r ({n} grains)", file=sys.stderr)
+        self.assertLess(max(ke), 1e-3)
+        self.assertLess(ke[-1], 1e-4)
+
+    def test_bed_rests_on_floor(self):
+        pts, a, _, _ = last_frame(self.dir / "first")
+        # Hertz, grain on a rigid wall of the same material (as crater's walls): F = 4/3 E*
+        # sqrt(R) d^1.5 with E* = E / (2 (1 - nu^2)) (docs/theory.md), F = the bed's weight.
+        e_mod, nu = 2 * 5e7 * 1.2, 0.2
+        e_star = e_mod / (2 * (1 - nu ** 2))
+        weight = a["mass"].sum() * 9.81
+        r = a["radius"].max()
+        bound = (3 * weight / (4 * e_star * math.sqrt(r))) ** (2 / 3)
+        depth = (a["radius"] - pts[:, 1]).max()
+        print(f"  deepest floor overlap {depth:.3g} m (static bound {bound:.3g} m)",
+              file=sys.stderr)
+        self.assertLessEqual(depth, bound)
+
+    def test_second_run_reuses_bit_identically(self):
+        self.assertEqual(self.diag(self.second)["packing_reused"], 1)
+        self.assertIn("reused from", self.second_log)
+        self.assert_same_outputs(self.dir / "first", self.dir / "second")
+
+    def test_damaged_file_is_not_used(self):
+        f = self.files[0]
+        data = bytearray(f.read_bytes())
+        data[len(data) // 2] ^= 0x01
+        f.write_bytes(bytes(data))
+        s = run_scenario(self.toml, self.dir / "damaged", threads=2)
+        self.assertEqual(self.diag(s)["packing_reused"], 0)
+        self.assert_same_outputs(self.dir / "first", self.dir / "damaged")
+
+    def test_changed_input_settles_anew(self):
+        s = run_scenario(self.toml, self.dir / "friction", sets=["materials.0.friction=0.5"])
+        self.assertEqual(self.diag(s)["packing_reused"], 0)
+        self.assertEqual(len(list(self.cache.glob("soil-*.pack"))), 2)
+
+    def assert_same_outputs(self, a, b):
+        names = sorted(p.name for p in a.iterdir() if p.suffix in (".vtu", ".csv"))
+        self.assertTrue(any(n.endswith(".vtu") for n in names))
+        for n in names:
+            self.assertEqual((a / n).read_bytes(), (b / n).read_bytes(), f"{n} differs")
+
+
+def run_summary(out):
+    import json
+    with open(Path(out) / "summary.json") as f:
+        return json.load(f)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
