@@ -9,7 +9,7 @@
 // Tangential (Mindlin no-slip [M49], incremental history spring, tangential_history.hpp):
 //   k_t = S_t = 8 G* \sqrt{R* δ}                               [N/m]
 //   F_t = -k_t \xi - \gamma_t v_t,   \gamma_t = 2 \sqrt{5/6} \zeta \sqrt{S_t m*},
-//   |F_t| <= \mu |F_n|
+//   |F_t| <= \mu max(F_n, 0)   (tangential_history.hpp)
 // with \zeta = -\ln e / \sqrt{\ln^2 e + \pi^2} (LIGGGHTS: \beta = -\zeta). E*, G*, R*, m* as
 // contact_geometry.hpp defines them. The normal elastic energy is
 //   U_n = \int_0^δ F_n^el = (8/15) E* \sqrt{R*} δ^{5/2} = (2/5) F_n^el δ   [J].

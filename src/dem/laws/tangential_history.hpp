@@ -3,18 +3,21 @@
 //
 //   \xi      <- R_n(\xi) + v_t \Delta t                        (paper eqs. 7, 10, 12; [CS79])
 //   F_t       = -k_t \xi - \gamma_t v_t                        [N], on body 1
-//   |F_t|    <= \mu |F_n|                                      (paper eq. 13)
+//   |F_t|    <= \mu max(F_n, 0)                               (paper eq. 13: \mu |F_n|)
 // \xi [m] is the shear displacement stored per contact across steps (the contact history);
 // R_n carries it into the current tangent plane, keeping its length (rotate_into_tangent_plane).
 //
 // Coulomb limit and sliding, as LIGGGHTS `tangential history` does it: when the spring force
-// |k_t \xi| exceeds \mu|F_n| the contact slides, the spring is cut back to
-// \xi = \xi \mu|F_n| / (k_t |\xi|) (so it carries exactly the sliding force) and the dashpot is
-// off. One difference: LIGGGHTS tests only the spring part, so while sticking
-// |F_t| = |k_t\xi + \gamma_t v_t| can exceed \mu|F_n| by up to \gamma_t|v_t|; here the total is
-// capped at \mu|F_n| as well (the dashpot part is reduced, the spring left as it is), so the
-// Coulomb bound always holds. |F_n| rather than max(F_n, 0) as LIGGGHTS and LAMMPS do, so the
-// friction limit is continuous when a damped contact turns slightly attractive at its end.
+// |k_t \xi| exceeds the limit L = \mu max(F_n, 0) the contact slides, the spring is cut back to
+// \xi = \xi L / (k_t |\xi|) (so it carries exactly the sliding force) and the dashpot is off.
+// Two differences from LIGGGHTS 3.8, both deliberate (tests/verification/dem_oblique,
+// tests/verification/dem_liggghts): (1) LIGGGHTS tests only the spring part, so while sticking
+// |F_t| = |k_t\xi + \gamma_t v_t| can exceed the limit by up to \gamma_t|v_t|; here the total is
+// capped as well (the dashpot part is reduced, the spring left as it is), so the Coulomb bound
+// always holds; (2) LIGGGHTS takes \mu|F_n|, which keeps friction acting while a damped contact
+// pulls at its end; here there is no friction without compression. In a 45-degree impact the
+// two together change the tangential force by 8 % of its peak; head-on the codes agree to
+// round-off.
 //
 // Energy bookkeeping (exact per step for a constant k_t): the spring stores (1/2) k_t |\xi|^2;
 // what the tangential force does beyond the spring is dissipated,
@@ -57,7 +60,7 @@ struct TangentialForce {
 };
 
 /// The history spring with Coulomb limit (see the file comment).
-///   normal_force        F_n [N] (> 0 repulsive), sets the limit \mu |F_n|
+///   normal_force        F_n [N] (> 0 repulsive), sets the limit \mu max(F_n, 0)
 ///   normal              n of the current step
 ///   tangential_velocity v_t [m/s]
 ///   history             \xi of the previous step [m] (zero for a new contact)
