@@ -14,8 +14,7 @@ Measured (2026-11-22): rebound angles within 0.1 deg; spin +2.8 % (2D) to +3.3 %
 Tsuji dashpot pulls at the end of the impact (F_n < 0), which lowers the net normal impulse
 below (1 + e) m V_n while friction acts only while F_n > 0. Friction on |F_n| (as LIGGGHTS
 has it) gave +6.1 to +6.6 % and failed this test; crater uses max(F_n, 0).
-The sticking regime (small angles) is not covered here: its tangential compliance makes the
-answer a curve that needs Thornton's tabulated data.
+The sticking regime (small angles) is in test_oblique_sticking.py.
 """
 import math
 import sys
