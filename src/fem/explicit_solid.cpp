@@ -1,0 +1,263 @@
+// Element loop of the explicit solid; see explicit_solid.hpp.
+#include "fem/explicit_solid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "fem/element_geometry.hpp"
+#include "fem/kinematics.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::fem {
+namespace {
+
+using materials::Mat3;
+
+std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
+
+/// Below this many entities a loop runs on the calling thread: an OpenMP parallel region costs
+/// microseconds (milliseconds on an oversubscribed machine), more than a few thousand element
+/// updates. Each iteration writes only its own entity, so the results are the same either way.
+constexpr Index kSerialBelow = 2048;
+
+template <class F>
+void for_each_entity(Index n, F&& f) {
+  if (n < kSerialBelow) {
+    for (Index i = 0; i < n; ++i) {
+      f(i);
+    }
+  } else {
+    parallel::for_each(n, std::forward<F>(f));
+  }
+}
+
+/// Per-element results of one force evaluation, reduced afterwards in a fixed order.
+struct ElementResults {
+  std::vector<Real> internal_energy_j;
+  std::vector<Real> hourglass_energy_j;
+  std::vector<Real> stable_dt_s;
+  std::vector<std::uint8_t> eroded_now;
+  std::vector<std::uint8_t> inverted;
+  explicit ElementResults(Index n)
+      : internal_energy_j(at(n), 0),
+        hourglass_energy_j(at(n), 0),
+        stable_dt_s(at(n), std::numeric_limits<Real>::infinity()),
+        eroded_now(at(n), 0),
+        inverted(at(n), 0) {}
+};
+
+/// The element loop for one strength law (resolved at compile time: no dispatch per element).
+template <int D, class Law>
+void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const Law& law, Real dt,
+                     ElementResults& out) {
+  constexpr int kNodes = kElementNodes<D>;
+  const Real rho0 = material.density_kg_m3;
+  const Real modulus = materials::p_wave_modulus(materials::elastic_of(law));
+  for_each_entity(mesh.element_count(), [&](Index e) {
+    const std::size_t ue = at(e);
+    NodeArray<D>& force = mesh.element_force[ue];
+    for (Vec<D>& f : force) {
+      f.setZero();
+    }
+    if (mesh.eroded[ue]) {
+      return;
+    }
+    const NodeArray<D> x = mesh.element_positions(e);
+    const NodeArray<D> v = mesh.element_velocities(e);
+    const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
+    if (!(g.volume > 0)) {
+      out.inverted[ue] = 1;
+      return;
+    }
+    const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
+    const Real c = std::sqrt(modulus / rho);
+    const Mat3 l = velocity_gradient<D>(v, g);
+    const Mat3 d = rate_of_deformation(l);
+    const Mat3 old_stress = mesh.stress[ue];
+    Mat3 sigma = old_stress;
+    if (dt > 0) {
+      const Mat3 rotated = jaumann_rotate(old_stress, spin(l), dt);
+      const materials::StressUpdate up = materials::update_stress_of(
+          law, rotated, d * dt,
+          materials::MaterialPointState{.plastic_strain = mesh.plastic_strain[ue],
+                                        .temperature_k = mesh.temperature_k[ue]},
+          dt, rho);
+      sigma = up.stress;
+      const Real d_eps = up.plastic_strain_increment;
+      if (material.damage && d_eps > 0) {
+        mesh.damage[ue] += materials::johnson_cook_damage_increment(
+            *material.damage, d_eps, materials::stress_triaxiality(sigma), d_eps / dt,
+            mesh.temperature_k[ue]);
+      }
+      mesh.plastic_strain[ue] += d_eps;
+      mesh.temperature_k[ue] += up.temperature_increment_k;
+      if (material.damage && materials::johnson_cook_failed(mesh.damage[ue])) {
+        mesh.eroded[ue] = 1;
+        out.eroded_now[ue] = 1;
+        mesh.stress[ue].setZero();
+        mesh.volume[ue] = g.volume;
+        return;
+      }
+    }
+    mesh.stress[ue] = sigma;
+    mesh.volume[ue] = g.volume;
+
+    const Real size = std::pow(g.volume, Real(1) / Real(D));
+    const Real q = bulk_viscosity_pressure(material.bulk_viscosity, rho, c, size, d.trace());
+    const Eigen::Matrix<Real, D, D> sigma_eff =
+        sigma.template topLeftCorner<D, D>() - q * Eigen::Matrix<Real, D, D>::Identity();
+    for (int node = 0; node < kNodes; ++node) {
+      force[node] = -g.volume * (sigma_eff * g.b[node]);
+    }
+
+    const HourglassVectors<D> gamma = hourglass_shape_vectors<D>(x, g);
+    const HourglassForces<D> hg =
+        hourglass_forces<D>(material.hourglass, gamma, v, g.volume, rho, c, dt, mesh.hourglass[ue]);
+    for (int node = 0; node < kNodes; ++node) {
+      force[node] += hg.force[node];
+    }
+
+    const Real work =
+        dt * g.volume * (Real(0.5) * (old_stress + sigma).cwiseProduct(d).sum() - q * d.trace());
+    out.internal_energy_j[ue] = work;
+    out.hourglass_energy_j[ue] = dt * hg.power_w;
+    mesh.internal_energy_j[ue] += work;
+    mesh.hourglass_energy_j[ue] += dt * hg.power_w;
+    out.stable_dt_s[ue] =
+        stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace());
+  });
+}
+
+}  // namespace
+
+template <int D>
+void initialise(ExplicitMesh<D>& mesh, const SolidMaterial& material) {
+  constexpr int kNodes = kElementNodes<D>;
+  const Index ne = mesh.element_count();
+  const Index nn = mesh.node_count();
+  if (mesh.reference_position.size() != mesh.position.size()) {
+    mesh.reference_position = mesh.position;
+  }
+  mesh.velocity.resize(at(nn), Vec<D>::Zero());
+  mesh.internal_force.assign(at(nn), Vec<D>::Zero());
+  mesh.mass.assign(at(nn), 0);
+  mesh.stress.assign(at(ne), Mat3::Zero());
+  mesh.plastic_strain.assign(at(ne), 0);
+  mesh.temperature_k.assign(at(ne), material.initial_temperature_k);
+  mesh.damage.assign(at(ne), 0);
+  mesh.reference_volume.assign(at(ne), 0);
+  mesh.volume.assign(at(ne), 0);
+  mesh.internal_energy_j.assign(at(ne), 0);
+  mesh.hourglass_energy_j.assign(at(ne), 0);
+  mesh.hourglass.assign(at(ne), HourglassState<D>::Zero());
+  mesh.eroded.assign(at(ne), 0);
+  mesh.element_force.assign(at(ne), NodeArray<D>{});
+
+  std::vector<Index> count(at(nn) + 1, 0);
+  for (Index e = 0; e < ne; ++e) {
+    const UniformStrainGradients<D> g = uniform_strain_gradients<D>(mesh.element_positions(e));
+    if (!(g.volume > 0)) {
+      throw std::invalid_argument("fem::initialise: element " + std::to_string(e) +
+                                  " has a non-positive volume (inverted or wrongly numbered)");
+    }
+    mesh.reference_volume[at(e)] = g.volume;
+    mesh.volume[at(e)] = g.volume;
+    for (Index node : mesh.elements[at(e)]) {
+      mesh.mass[at(node)] += material.density_kg_m3 * g.volume / Real(kNodes);
+      ++count[at(node) + 1];
+    }
+  }
+  for (Index i = 0; i < nn; ++i) {
+    count[at(i) + 1] += count[at(i)];
+  }
+  mesh.node_entry_offsets = count;
+  mesh.node_entries.assign(at(count[at(nn)]), 0);
+  std::vector<Index> fill(count.begin(), count.end() - 1);
+  for (Index e = 0; e < ne; ++e) {
+    for (int local = 0; local < kNodes; ++local) {
+      const Index node = mesh.elements[at(e)][at(local)];
+      mesh.node_entries[at(fill[at(node)]++)] = e * kNodes + local;
+    }
+  }
+}
+
+template <int D>
+ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& material, Real dt) {
+  constexpr int kNodes = kElementNodes<D>;
+  const Index ne = mesh.element_count();
+  ElementResults results(ne);
+  std::visit([&](const auto& law) { update_elements<D>(mesh, material, law, dt, results); },
+             material.strength);
+
+  for_each_entity(mesh.node_count(), [&](Index node) {
+    Vec<D> f = Vec<D>::Zero();
+    for (Index k = mesh.node_entry_offsets[at(node)]; k < mesh.node_entry_offsets[at(node) + 1];
+         ++k) {
+      const Index entry = mesh.node_entries[at(k)];
+      f += mesh.element_force[at(entry / kNodes)][at(entry % kNodes)];
+    }
+    mesh.internal_force[at(node)] = f;
+  });
+
+  ForceReport report;
+  report.internal_energy_increment_j = parallel::deterministic_sum<Real>(
+      ne, [&](Index e) { return results.internal_energy_j[at(e)]; });
+  report.hourglass_energy_increment_j = parallel::deterministic_sum<Real>(
+      ne, [&](Index e) { return results.hourglass_energy_j[at(e)]; });
+  report.newly_eroded = parallel::deterministic_sum<Index>(
+      ne, [&](Index e) { return static_cast<Index>(results.eroded_now[at(e)]); });
+  report.stable_dt_s = std::numeric_limits<Real>::infinity();
+  for (Index e = 0; e < ne; ++e) {
+    if (results.stable_dt_s[at(e)] < report.stable_dt_s) {
+      report.stable_dt_s = results.stable_dt_s[at(e)];
+      report.limiting_element = e;
+    }
+    if (results.inverted[at(e)] && report.inverted_element < 0) {
+      report.inverted_element = e;
+    }
+  }
+  return report;
+}
+
+template <int D>
+Real stable_time_step(const ExplicitMesh<D>& mesh, const SolidMaterial& material) {
+  const Real modulus = materials::p_wave_modulus(materials::elastic_of(material.strength));
+  return parallel::min_over(
+      mesh.element_count(), std::numeric_limits<Real>::infinity(), [&](Index e) {
+        if (mesh.eroded.size() == mesh.elements.size() && mesh.eroded[at(e)]) {
+          return std::numeric_limits<Real>::infinity();
+        }
+        const UniformStrainGradients<D> g = uniform_strain_gradients<D>(mesh.element_positions(e));
+        const Real rho = mesh.reference_volume.empty()
+                             ? material.density_kg_m3
+                             : material.density_kg_m3 * mesh.reference_volume[at(e)] / g.volume;
+        return characteristic_length<D>(g) / std::sqrt(modulus / rho);
+      });
+}
+
+template <int D>
+Real kinetic_energy(const ExplicitMesh<D>& mesh) {
+  return parallel::deterministic_sum<Real>(mesh.node_count(), [&](Index i) {
+    return Real(0.5) * mesh.mass[at(i)] * mesh.velocity[at(i)].squaredNorm();
+  });
+}
+
+template void initialise<2>(ExplicitMesh<2>&, const SolidMaterial&);
+template void initialise<3>(ExplicitMesh<3>&, const SolidMaterial&);
+template ForceReport compute_internal_forces<2>(ExplicitMesh<2>&, const SolidMaterial&, Real);
+template ForceReport compute_internal_forces<3>(ExplicitMesh<3>&, const SolidMaterial&, Real);
+template Real stable_time_step<2>(const ExplicitMesh<2>&, const SolidMaterial&);
+template Real stable_time_step<3>(const ExplicitMesh<3>&, const SolidMaterial&);
+template Real kinetic_energy<2>(const ExplicitMesh<2>&);
+template Real kinetic_energy<3>(const ExplicitMesh<3>&);
+
+}  // namespace crater::fem
