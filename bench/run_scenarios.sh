@@ -1,10 +1,11 @@
 #!/bin/bash
-# Whole-run SPH benchmarks of the crater binary (figures: docs/performance.md).
+# Whole-run benchmarks of the crater binary (figures: docs/performance.md).
 #
 # Usage:
-#   bench/run_sph.sh [CASE ...]            # default: tnt2d-10k tnt2d-100k tnt3d-65k
-#   bench/run_sph.sh --list                # the cases with file, steps and --set overrides
-#   bench/run_sph.sh --file F.toml --steps S [--name NAME] [--set key=VALUE ...]   # ad hoc
+#   bench/run_scenarios.sh CASE ...              # e.g. tnt2d-10k dem3d-45k
+#   bench/run_scenarios.sh --list                # the cases with file, steps and --set overrides
+#   bench/run_scenarios.sh --file F.toml --steps S [--name NAME] [--set key=VALUE ...]  # ad hoc
+#   bench/run_sph.sh, bench/run_dem.sh           # the SPH and the DEM cases
 # Environment:
 #   CRATER=build/release/bin/crater   the binary
 #   THREADS="1 2"                     thread counts (crater run --threads N)
@@ -39,8 +40,10 @@ CASES=(
   "tnt3d-65k|$SC/sph_tnt_3d.toml|60|parts.charge.spacing_m=0.004"
   "tnt3d-34k|$SC/sph_tnt_3d.toml|100|parts.charge.spacing_m=0.005"
   "dambreak2d|$SC/sph_dam_break_2d.toml|500|"
+  "dem3d-45k|$SC/dem_bed_3d.toml|500|"
+  "dem2d-45k|$SC/dem_bed_2d.toml|500|"
+  "dem2d-160k|$SC/dem_bed_2d.toml|300|parts.bed.region.max_m=[2.0,2.0] domain.max_m=[2.0,2.4]"
 )
-DEFAULT_CASES=(tnt2d-10k tnt2d-100k tnt3d-65k)
 
 median() {
   printf '%s\n' "$@" | sort -g |
@@ -108,7 +111,7 @@ lookup() {
   for c in "${CASES[@]}"; do
     if [ "${c%%|*}" = "$1" ]; then echo "$c"; return 0; fi
   done
-  echo "unknown case '$1' (bench/run_sph.sh --list)" >&2
+  echo "unknown case '$1' (bench/run_scenarios.sh --list)" >&2
   return 1
 }
 
@@ -136,7 +139,7 @@ if [ "${1:-}" = --file ]; then
   exit 0
 fi
 
-[ $# -gt 0 ] || set -- "${DEFAULT_CASES[@]}"
+[ $# -gt 0 ] || { echo "usage: bench/run_scenarios.sh CASE ... (--list shows them)" >&2; exit 2; }
 for name in "$@"; do
   IFS='|' read -r n file steps setstr <<< "$(lookup "$name")"
   read -r -a sets <<< "$setstr"

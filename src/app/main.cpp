@@ -1,5 +1,6 @@
 // crater command line: run, check, list, schema.
 //   crater run SCENARIO [--out DIR] [--threads N] [--set key=value]... [--force]
+//   crater run SCENARIO --resume DIR | --restart FILE   (continue from a checkpoint)
 //   crater check SCENARIO [--set key=value]...
 //   crater list
 //   crater schema --markdown
@@ -11,6 +12,7 @@
 #include <cstdio>
 
 #include "core/error.hpp"
+#include "io/checkpoint/checkpoint.hpp"
 #include "io/scenario/load.hpp"
 #include "io/scenario/schema.hpp"
 #include "io/scenario/validate.hpp"
@@ -89,6 +91,14 @@ int main(int argc, char** argv) {
   run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
   run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
   run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+  std::string resume_dir, restart_file;
+  auto* resume_opt = run->add_option(
+      "--resume", resume_dir,
+      "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/)");
+  run->add_option("--restart", restart_file,
+                  "Continue from this checkpoint file (into --out, default: the run directory "
+                  "that holds it)")
+      ->excludes(resume_opt);
 
   auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
   check->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
@@ -131,10 +141,21 @@ int main(int argc, char** argv) {
     }
     if (app.got_subcommand("check")) return cmd_check(scenario, sets);
     opt.out_dir = out_dir;
+    if (!resume_dir.empty()) {
+      opt.out_dir = resume_dir;
+      opt.restart = io::newest_checkpoint(resume_dir);
+    } else if (!restart_file.empty()) {
+      opt.restart = restart_file;
+      if (run->count("--out") == 0)
+        opt.out_dir = std::filesystem::path(restart_file).parent_path().parent_path();
+    }
     return cmd_run(scenario, sets, opt);
   } catch (const InputError& e) {
     print_input_error(e);
     return kExitInput;
+  } catch (const Interrupted& e) {
+    std::fprintf(stderr, "crater: %s; checkpoint and outputs written\n", e.what());
+    return kExitInterrupted;
   } catch (const NumericalError& e) {
     std::fprintf(stderr,
                  "error: %s\n(the state at failure is in the run directory, "

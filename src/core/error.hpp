@@ -78,4 +78,17 @@ class NumericalError : public std::runtime_error {
   Real time_s_;
 };
 
+/// The run was stopped by SIGINT or SIGTERM after writing a checkpoint (exit 130).
+class Interrupted : public std::runtime_error {
+ public:
+  Interrupted(int signal, Index step, Real time_s)
+      : std::runtime_error("interrupted by signal " + std::to_string(signal) + " at step " +
+                           std::to_string(step) + ", t = " + std::to_string(time_s) + " s"),
+        signal_(signal) {}
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
 }  // namespace crater

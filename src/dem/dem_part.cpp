@@ -4,7 +4,12 @@
 // does not depend on the number of threads. The grain of lower id owns the contact's history
 // (the tangential spring, LAMMPS-style), keyed by the partner's id, so it survives neighbour
 // rebuilds and re-sorting; histories are read from last step's buffer and written to a new
-// one, so no grain writes what another reads.
+// one, so no grain writes what another reads. Parallel bonds are kept the same way: made at
+// t = 0 between touching grains, held by the lower id keyed by the partner's id, updated by
+// both grains from last step's state (identical numbers), written by the owner only.
+//
+// The contact law is chosen once per part: the pair loop is a template on the law
+// (std::visit over the part's law pair), so no contact branches on it.
 #include "dem/dem_part.hpp"
 
 #include <Eigen/Geometry>  // cross products of 3D contact laws
@@ -12,16 +17,22 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <numbers>
 #include <optional>
 #include <random>
+#include <variant>
 
 #include "dem/laws/contact_geometry.hpp"
 #include "dem/laws/hertz_mindlin.hpp"
+#include "dem/laws/linear_spring.hpp"
 #include "dem/laws/local_damping.hpp"
+#include "dem/laws/parallel_bond.hpp"
+#include "dem/laws/rate_dependent_friction.hpp"
+#include "dem/laws/rolling_resistance.hpp"
 #include "dem/packing.hpp"
 #include "fields/field_set.hpp"
 #include "io/scenario/region.hpp"
@@ -41,6 +52,29 @@ using fields::kStateRoles;
 
 constexpr Real kSkin = 0.3;  // neighbour-list margin, as a fraction of the largest diameter
 constexpr std::int64_t kNoContact = std::numeric_limits<std::int64_t>::min();
+// With bonds, the list holds every pair within 2 r_max (1 + kBondReach), so a bond stretched by
+// up to 0.1 r_max stays visible; one stretched further is reported as a fault.
+constexpr Real kBondReach = 0.05;
+
+/// The grain-grain and grain-wall parameters of one contact law.
+template <class Law>
+struct LawPair {
+  using Type = Law;
+  typename Law::Params grain, wall;
+};
+using ContactLaws = std::variant<LawPair<HertzMindlin>, LawPair<LinearSpring>>;
+
+BondRadiusRule bond_rule(io::BondRadius r) {
+  switch (r) {
+    case io::BondRadius::Mean:
+      return BondRadiusRule::MeanRadius;
+    case io::BondRadius::Effective:
+      return BondRadiusRule::EffectiveRadius;
+    case io::BondRadius::Min:
+      break;
+  }
+  return BondRadiusRule::MinRadius;
+}
 
 using io::to_vec;
 
@@ -96,7 +130,10 @@ class DemPart final : public solver::Part<D> {
         contacts_(f_.add_scalar("contacts", "1", kOutput)),
         elastic_(f_.add_scalar("contact_energy", "J", kNone)),
         dissipated_(f_.add_scalar("contact_dissipation_rate", "W", kNone)),
-        local_power_(f_.add_scalar("local_damping_rate", "W", kNone)) {
+        local_power_(f_.add_scalar("local_damping_rate", "W", kNone)),
+        bonds_(f_.add_scalar("bonds", "1", pc.dem.bonds.enabled ? kOutput : kNone)),
+        bond_breaks_(f_.add_scalar("bond_breaks", "1", kNone)),
+        bond_released_(f_.add_scalar("bond_released_energy", "J", kNone)) {
     const auto& mat = c.materials[pc.material];
     rho_ = mat.rho0_kg_m3;
     const ElasticMaterial grain{
@@ -104,11 +141,30 @@ class DemPart final : public solver::Part<D> {
         mat.granular.poisson_ratio};
     shear_modulus_ = mat.granular.shear_modulus_pa;
     poisson_ = mat.granular.poisson_ratio;
-    grain_law_ =
-        hertz_mindlin_params(grain, grain, mat.granular.restitution, mat.granular.friction);
-    // Rigid walls of the grain's own elastic constants (as LIGGGHTS' walls of the same
-    // material): E* halves the grain-grain one, for a wall radius of infinity.
-    wall_law_ = hertz_mindlin_params(grain, grain, cfg_.wall_restitution, cfg_.wall_friction);
+    if (cfg_.contact == io::DemContact::LinearSpring) {
+      // Walls take the grain's springs (k_n, k_s) with their own friction and restitution.
+      laws_ = LawPair<LinearSpring>{
+          linear_spring_params(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m,
+                               mat.granular.restitution, mat.granular.friction),
+          linear_spring_params(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m,
+                               cfg_.wall_restitution, cfg_.wall_friction)};
+    } else {
+      // Rigid walls of the grain's own elastic constants (as LIGGGHTS' walls of the same
+      // material): E* halves the grain-grain one, for a wall radius of infinity.
+      laws_ = LawPair<HertzMindlin>{
+          hertz_mindlin_params(grain, grain, mat.granular.restitution, mat.granular.friction),
+          hertz_mindlin_params(grain, grain, cfg_.wall_restitution, cfg_.wall_friction)};
+    }
+    rolling_ = RollingResistanceParams{.friction = cfg_.rolling_friction,
+                                       .damping_ratio = cfg_.rolling_damping};
+    grain_rate_ = rate_dependent_friction(mat.granular.friction, cfg_.friction_rate_beta,
+                                          cfg_.friction_reference_strain_rate);
+    wall_rate_ = rate_dependent_friction(cfg_.wall_friction, cfg_.friction_rate_beta,
+                                         cfg_.friction_reference_strain_rate);
+    bond_law_ = ParallelBondParams{.normal_stiffness_pa_m = cfg_.bonds.normal_stiffness_pa_m,
+                                   .shear_stiffness_pa_m = cfg_.bonds.shear_stiffness_pa_m,
+                                   .tensile_strength_pa = cfg_.bonds.tensile_strength_pa,
+                                   .shear_strength_pa = cfg_.bonds.shear_strength_pa};
 
     std::vector<Vec<D>> pts;
     std::vector<Real> radii;
@@ -135,6 +191,15 @@ class DemPart final : public solver::Part<D> {
         vel.push_back(to_vec<D>(pc.initial.velocity_m_s));
       }
     }
+    if (pc.packing.agitation_m_s > 0 && !local_damping) {  // not while settling
+      // Random agitation, uniform in +-a per component, drawn in grain order (seeded).
+      std::mt19937_64 jitter(pc.dem.seed ^ 0x5deece66dULL);
+      std::uniform_real_distribution<Real> draw(-pc.packing.agitation_m_s,
+                                                pc.packing.agitation_m_s);
+      for (auto& v : vel)
+        for (int d = 0; d < D; ++d)
+          v[d] += draw(jitter);
+    }
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
     r_min_ = std::numeric_limits<Real>::infinity();
@@ -155,6 +220,13 @@ class DemPart final : public solver::Part<D> {
     xi_.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
     partner_new_ = partner_;
     xi_new_ = xi_;
+    if (rolling_.friction > 0) {
+      roll_.assign(static_cast<std::size_t>(n) * kMaxContacts, angular_zero<D>());
+      roll_new_ = roll_;
+    }
+    // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
+    // the run, between the settled grains.
+    if (cfg_.bonds.enabled && !local_damping) make_bonds();
   }
 
   const std::string& name() const override { return name_; }
@@ -165,17 +237,41 @@ class DemPart final : public solver::Part<D> {
   }
 
   solver::StableStep stable_step() const override {
-    // Rayleigh step of the smallest grain (Li, Xu & Thornton 2005): the time a Rayleigh wave
-    // takes across it; DEM codes run at 10-30 % of it.
     solver::StableStep s;
-    s.dt_s = cfg_.rayleigh_fraction * rayleigh_time_step(r_min_, rho_, shear_modulus_, poisson_);
     for (Index i = 0; i < f_.size(); ++i)
       if (r_[i] == r_min_) {
         s.entity_id = id_[i];
         break;
       }
-    s.reason = fmt::format("{} x Rayleigh step of the smallest grain (r = {:.4g} m)",
-                           cfg_.rayleigh_fraction, r_min_);
+    s.dt_s = std::numeric_limits<Real>::infinity();
+    if (cfg_.contact == io::DemContact::HertzMindlin) {
+      // Rayleigh step of the smallest grain (Li, Xu & Thornton 2005): the time a Rayleigh
+      // wave takes across it; DEM codes run at 10-30 % of it.
+      s.dt_s = cfg_.rayleigh_fraction * rayleigh_time_step(r_min_, rho_, shear_modulus_, poisson_);
+      s.reason = fmt::format("{} x Rayleigh step of the smallest grain (r = {:.4g} m)",
+                             cfg_.rayleigh_fraction, r_min_);
+    }
+    // Linear springs and bonds: f sqrt(m_min / k_max) (O'Sullivan & Bray 2004: 0.17 covers the
+    // rotational modes and several contacts per grain; 2 sqrt(m/k) is the bare oscillator's
+    // limit). Bonds act in parallel with the contact, so their stiffness adds.
+    Real k = 0;
+    if (cfg_.contact == io::DemContact::LinearSpring)
+      k += std::max(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m);
+    if (cfg_.bonds.enabled)
+      k += std::max(bond_law_.normal_stiffness_pa_m, bond_law_.shear_stiffness_pa_m) *
+           bond_section<D>(cfg_.bonds.radius_multiplier * r_max_).area;
+    if (k > 0) {
+      const Real m_min = D == 2 ? rho_ * std::numbers::pi * r_min_ * r_min_
+                                : rho_ * 4.0 / 3.0 * std::numbers::pi * r_min_ * r_min_ * r_min_;
+      const Real dt = cfg_.stiffness_step_fraction * std::sqrt(m_min / k);
+      if (dt < s.dt_s) {
+        s.dt_s = dt;
+        s.reason = fmt::format(
+            "{} x sqrt(m/k) of the smallest grain (m = {:.4g} kg, k = {:.4g} "
+            "N/m{})",
+            cfg_.stiffness_step_fraction, m_min, k, cfg_.bonds.enabled ? ", contact + bond" : "");
+      }
+    }
     return s;
   }
 
@@ -184,24 +280,38 @@ class DemPart final : public solver::Part<D> {
     const Index n = f_.size();
     const Real dt = last_dt_;
     overflow_ = n;
-    parallel::for_each(n, [&](Index i) { grain_forces(i, dt); });
-    // Contact histories of this step become last step's.
+    bond_lost_ = n;
+    std::visit(
+        [&](const auto& laws) {
+          using Law = typename std::decay_t<decltype(laws)>::Type;
+          parallel::for_each(n, [&](Index i) { pair_pass<Law>(i, dt, laws); });
+          parallel::for_each(n, [&](Index i) { grain_pass<Law>(i, dt, laws); });
+        },
+        laws_);
+    // Contact histories and bonds of this step become last step's.
     partner_.swap(partner_new_);
     xi_.swap(xi_new_);
-    // Energy taken out over the last step by contacts and local damping (rates times dt).
+    roll_.swap(roll_new_);
+    bond_partner_.swap(bond_partner_new_);
+    bond_.swap(bond_new_);
+    // Energy taken out over the last step by contacts and local damping (rates times dt), and
+    // the energy the bonds that broke held.
     struct Sums {
-      Real dissipated = 0, local = 0;
+      Real dissipated = 0, local = 0, released = 0, breaks = 0;
       Sums& operator+=(const Sums& o) {
         dissipated += o.dissipated;
         local += o.local;
+        released += o.released;
+        breaks += o.breaks;
         return *this;
       }
     };
     const Sums s = parallel::deterministic_sum<Sums>(n, [&](Index i) {
-      return Sums{dissipated_[i], local_power_[i]};
+      return Sums{dissipated_[i], local_power_[i], bond_released_[i], bond_breaks_[i]};
     });
-    contact_dissipated_ += dt * s.dissipated;
+    contact_dissipated_ += dt * s.dissipated + s.released;
     local_dissipated_ += dt * s.local;
+    bonds_broken_ += s.breaks;
   }
 
   std::optional<solver::Fault> check() const override {
@@ -212,8 +322,14 @@ class DemPart final : public solver::Part<D> {
                                        "beyond what the contact law allows (time step too "
                                        "large or grains placed overlapping)",
                                        kMaxContacts)};
+    if (bond_lost_ < n)
+      return solver::Fault{id_[bond_lost_],
+                           fmt::format("a bonded pair separated by more than {} x the largest "
+                                       "radius without the bond breaking: its strength is far "
+                                       "above what its stiffness allows",
+                                       2 * kBondReach)};
     Index bad = n;
-#pragma omp parallel for schedule(static) reduction(min : bad)
+#pragma omp parallel for schedule(static) reduction(min : bad) if (n >= parallel::parallel_min())
     for (Index i = 0; i < n; ++i)
       if (!healthy(i)) bad = std::min(bad, i);
     if (bad == n) return std::nullopt;
@@ -277,7 +393,12 @@ class DemPart final : public solver::Part<D> {
   }
 
   std::vector<solver::Diagnostic> diagnostics() const override {
-    return diagnostics_;
+    std::vector<solver::Diagnostic> d = diagnostics_;
+    if (cfg_.bonds.enabled) {
+      d.push_back({"bonds_initial", static_cast<Real>(bonds_initial_)});
+      d.push_back({"bonds_broken", bonds_broken_});
+    }
+    return d;
   }
   void add_diagnostic(std::string name, Real value) {
     diagnostics_.push_back({std::move(name), value});
@@ -318,50 +439,206 @@ class DemPart final : public solver::Part<D> {
       if (partner_[base + static_cast<std::size_t>(k)] == partner) return k;
     return -1;
   }
-  Vec<D> history(Index owner, std::int64_t partner) const {
+  // The contact's stored tangential spring and rolling moment (zero for a new contact).
+  struct History {
+    Vec<D> xi = Vec<D>::Zero();
+    AngularVec<D> roll = angular_zero<D>();
+  };
+  History history(Index owner, std::int64_t partner) const {
+    History h;
     const int k = find_slot(owner, partner);
-    return k < 0
-               ? Vec<D>::Zero()
-               : xi_[static_cast<std::size_t>(owner) * kMaxContacts + static_cast<std::size_t>(k)];
+    if (k < 0) return h;
+    const std::size_t at =
+        static_cast<std::size_t>(owner) * kMaxContacts + static_cast<std::size_t>(k);
+    h.xi = xi_[at];
+    if (!roll_.empty()) h.roll = roll_[at];
+    return h;
+  }
+  // Slot of the bond between `owner` and `partner` (last step's buffer), or -1.
+  int find_bond(Index owner, std::int64_t partner) const {
+    if (bond_partner_.empty()) return -1;
+    const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
+    for (int k = 0; k < kMaxContacts; ++k)
+      if (bond_partner_[base + static_cast<std::size_t>(k)] == partner) return k;
+    return -1;
   }
 
-  void grain_forces(Index i, Real dt) {
-    Vec<D> force = m_[i] * gravity_;
-    AngularVec<D> torque = angular_zero<D>();
-    Real elastic = 0, dissipated = 0;
-    int slots = 0;
+  // The law's parameters with the friction of paper section III-C at this contact's strain
+  // rate |v_n| / (r_1 + r_2) (rate_dependent_friction.hpp; a wall: r_2 = 0).
+  template <class Params>
+  Params at_rate(const Params& p, const RateDependentFriction& rate, Real normal_velocity, Real r1,
+                 Real r2) const {
+    if (!cfg_.rate_dependent_friction) return p;
+    Params q = p;
+    q.friction = dynamic_friction_coefficient(rate, contact_strain_rate(normal_velocity, r1, r2));
+    return q;
+  }
+
+  // The pair loop runs in two passes, so that each contact is evaluated once, by its body 1
+  // (the grain of lower id), and the numbers are exactly those of evaluating it from both
+  // sides:
+  //   pair_pass (per grain i): every entry (i, j) of i's list with id_i < id_j: bond and
+  //     contact laws, i's history slots and energies; the results go to the entry's cache;
+  //   grain_pass (per grain i): sums its forces over its list in list order, reading the
+  //     entries it owns directly and the others through their mirror entry (j, i); then walls
+  //     and damping. The sums run in the same order as one gather pass would: results are
+  //     bit-identical to it, and to any thread count.
+  struct PairCache {
+    std::vector<std::uint8_t> flags;  // kBondOn, kContactOn
+    std::vector<Vec<D>> bond_f1, contact_f1;
+    std::vector<AngularVec<D>> bond_t1, bond_t2, contact_t1, contact_t2;
+    void resize(std::size_t n, bool bonds) {
+      flags.assign(n, 0);
+      contact_f1.resize(n);
+      contact_t1.resize(n);
+      contact_t2.resize(n);
+      if (bonds) {
+        bond_f1.resize(n);
+        bond_t1.resize(n);
+        bond_t2.resize(n);
+      }
+    }
+  };
+  static constexpr std::uint8_t kBondOn = 1, kContactOn = 2;
+
+  // What pair_pass leaves for grain_pass, per grain.
+  struct PairTally {
+    Real elastic = 0, dissipated = 0, released = 0;
+    int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
+  };
+
+  template <class Law>
+  void pair_pass(Index i, Real dt, const LawPair<Law>& laws) {
+    PairTally tally;
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
-    auto keep = [&](std::int64_t partner, const Vec<D>& xi) {
-      if (slots == kMaxContacts) {
+    const bool rolling = rolling_.friction > 0;
+    auto keep = [&](std::int64_t partner, const Vec<D>& xi, const AngularVec<D>& roll) {
+      if (tally.slots == kMaxContacts) {
 #pragma omp critical(crater_dem_overflow)
         overflow_ = std::min(overflow_, i);
         return;
       }
-      partner_new_[base + static_cast<std::size_t>(slots)] = partner;
-      xi_new_[base + static_cast<std::size_t>(slots)] = xi;
-      ++slots;
+      partner_new_[base + static_cast<std::size_t>(tally.slots)] = partner;
+      xi_new_[base + static_cast<std::size_t>(tally.slots)] = xi;
+      if (rolling) roll_new_[base + static_cast<std::size_t>(tally.slots)] = roll;
+      ++tally.slots;
     };
-
-    for (const Index j : list_.of(i)) {
-      const bool first = id_[i] < id_[j];  // body 1 = the grain of lower id
-      const Index a = first ? i : j, b = first ? j : i;
-      const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_[a], r_[a], x_[b], r_[b]);
-      if (!g.touching()) continue;
+    const auto entries = list_.of(i);
+    const std::size_t first_entry =
+        static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+      const Index j = entries[e];
+      if (id_[i] > id_[j]) continue;  // evaluated by j
+      const std::size_t k = first_entry + e;
+      std::uint8_t flags = 0;
+      const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
+      const int bond = find_bond(i, id_[j]);
+      if (!g.touching() && bond < 0) {
+        cache_.flags[k] = 0;
+        continue;
+      }
       const RelativeVelocity<D> rel =
-          relative_velocity<D>(g, BodyMotion<D>{v_[a], w_[a]}, BodyMotion<D>{v_[b], w_[b]});
-      const ContactForce<D> cf = HertzMindlin::evaluate<D>(
-          grain_law_, g, rel, effective_mass(m_[a], m_[b]), history(a, id_[b]), dt);
-      if (first) {
-        force += cf.force_on_1;
-        torque += cf.torque_on_1;
-        keep(id_[j], cf.shear_history);
-        elastic += cf.elastic_energy;
-        dissipated += cf.dissipated_power;
+          relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{v_[j], w_[j]});
+      if (bond >= 0) {
+        // Parallel bond (paper eqs. 17-24), in parallel with the contact below.
+        const std::size_t at = base + static_cast<std::size_t>(bond);
+        const ParallelBondResult<D> br = parallel_bond<D>(bond_law_, g, rel, bond_[at], dt);
+        ++tally.bonds_seen;
+        if (br.broken) {
+          // The energy the bond held is lost with it: the mean of last step's state and the
+          // broken one, since the first half-kick of this step still used last step's bond
+          // force (velocity Verlet), so the kinetic energy paid half the last increment.
+          ++tally.breaks;
+          tally.released +=
+              Real(0.5) * (parallel_bond_energy<D>(bond_law_, bond_[at]) + br.elastic_energy);
+        } else {
+          ++tally.bonds;
+          flags |= kBondOn;
+          cache_.bond_f1[k] = br.force_on_1;
+          cache_.bond_t1[k] = br.torque_on_1;
+          cache_.bond_t2[k] = br.torque_on_2;
+          tally.elastic += br.elastic_energy;
+          bond_partner_new_[base + static_cast<std::size_t>(tally.bond_slots)] = id_[j];
+          bond_new_[base + static_cast<std::size_t>(tally.bond_slots)] = br.state;
+          ++tally.bond_slots;
+        }
+      }
+      if (g.touching()) {
+        const History h = history(i, id_[j]);
+        const ContactForce<D> cf =
+            Law::template evaluate<D>(at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g,
+                                      rel, effective_mass(m_[i], m_[j]), h.xi, dt);
+        RollingTorque<D> rt;
+        if (rolling)
+          rt = rolling_resistance<D>(rolling_, g, rel,
+                                     RollingLoad{.normal_force = cf.normal_force,
+                                                 .normal_stiffness = cf.normal_stiffness,
+                                                 .inertia_eff = rolling_inertia_eff(
+                                                     RollingBody{inertia_[i], m_[i], r_[i]},
+                                                     RollingBody{inertia_[j], m_[j], r_[j]})},
+                                     h.roll, dt);
+        flags |= kContactOn;
+        cache_.contact_f1[k] = cf.force_on_1;
+        cache_.contact_t1[k] = cf.torque_on_1 + rt.torque_on_1;
+        cache_.contact_t2[k] = cf.torque_on_2 - rt.torque_on_1;
+        keep(id_[j], cf.shear_history, rt.history);
+        tally.elastic += cf.elastic_energy + rt.elastic_energy;
+        tally.dissipated += cf.dissipated_power + rt.dissipated_power;
+      }
+      cache_.flags[k] = flags;
+    }
+    tally_[static_cast<std::size_t>(i)] = tally;
+  }
+
+  template <class Law>
+  void grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
+    PairTally tally = tally_[static_cast<std::size_t>(i)];
+    Vec<D> force = m_[i] * gravity_;
+    AngularVec<D> torque = angular_zero<D>();
+    const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+    const bool rolling = rolling_.friction > 0;
+    int bonds = tally.bonds;
+    const auto entries = list_.of(i);
+    const std::size_t first_entry =
+        static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+      const std::size_t k = first_entry + e;
+      if (id_[i] < id_[entries[e]]) {
+        const std::uint8_t flags = cache_.flags[k];
+        if (flags & kBondOn) {
+          force += cache_.bond_f1[k];
+          torque += cache_.bond_t1[k];
+        }
+        if (flags & kContactOn) {
+          force += cache_.contact_f1[k];
+          torque += cache_.contact_t1[k];
+        }
       } else {
-        force -= cf.force_on_1;
-        torque += cf.torque_on_2;
+        const std::size_t m = static_cast<std::size_t>(mirror_[k]);
+        const std::uint8_t flags = cache_.flags[m];
+        if (flags & kBondOn) {
+          ++bonds;
+          force -= cache_.bond_f1[m];
+          torque += cache_.bond_t2[m];
+        }
+        if (flags & kContactOn) {
+          force -= cache_.contact_f1[m];
+          torque += cache_.contact_t2[m];
+        }
       }
     }
+    auto keep = [&](std::int64_t partner, const Vec<D>& xi, const AngularVec<D>& roll) {
+      if (tally.slots == kMaxContacts) {
+#pragma omp critical(crater_dem_overflow)
+        overflow_ = std::min(overflow_, i);
+        return;
+      }
+      partner_new_[base + static_cast<std::size_t>(tally.slots)] = partner;
+      xi_new_[base + static_cast<std::size_t>(tally.slots)] = xi;
+      if (rolling) roll_new_[base + static_cast<std::size_t>(tally.slots)] = roll;
+      ++tally.slots;
+    };
+    Real elastic = tally.elastic, dissipated = tally.dissipated;
 
     for (const io::Face face : cfg_.walls) {
       const int axis = static_cast<int>(face) / 2;
@@ -373,16 +650,37 @@ class DemPart final : public solver::Part<D> {
       const std::int64_t key = -1 - static_cast<std::int64_t>(face);
       const RelativeVelocity<D> rel =
           relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
-      const ContactForce<D> cf =
-          HertzMindlin::evaluate<D>(wall_law_, g, rel, m_[i], history(i, key), dt);
+      const History h = history(i, key);
+      const ContactForce<D> cf = Law::template evaluate<D>(
+          at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g, rel, m_[i], h.xi, dt);
+      RollingTorque<D> rt;
+      if (rolling)
+        rt = rolling_resistance<D>(rolling_, g, rel,
+                                   RollingLoad{.normal_force = cf.normal_force,
+                                               .normal_stiffness = cf.normal_stiffness,
+                                               .inertia_eff = rolling_inertia_eff_wall(
+                                                   RollingBody{inertia_[i], m_[i], r_[i]})},
+                                   h.roll, dt);
       force += cf.force_on_1;
-      torque += cf.torque_on_1;
-      keep(key, cf.shear_history);
-      elastic += cf.elastic_energy;
-      dissipated += cf.dissipated_power;
+      torque += cf.torque_on_1 + rt.torque_on_1;
+      keep(key, cf.shear_history, rt.history);
+      elastic += cf.elastic_energy + rt.elastic_energy;
+      dissipated += cf.dissipated_power + rt.dissipated_power;
     }
-    for (int k = slots; k < kMaxContacts; ++k)
+    for (int k = tally.slots; k < kMaxContacts; ++k)
       partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
+    if (!bond_partner_new_.empty()) {
+      for (int k = tally.bond_slots; k < kMaxContacts; ++k)
+        bond_partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
+      // Every bond this grain owned must have been met in the list (kBondReach).
+      int owned = 0;
+      for (int k = 0; k < kMaxContacts; ++k)
+        owned += bond_partner_[base + static_cast<std::size_t>(k)] != kNoContact;
+      if (tally.bonds_seen != owned) {
+#pragma omp critical(crater_dem_overflow)
+        bond_lost_ = std::min(bond_lost_, i);
+      }
+    }
 
     Real local_power = 0;
     if (cfg_.local_damping > 0) {
@@ -396,44 +694,144 @@ class DemPart final : public solver::Part<D> {
     }
     force_[i] = force;
     torque_[i] = torque;
-    contacts_[i] = slots;
+    contacts_[i] = tally.slots;
     elastic_[i] = elastic;
     dissipated_[i] = dissipated;
     local_power_[i] = local_power;
+    bonds_[i] = bonds;
+    bond_breaks_[i] = tally.breaks;
+    bond_released_[i] = tally.released;
+  }
+
+  // Parallel bonds at t = 0 between the grains whose surface gap is at most gap_fraction x the
+  // smaller radius, held by the lower id (both buffers, so the first step reads them).
+  void make_bonds() {
+    const Index n = f_.size();
+    bond_partner_.assign(static_cast<std::size_t>(n) * kMaxContacts, kNoContact);
+    bond_.assign(static_cast<std::size_t>(n) * kMaxContacts, ParallelBondState<D>{});
+    update_neighbors();
+    const BondRadiusRule rule = bond_rule(cfg_.bonds.radius_rule);
+    for (Index i = 0; i < n; ++i) {
+      int k = 0;
+      for (const Index j : list_.of(i)) {
+        const Real gap = (x_[i] - x_[j]).norm() - r_[i] - r_[j];
+        if (gap > cfg_.bonds.gap_fraction * std::min(r_[i], r_[j])) continue;
+        ++bonds_[i];
+        if (id_[i] > id_[j]) continue;
+        if (k == kMaxContacts)
+          throw std::runtime_error(
+              fmt::format("part '{}': grain {} has more than {} bonds (grains placed overlapping?)",
+                          name_, id_[i], kMaxContacts));
+        const std::size_t at =
+            static_cast<std::size_t>(i) * kMaxContacts + static_cast<std::size_t>(k++);
+        bond_partner_[at] = id_[j];
+        bond_[at] = parallel_bond_state<D>(
+            parallel_bond_radius(rule, cfg_.bonds.radius_multiplier, r_[i], r_[j]));
+        ++bonds_initial_;
+      }
+    }
+    bond_partner_new_ = bond_partner_;
+    bond_new_ = bond_;
   }
 
   // Verlet list with a skin, as in the SPH part; grains are re-sorted at each rebuild and the
   // history slots move with them.
   void update_neighbors() {
-    const Real need = 2 * r_max_;
+    const Real need = 2 * r_max_ * (cfg_.bonds.enabled ? 1 + kBondReach : 1);
     if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
     f_.permute(order);
     permute_slots(order);
-    const Real radius = skin_.built(std::span<const Vec<D>>(x_), need);
-    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), radius, neighbors::Pairs::Full,
-                                      list_);
+    skin_.built(std::span<const Vec<D>>(x_), need);
+    build_lists();
   }
 
-  void permute_slots(std::span<const Index> order) {
-    const auto copy_partner = partner_;
-    const auto copy_xi = xi_;
-    for (std::size_t i = 0; i < order.size(); ++i)
-      for (int k = 0; k < kMaxContacts; ++k) {
-        const std::size_t to = i * kMaxContacts + static_cast<std::size_t>(k);
-        const std::size_t from =
-            static_cast<std::size_t>(order[i]) * kMaxContacts + static_cast<std::size_t>(k);
-        partner_[to] = copy_partner[from];
-        xi_[to] = copy_xi[from];
+  // The list for the positions of the last rebuild (after a restart: the saved ones, which
+  // gives the very list the interrupted run used).
+  void build_lists() {
+    neighbors::build_neighbor_list<D>(skin_.positions(), skin_.radius(), neighbors::Pairs::Full,
+                                      list_);
+    // mirror_[k]: the entry (j, i) of entry k = (i, j) (lists are ascending: binary search).
+    const Index n = list_.size();
+    mirror_.resize(list_.indices.size());
+    parallel::for_each(n, [&](Index i) {
+      const auto from = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
+      const auto row = list_.of(i);
+      for (std::size_t e = 0; e < row.size(); ++e) {
+        const auto other = list_.of(row[e]);
+        const auto it = std::lower_bound(other.begin(), other.end(), i);
+        mirror_[from + e] = list_.offsets[static_cast<std::size_t>(row[e])] + (it - other.begin());
       }
+    });
+    cache_.resize(list_.indices.size(), !bond_partner_.empty());
+    tally_.resize(static_cast<std::size_t>(n));
+  }
+
+ public:
+  void save_state(io::StateWriter& w) const override {
+    w.tag("dem");
+    f_.save(w);
+    w.vector(partner_);
+    w.vector(xi_);
+    w.vector(roll_);
+    w.vector(bond_partner_);
+    w.vector(bond_);
+    w.value(last_dt_);
+    w.value(bond_lost_);
+    w.value(bonds_initial_);
+    w.value(bonds_broken_);
+    w.value(external_work_);
+    w.value(contact_dissipated_);
+    w.value(local_dissipated_);
+    skin_.save(w);
+  }
+  void load_state(io::StateReader& r) override {
+    r.tag("dem");
+    f_.load(r);
+    r.vector(partner_);
+    r.vector(xi_);
+    r.vector(roll_);
+    r.vector(bond_partner_);
+    r.vector(bond_);
+    r.value(last_dt_);
+    r.value(bond_lost_);
+    r.value(bonds_initial_);
+    r.value(bonds_broken_);
+    r.value(external_work_);
+    r.value(contact_dissipated_);
+    r.value(local_dissipated_);
+    skin_.load(r);
+    if (skin_.radius() > 0) build_lists();
+  }
+
+ private:
+  void permute_slots(std::span<const Index> order) {
+    permute_blocks(partner_, order);
+    permute_blocks(xi_, order);
+    permute_blocks(roll_, order);
+    permute_blocks(bond_partner_, order);
+    permute_blocks(bond_, order);
+  }
+  // Moves the kMaxContacts slots of each grain with it (empty vectors: models that are off).
+  template <class T>
+  static void permute_blocks(std::vector<T>& slots, std::span<const Index> order) {
+    if (slots.empty()) return;
+    const std::vector<T> copy = slots;
+    for (std::size_t i = 0; i < order.size(); ++i)
+      for (int k = 0; k < kMaxContacts; ++k)
+        slots[i * kMaxContacts + static_cast<std::size_t>(k)] =
+            copy[static_cast<std::size_t>(order[i]) * kMaxContacts + static_cast<std::size_t>(k)];
   }
 
   std::string name_;
   io::DemConfig cfg_;
   Vec<D> gravity_, domain_lo_, domain_hi_;
   Real rho_ = 0, shear_modulus_ = 0, poisson_ = 0;
-  HertzMindlinParams grain_law_, wall_law_;
+  ContactLaws laws_;
+  RollingResistanceParams rolling_;
+  RateDependentFriction grain_rate_, wall_rate_;
+  ParallelBondParams bond_law_;
   Real r_min_ = 0, r_max_ = 0;
 
   fields::FieldSet<D> f_;
@@ -450,16 +848,28 @@ class DemPart final : public solver::Part<D> {
   std::vector<Real>& elastic_;
   std::vector<Real>& dissipated_;
   std::vector<Real>& local_power_;
+  std::vector<Real>& bonds_;          // intact bonds of the grain (output when bonds are on)
+  std::vector<Real>& bond_breaks_;    // bonds the grain owned that broke this step
+  std::vector<Real>& bond_released_;  // energy those bonds held [J]
 
   // Contact history: kMaxContacts slots per grain (partner id, tangential spring), last step's
   // and this step's.
   std::vector<std::int64_t> partner_, partner_new_;
   std::vector<Vec<D>> xi_, xi_new_;
+  std::vector<AngularVec<D>> roll_, roll_new_;  // rolling moments (empty when mu_r = 0)
+  // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.
+  std::vector<std::int64_t> bond_partner_, bond_partner_new_;
+  std::vector<ParallelBondState<D>> bond_, bond_new_;
 
   neighbors::NeighborList list_;
+  std::vector<Index> mirror_;  // per list entry (i, j): the index of the entry (j, i)
+  PairCache cache_;            // per list entry: the contact's results (pair_pass)
+  std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;
-  Index overflow_ = 0;
+  Index overflow_ = 0, bond_lost_ = 0;
+  Index bonds_initial_ = 0;
+  Real bonds_broken_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
   std::vector<solver::Diagnostic> diagnostics_;
 };
@@ -467,7 +877,7 @@ class DemPart final : public solver::Part<D> {
 // Everything that shapes a settled packing, as text for its cache key (hex floats: exact).
 template <int D>
 std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
-  std::string s = fmt::format("crater packing v1|D={}|", D);
+  std::string s = fmt::format("crater packing v2|D={}|", D);
   auto v3 = [](const io::Vec3& v) { return fmt::format("{:a},{:a},{:a}", v[0], v[1], v[2]); };
   const auto& mat = c.materials[pc.material];
   const auto& g = mat.granular;
@@ -483,6 +893,10 @@ std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
                    d.rayleigh_fraction, d.wall_friction, d.wall_restitution);
   for (const auto f : d.walls)
     s += fmt::format("{},", static_cast<int>(f));
+  s += fmt::format("|law={},{:a},{:a},{:a},{:a},{:a},{},{:a},{:a}", static_cast<int>(d.contact),
+                   d.normal_stiffness_n_m, d.shear_stiffness_n_m, d.stiffness_step_fraction,
+                   d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,
+                   d.friction_rate_beta, d.friction_reference_strain_rate);
   const auto& k = pc.packing;
   s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.random, k.porosity,
                    k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,

@@ -185,15 +185,6 @@ std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector
   return out;
 }
 
-std::uint64_t fnv1a(const std::string& text) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (const unsigned char c : text) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
-
 namespace {
 constexpr const char* kMagic = "crater settled packing v1";
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/hash.hpp"  // fnv1a: the cache key of a settled packing
 #include "core/types.hpp"
 #include "io/scenario/config.hpp"
 
@@ -47,9 +48,6 @@ std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector
 /// Volume of the region (area in 2D).
 template <int D>
 Real region_volume(const io::RegionConfig& region);
-
-/// 64-bit FNV-1a hash of a text (the cache key of a settled packing).
-std::uint64_t fnv1a(const std::string& text);
 
 /// Settled packing file: header line, raw little-endian doubles (x, r per grain), checksum.
 template <int D>

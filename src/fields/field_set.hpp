@@ -88,6 +88,33 @@ class FieldSet {
           c.data);
   }
 
+  /// Every field, raw (checkpoints: io/checkpoint StateWriter / StateReader). All fields are
+  /// written, rates included: the next half kick uses the forces of the saved state.
+  template <class Writer>
+  void save(Writer& w) const {
+    w.tag("fields");
+    w.value(static_cast<std::uint64_t>(columns_.size()));
+    for (const auto& c : columns_) {
+      w.tag(c.info.name);
+      std::visit([&](const auto& v) { w.vector(v); }, c.data);
+    }
+  }
+  template <class Reader>
+  void load(Reader& r) {
+    r.tag("fields");
+    if (r.template value<std::uint64_t>() != columns_.size())
+      r.fail("it holds another set of fields");
+    bool first = true;
+    for (auto& c : columns_) {
+      r.tag(c.info.name);
+      std::visit([&](auto& v) { r.vector(v); }, c.data);
+      const auto n = static_cast<Index>(std::visit([](const auto& v) { return v.size(); }, c.data));
+      if (!first && n != size_) r.fail("its fields have different lengths");
+      size_ = n;
+      first = false;
+    }
+  }
+
   /// Views of the fields having any of `roles`, in registration order.
   std::vector<FieldView> views(unsigned roles) const {
     std::vector<FieldView> out;

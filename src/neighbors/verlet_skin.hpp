@@ -36,6 +36,23 @@ class VerletSkin {
   }
 
   Real radius() const { return radius_; }
+  /// The positions of the last rebuild (a restored list is rebuilt from them).
+  std::span<const Vec<D>> positions() const { return built_; }
+
+  template <class Writer>
+  void save(Writer& w) const {
+    w.tag("verlet_skin");
+    w.value(radius_);
+    w.value(builds_);
+    w.vector(built_);
+  }
+  template <class Reader>
+  void load(Reader& r) {
+    r.tag("verlet_skin");
+    r.value(radius_);
+    r.value(builds_);
+    r.vector(built_);
+  }
   Index builds() const { return builds_; }
 
  private:

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdlib>
 #include <vector>
 
 #include "core/types.hpp"
@@ -15,6 +16,20 @@ namespace crater::parallel {
 
 /// Block size for deterministic reductions; fixed so that results never depend on threads.
 inline constexpr Index kReduceBlock = 4096;
+
+/// Loops shorter than this run on the calling thread. A parallel region costs a fork and a
+/// barrier; when another process holds a core (CI running tests side by side, a second job),
+/// each barrier waits for a descheduled thread, and a small DEM bed ran 75x slower on 2 threads
+/// than on 1. Results do not change: every loop here is thread-count independent. The
+/// environment variable CRATER_PARALLEL_MIN overrides it (the determinism tests set 0, so that
+/// their small cases do run in parallel).
+inline Index parallel_min() {
+  static const Index v = [] {
+    const char* e = std::getenv("CRATER_PARALLEL_MIN");
+    return e ? static_cast<Index>(std::strtoll(e, nullptr, 10)) : Index{2048};
+  }();
+  return v;
+}
 
 inline int max_threads() {
   return omp_get_max_threads();
@@ -26,7 +41,7 @@ inline void set_threads(int n) {
 /// for i in [0, n): f(i), in parallel. f must only write to entity i's own data.
 template <class F>
 void for_each(Index n, F&& f) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= parallel_min())
   for (Index i = 0; i < n; ++i)
     f(i);
 }
@@ -43,7 +58,7 @@ T deterministic_sum(Index n, F&& f) {
     return s;
   }
   std::vector<T> partial(static_cast<std::size_t>(blocks), T{});
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= parallel_min())
   for (Index b = 0; b < blocks; ++b) {
     T s{};
     const Index end = std::min(n, (b + 1) * kReduceBlock);
@@ -61,7 +76,7 @@ T deterministic_sum(Index n, F&& f) {
 template <class F>
 Real min_over(Index n, Real init, F&& f) {
   Real m = init;
-#pragma omp parallel for schedule(static) reduction(min : m)
+#pragma omp parallel for schedule(static) reduction(min : m) if (n >= parallel_min())
   for (Index i = 0; i < n; ++i)
     m = std::min(m, f(i));
   return m;
@@ -71,7 +86,7 @@ Real min_over(Index n, Real init, F&& f) {
 template <class F>
 Real max_over(Index n, Real init, F&& f) {
   Real m = init;
-#pragma omp parallel for schedule(static) reduction(max : m)
+#pragma omp parallel for schedule(static) reduction(max : m) if (n >= parallel_min())
   for (Index i = 0; i < n; ++i)
     m = std::max(m, f(i));
   return m;

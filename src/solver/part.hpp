@@ -5,11 +5,13 @@
 #pragma once
 
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/types.hpp"
 #include "fields/field_set.hpp"
+#include "io/checkpoint/checkpoint.hpp"
 
 namespace crater::solver {
 
@@ -97,6 +99,19 @@ class Part {
   virtual Geometry<D> geometry() const = 0;
   virtual std::vector<fields::FieldView> point_fields() const = 0;
   virtual std::vector<fields::FieldView> cell_fields() const { return {}; }
+
+  /// Checkpoints: everything the part needs to continue bit for bit after load_state() on a
+  /// part freshly built from the same scenario (fields, accumulators, contact histories, and
+  /// what its neighbour lists were built from, so that they are rebuilt identically).
+  /// A method without checkpoint support says so when a checkpoint is asked for.
+  virtual void save_state(io::StateWriter& /*w*/) const {
+    throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
+                             ") cannot write checkpoints yet");
+  }
+  virtual void load_state(io::StateReader& /*r*/) {
+    throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
+                             ") cannot read checkpoints yet");
+  }
 
   /// Counters worth reporting (e.g. safeguards that acted); empty by default.
   virtual std::vector<Diagnostic> diagnostics() const { return {}; }

@@ -3,7 +3,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <csignal>
+#include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "core/error.hpp"
@@ -70,14 +74,51 @@ void check_fixed_step(const io::Config& c, const StepLimit<D>& lim) {
 template <int D>
 class Outputs {
  public:
+  // A new run writes history.csv's header; a resumed one keeps the file's first
+  // `resume_history` bytes (what it held at the checkpoint) and goes on from there.
   Outputs(const io::Config& c, const fs::path& dir,
-          const std::vector<std::unique_ptr<Part<D>>>& parts)
+          const std::vector<std::unique_ptr<Part<D>>>& parts, std::string history_prefix = {})
       : config_(c), dir_(dir), history_(dir / "history.csv") {
     for (const auto& p : parts)
       pvd_.emplace_back(dir / (p->name() + ".pvd"));
-    history_.write(
-        "step,time_s,dt_s,kinetic_j,internal_j,external_work_j,damping_j,hourglass_j,contact_j,"
-        "eroded_j,total_j,energy_error\n");
+    if (history_prefix.empty())
+      history_prefix =
+          "step,time_s,dt_s,kinetic_j,internal_j,external_work_j,damping_j,hourglass_j,"
+          "contact_j,eroded_j,total_j,energy_error\n";
+    history_.write(history_prefix);
+    history_bytes_ = history_prefix.size();
+  }
+
+  void save(io::StateWriter& w) const {
+    w.tag("outputs");
+    w.value(static_cast<std::uint64_t>(history_bytes_));
+    w.value(static_cast<std::uint64_t>(pvd_.size()));
+    for (const auto& p : pvd_) {
+      w.value(static_cast<std::uint64_t>(p.entries().size()));
+      for (const auto& [t, f] : p.entries()) {
+        w.value(t);
+        w.string(f);
+      }
+    }
+  }
+  /// The PVD entries of a checkpoint; returns the length history.csv had then.
+  static std::uint64_t load_pvd(io::StateReader& r,
+                                std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
+    r.tag("outputs");
+    const auto bytes = r.value<std::uint64_t>();
+    pvd.resize(r.value<std::uint64_t>());
+    for (auto& entries : pvd) {
+      entries.resize(r.value<std::uint64_t>());
+      for (auto& [t, f] : entries) {
+        r.value(t);
+        f = r.string();
+      }
+    }
+    return bytes;
+  }
+  void restore_pvd(std::vector<std::vector<std::pair<Real, std::string>>> pvd) {
+    for (std::size_t k = 0; k < pvd_.size() && k < pvd.size(); ++k)
+      pvd_[k].restore(std::move(pvd[k]));
   }
 
   void frame(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, const std::string& tag) {
@@ -113,11 +154,13 @@ class Outputs {
   }
 
   void history(Index step, Real t, Real dt, const Energies& e, Real total, Real error) {
-    history_.write(
-        fmt::format("{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-                    "{:.17g},{:.17g},{:.17g}\n",
-                    step, t, dt, e.kinetic_j, e.internal_j, e.external_work_j, e.damping_j,
-                    e.hourglass_j, e.contact_j, e.eroded_j, total, error));
+    const std::string row = fmt::format(
+        "{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
+        "{:.17g},{:.17g},{:.17g}\n",
+        step, t, dt, e.kinetic_j, e.internal_j, e.external_work_j, e.damping_j, e.hourglass_j,
+        e.contact_j, e.eroded_j, total, error);
+    history_.write(row);
+    history_bytes_ += row.size();
   }
   void flush() { history_.flush(); }
 
@@ -125,6 +168,7 @@ class Outputs {
   const io::Config& config_;
   fs::path dir_;
   io::AppendFile history_;
+  std::size_t history_bytes_ = 0;
   std::vector<io::PvdCollection> pvd_;
 };
 
@@ -229,43 +273,175 @@ void write_summary(const io::Config& c, const fs::path& dir,
   io::write_file_atomic(dir / "summary.json", j.str());
 }
 
+// SIGINT / SIGTERM: the loop finishes its step, writes a checkpoint and the outputs so far,
+// and the program exits 130 (kExitInterrupted).
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int sig) {
+  g_signal.store(sig);
+}
+
+struct SignalGuard {
+  using Handler = void (*)(int);
+  Handler old_int, old_term;
+  SignalGuard() {
+    g_signal.store(0);
+    old_int = std::signal(SIGINT, on_signal);
+    old_term = std::signal(SIGTERM, on_signal);
+  }
+  ~SignalGuard() {
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+  }
+};
+
+// The time loop's own state: what a checkpoint holds besides the parts and the outputs.
+struct LoopState {
+  Real t = 0;
+  Index steps = 0;
+  Index frame = 1;
+  Real next_frame_t = 0;
+  Real dt_min = std::numeric_limits<Real>::infinity(), dt_max = 0, dt = 0;
+  Energies e0;
+  EnergyTrack track;
+  Real err = 0;
+
+  void save(io::StateWriter& w) const {
+    w.tag("loop");
+    w.value(t);
+    w.value(steps);
+    w.value(frame);
+    w.value(next_frame_t);
+    w.value(dt_min);
+    w.value(dt_max);
+    w.value(dt);
+    w.value(e0);
+    w.value(track);
+    w.value(err);
+  }
+  void load(io::StateReader& r) {
+    r.tag("loop");
+    r.value(t);
+    r.value(steps);
+    r.value(frame);
+    r.value(next_frame_t);
+    r.value(dt_min);
+    r.value(dt_max);
+    r.value(dt);
+    r.value(e0);
+    r.value(track);
+    r.value(err);
+  }
+};
+
+template <int D>
+void write_checkpoint(const io::Config& c, const fs::path& dir, const LoopState& st,
+                      const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  io::StateWriter w;
+  st.save(w);
+  out.save(w);
+  w.tag("parts");
+  w.value(static_cast<std::uint64_t>(parts.size()));
+  for (const auto& p : parts) {
+    w.tag(p->name());
+    p->save_state(w);
+  }
+  const fs::path cdir = dir / "checkpoints";
+  fs::create_directories(cdir);
+  io::write_checkpoint(cdir / fmt::format("step_{:012d}.ckpt", st.steps),
+                       {D, c.hash, static_cast<std::int64_t>(st.steps), st.t}, w.bytes());
+  // Keep the newest checkpoint_keep files.
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(cdir)) {
+    if (e.path().extension() == ".ckpt") files.push_back(e.path());
+    // A checkpoint's temporary file is left behind only by a run killed while writing it.
+    if (e.path().extension() == ".tmp") fs::remove(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  const auto keep = static_cast<std::size_t>(std::max<Index>(c.output.checkpoint_keep, 1));
+  for (std::size_t k = 0; k + keep < files.size(); ++k)
+    fs::remove(files[k]);
+}
+
 template <int D>
 RunResult run(const io::Config& c, const RunOptions& opt) {
   const auto wall_start = std::chrono::steady_clock::now();
   parallel::set_threads(opt.threads);
   auto parts = build_parts<D>(c);
-  Real t = 0;
-  for (auto& p : parts)
-    p->compute_forces(t);  // rates and sound speeds of the initial state
-  check_fixed_step(c, smallest_stable_step(parts));
-  prepare_out_dir(opt.out_dir, opt.force);
+  LoopState st;
+  std::unique_ptr<Outputs<D>> outp;
+  const bool resume = !opt.restart.empty();
+  if (resume) {
+    // Everything is checked before anything in the run directory changes.
+    std::string payload;
+    const io::CheckpointHeader h = io::read_checkpoint(opt.restart, payload);
+    io::StateReader rd(payload, opt.restart.string());
+    if (h.dimension != D || h.scenario_hash != c.hash)
+      rd.fail(
+          fmt::format("it was written for another scenario (hash {} vs {} of this one, "
+                      "after defaults and --set; resume with the same file and overrides)",
+                      h.scenario_hash, c.hash));
+    st.load(rd);
+    std::vector<std::vector<std::pair<Real, std::string>>> pvd;
+    const std::uint64_t history_bytes = Outputs<D>::load_pvd(rd, pvd);
+    rd.tag("parts");
+    if (rd.value<std::uint64_t>() != parts.size()) rd.fail("it holds another number of parts");
+    for (auto& p : parts) {
+      rd.tag(p->name());
+      p->load_state(rd);
+    }
+    if (!rd.done()) rd.fail("it holds more than this scenario's state");
+    std::string history;
+    {
+      std::ifstream in(opt.out_dir / "history.csv", std::ios::binary);
+      history.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    if (history.size() < history_bytes)
+      throw InputError({(opt.out_dir / "history.csv").string(), 0, 0}, "--resume",
+                       fmt::format("the run's history.csv as the checkpoint saw it ({} bytes); "
+                                   "it has {} (resume into the directory the run wrote)",
+                                   history_bytes, history.size()));
+    history.resize(history_bytes);
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, std::move(history));
+    outp->restore_pvd(std::move(pvd));
+    spdlog::info("resumed from {} at step {}, t = {:.6g} s", opt.restart.string(), st.steps, st.t);
+  } else {
+    for (auto& p : parts)
+      p->compute_forces(st.t);  // rates and sound speeds of the initial state
+    check_fixed_step(c, smallest_stable_step(parts));
+    prepare_out_dir(opt.out_dir, opt.force);
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts);
+  }
+  Outputs<D>& out = *outp;
   for (const auto& w : c.warnings)
     spdlog::warn("{}", w);
 
-  Outputs<D> out(c, opt.out_dir, parts);
   Progress progress(c.end_time_s, opt.quiet);
   RunResult r;
   r.threads = parallel::max_threads();
+  SignalGuard signals;
 
-  const Energies e0 = sum_energies(parts);
-  EnergyTrack track{total_energy(e0), 0};
-  Energies e = e0;
-  Real err = track.error(e0);
-  out.frame(parts, t, "000000");
-  out.history(0, t, 0, e0, total_energy(e0), err);
-
-  Real dt_min = std::numeric_limits<Real>::infinity(), dt_max = 0, dt = 0;
-  Index frame = 1;
-  Real next_frame_t = std::min(c.output.interval_s, c.end_time_s);
+  Real& t = st.t;
+  Energies e;
+  if (!resume) {
+    st.e0 = sum_energies(parts);
+    st.track = EnergyTrack{total_energy(st.e0), 0};
+    st.err = st.track.error(st.e0);
+    out.frame(parts, t, "000000");
+    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err);
+    st.next_frame_t = std::min(c.output.interval_s, c.end_time_s);
+  }
+  e = st.e0;
+  r.steps = st.steps;
   const Real t_eps = 1e-12 * c.end_time_s;
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
+  double last_checkpoint_s = 0;
 
   try {
     while (t < c.end_time_s - t_eps && (c.time.max_steps == 0 || r.steps < c.time.max_steps)) {
       const StepLimit<D> lim = smallest_stable_step(parts);
-      dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : c.time.safety_factor * lim.dt_s;
+      Real dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : c.time.safety_factor * lim.dt_s;
       // A fixed step accepted at t = 0 may exceed the limit later (an expanding charge speeds
       // up); going on would be unstable, so stop with the limiting part named.
       if (c.time.fixed_dt_s && *c.time.fixed_dt_s > lim.dt_s)
@@ -279,17 +455,19 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
             fmt::format("stable time step is {} ({})", lim.dt_s, lim.detail.reason));
       // Land exactly on output times and on the end time.
       bool at_frame = false;
-      if (t + dt >= next_frame_t - t_eps) {
-        dt = next_frame_t - t;
+      if (t + dt >= st.next_frame_t - t_eps) {
+        dt = st.next_frame_t - t;
         at_frame = true;
       }
-      dt_min = std::min(dt_min, dt);
-      dt_max = std::max(dt_max, dt);
+      st.dt = dt;
+      st.dt_min = std::min(st.dt_min, dt);
+      st.dt_max = std::max(st.dt_max, dt);
 
       for (auto& p : parts)
         p->advance(t, dt);
-      t = at_frame ? next_frame_t : t + dt;
+      t = at_frame ? st.next_frame_t : t + dt;
       ++r.steps;
+      st.steps = r.steps;
       for (auto& p : parts)
         p->compute_forces(t);
       for (auto& p : parts)
@@ -301,16 +479,37 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       const bool last = t >= c.end_time_s - t_eps;
       if (r.steps % c.output.history_every == 0 || at_frame || last) {
         e = sum_energies(parts);
-        err = track.error(e);
-        out.history(r.steps, t, dt, e, total_energy(e), err);
+        st.err = st.track.error(e);
+        out.history(r.steps, t, dt, e, total_energy(e), st.err);
       }
       if (at_frame) {
-        out.frame(parts, t, fmt::format("{:06d}", frame));
-        ++frame;
-        next_frame_t = std::min(c.output.interval_s * static_cast<Real>(frame), c.end_time_s);
+        out.frame(parts, t, fmt::format("{:06d}", st.frame));
+        ++st.frame;
+        st.next_frame_t = std::min(c.output.interval_s * static_cast<Real>(st.frame), c.end_time_s);
         out.flush();
       }
       progress.update(r.steps, t, dt);
+
+      const int sig = g_signal.load();
+      const bool due =
+          (c.output.checkpoint_every_steps > 0 && r.steps % c.output.checkpoint_every_steps == 0) ||
+          (c.output.checkpoint_every_s > 0 &&
+           elapsed() - last_checkpoint_s >= c.output.checkpoint_every_s);
+      if ((due || sig != 0) && !last) {
+        out.flush();
+        write_checkpoint<D>(c, opt.out_dir, st, out, parts);
+        last_checkpoint_s = elapsed();
+      }
+      if (sig != 0 && !last) {
+        r.time_s = t;
+        r.wall_s = elapsed();
+        e = sum_energies(parts);
+        write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
+                      "interrupted",
+                      fmt::format("stopped by signal {} at step {}; resume with --resume {}", sig,
+                                  r.steps, opt.out_dir.string()));
+        throw Interrupted(sig, r.steps, t);
+      }
     }
   } catch (const NumericalError& ne) {
     // The state now in memory is the last one whose forces were finite: write it for the
@@ -319,16 +518,17 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     r.time_s = t;
     r.wall_s = elapsed();
     out.flush();
-    write_summary(c, opt.out_dir, parts, r, dt_min, dt_max, e0, sum_energies(parts), err, "failed",
-                  ne.what());
+    write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, sum_energies(parts),
+                  st.err, "failed", ne.what());
     throw;
   }
   r.time_s = t;
   r.wall_s = elapsed();
-  progress.finish(r.steps, t, dt);
+  progress.finish(r.steps, t, st.dt);
   e = sum_energies(parts);
   out.flush();
-  write_summary(c, opt.out_dir, parts, r, dt_min, dt_max, e0, e, track.error(e), "completed", "");
+  write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
+                "completed", "");
   return r;
 }
 

@@ -19,9 +19,10 @@ namespace crater::solver {
 
 struct RunOptions {
   std::filesystem::path out_dir = "out";
-  int threads = 0;     // 0: all cores
-  bool force = false;  // overwrite a run directory that already holds a run
-  bool quiet = false;  // no progress output (tests)
+  int threads = 0;                // 0: all cores
+  bool force = false;             // overwrite a run directory that already holds a run
+  bool quiet = false;             // no progress output (tests)
+  std::filesystem::path restart;  // a checkpoint to continue from (empty: start at t = 0)
 };
 
 /// Stable step of one part, as `crater check` prints it.

@@ -270,7 +270,7 @@ class SphPart final : public solver::Part<D> {
     const Index n = f_.size();
     // First offending particle in index order (deterministic).
     Index bad = n;
-#pragma omp parallel for schedule(static) reduction(min : bad)
+#pragma omp parallel for schedule(static) reduction(min : bad) if (n >= parallel::parallel_min())
     for (Index i = 0; i < n; ++i)
       if (!healthy(i)) bad = std::min(bad, i);
     if (bad == n) return std::nullopt;
@@ -405,23 +405,50 @@ class SphPart final : public solver::Part<D> {
     const Real need = WendlandC2<D>::support * h_max_;
     if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
     resort();
-    const Real radius = skin_.built(std::span<const Vec<D>>(x_), need);
-    neighbors::build_neighbor_list<D>(std::span<const Vec<D>>(x_), radius, neighbors::Pairs::Full,
-                                      list_);
+    skin_.built(std::span<const Vec<D>>(x_), need);
+    build_lists();
+  }
+
+  // The lists for the positions of the last rebuild (the current ones right after it; the
+  // saved ones after a restart, which rebuilds the very same lists).
+  void build_lists() {
+    const std::span<const Vec<D>> xb = skin_.positions();
+    const Real radius = skin_.radius();
+    neighbors::build_neighbor_list<D>(xb, radius, neighbors::Pairs::Full, list_);
     if (!wall_x_.empty()) {
-      neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), std::span<const Vec<D>>(x_),
-                                     radius, wall_to_fluid_);
-      neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(wall_x_),
-                                     radius, fluid_to_wall_);
+      neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), xb, radius, wall_to_fluid_);
+      neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(wall_x_), radius, fluid_to_wall_);
     }
     if (has_walls_ && !cfg_.wall_no_slip) {
-      select_ghosts(radius);
-      ghost_positions();
-      neighbors::build_cross_list<D>(std::span<const Vec<D>>(x_), std::span<const Vec<D>>(ghost_x_),
-                                     radius, fluid_to_ghost_);
+      select_ghosts(xb, radius);
+      ghost_positions(xb);
+      neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(ghost_x_), radius,
+                                     fluid_to_ghost_);
     }
   }
 
+ public:
+  void save_state(io::StateWriter& w) const override {
+    w.tag("sph");
+    f_.save(w);
+    w.value(h_max_);
+    w.value(external_work_);
+    w.value(reflections_);
+    w.value(max_penetration_);
+    skin_.save(w);
+  }
+  void load_state(io::StateReader& r) override {
+    r.tag("sph");
+    f_.load(r);
+    r.value(h_max_);
+    r.value(external_work_);
+    r.value(reflections_);
+    r.value(max_penetration_);
+    skin_.load(r);
+    if (skin_.radius() > 0) build_lists();
+  }
+
+ private:
   // Free-slip walls are planes of symmetry: each particle within `radius` of a walled face has
   // a mirror image behind it (Libersky et al. 1993), with the parent's mass, density, smoothing
   // length and sound speed, its position and velocity reflected in the face, and its pressure
@@ -430,7 +457,7 @@ class SphPart final : public solver::Part<D> {
   // problem: the continuity and pressure sums see a complete kernel, and the normal velocity
   // vanishes on the face. The image of particle j moves with j, so the images chosen at a list
   // rebuild serve until the next one (the parent must come within `radius` to interact).
-  void select_ghosts(Real radius) {
+  void select_ghosts(std::span<const Vec<D>> x, Real radius) {
     ghost_parent_.clear();
     ghost_sign_.clear();
     ghost_offset_.clear();
@@ -445,7 +472,8 @@ class SphPart final : public solver::Part<D> {
         for (const io::Face f : cfg_.walls) {
           if (static_cast<int>(f) / 2 != a) continue;
           const bool low = static_cast<int>(f) % 2 == 0;
-          const Real d = low ? x_[j][a] - domain_lo_[a] : domain_hi_[a] - x_[j][a];
+          const Vec<D>& xj = x[static_cast<std::size_t>(j)];
+          const Real d = low ? xj[a] - domain_lo_[a] : domain_hi_[a] - xj[a];
           if (d < radius) options[a][count[a]++] = low ? 1 : 2;
         }
       }
@@ -476,15 +504,16 @@ class SphPart final : public solver::Part<D> {
     ghost_p_.resize(ghost_parent_.size());
   }
 
-  void ghost_positions() {
+  void ghost_positions(std::span<const Vec<D>> x) {
     parallel::for_each(static_cast<Index>(ghost_parent_.size()), [&](Index g) {
-      ghost_x_[g] = ghost_offset_[g] + ghost_sign_[g].cwiseProduct(x_[ghost_parent_[g]]);
+      ghost_x_[g] = ghost_offset_[g] +
+                    ghost_sign_[g].cwiseProduct(x[static_cast<std::size_t>(ghost_parent_[g])]);
     });
   }
 
   void ghost_state() {
     if (ghost_parent_.empty()) return;
-    ghost_positions();
+    ghost_positions(std::span<const Vec<D>>(x_));
     const Vec<D> g = gravity_;
     parallel::for_each(static_cast<Index>(ghost_parent_.size()), [&](Index k) {
       const Index j = ghost_parent_[k];

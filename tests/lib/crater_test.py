@@ -61,10 +61,20 @@ def assert_bit_identical_runs(scenario, work_dir, sets=(), threads=(1, 2)):
     """Runs `scenario` once per thread count and asserts every output file is bit-identical
     (summary.json: everything but its "run" block). Returns the list of compared files."""
     dirs = []
-    for n in threads:
-        d = Path(work_dir) / f"threads{n}"
-        run_scenario(scenario, d, threads=n, sets=sets)
-        dirs.append(d)
+    # crater runs loops shorter than 2048 entities on one thread (src/parallel/parallel.hpp);
+    # 0 makes every loop of these small cases parallel, which is what is being tested.
+    old = os.environ.get("CRATER_PARALLEL_MIN")
+    os.environ["CRATER_PARALLEL_MIN"] = "0"
+    try:
+        for n in threads:
+            d = Path(work_dir) / f"threads{n}"
+            run_scenario(scenario, d, threads=n, sets=sets)
+            dirs.append(d)
+    finally:
+        if old is None:
+            del os.environ["CRATER_PARALLEL_MIN"]
+        else:
+            os.environ["CRATER_PARALLEL_MIN"] = old
     ref = dirs[0]
     names = sorted(p.name for p in ref.iterdir() if p.is_file())
     if not any(n.endswith(".vtu") for n in names):

@@ -1,6 +1,6 @@
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
-history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, and a
-settling DEM bed in 2D."""
+history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, a
+settling DEM bed in 2D, and a bonded DEM block breaking on a floor in 2D."""
 import sys
 import unittest
 
@@ -18,6 +18,12 @@ class ThreadDeterminism(unittest.TestCase):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/dem_bed_2d.toml",
                                           scratch("det_dem_bed"))
         self.assertIn("sand.pvd", files)
+
+    def test_dem_bonded_2d(self):
+        # Linear springs, parallel bonds breaking, rolling resistance, rate-dependent friction.
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/dem_bonded_2d.toml",
+                                          scratch("det_dem_bonded"))
+        self.assertIn("rock.pvd", files)
 
     def test_sph_3d(self):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",

@@ -142,6 +142,22 @@ inline BondStresses parallel_bond_stresses(const ParallelBondState<D>& s) {
   return BondStresses{.tensile = sigma, .shear = tau};
 }
 
+/// Energy a bond state stores [J] (see the file comment); what is lost when it breaks.
+template <int D>
+inline Real parallel_bond_energy(const ParallelBondParams& p, const ParallelBondState<D>& s) {
+  const BondSection sec = bond_section<D>(s.radius);
+  auto energy = [](Real load, Real stiffness) {
+    return stiffness > Real(0) ? Real(0.5) * load * load / stiffness : Real(0);
+  };
+  Real e = energy(s.normal_force, p.normal_stiffness_pa_m * sec.area) +
+           energy(s.shear_force.norm(), p.shear_stiffness_pa_m * sec.area) +
+           energy(angular_norm<D>(s.bending_moment), p.normal_stiffness_pa_m * sec.inertia);
+  if constexpr (D == 3) {
+    e += energy(s.twisting_moment, p.shear_stiffness_pa_m * sec.polar_inertia);
+  }
+  return e;
+}
+
 /// Advance a bond by dt [s] with the pair's current geometry and relative velocity, check its
 /// strength, and return the forces it exerts (see the file comment).
 template <int D>
@@ -174,14 +190,7 @@ inline ParallelBondResult<D> parallel_bond(const ParallelBondParams& p, const Co
   out.tensile_stress = stresses.tensile;
   out.shear_stress = stresses.shear;
 
-  auto energy = [](Real load, Real stiffness) {
-    return stiffness > Real(0) ? Real(0.5) * load * load / stiffness : Real(0);
-  };
-  out.elastic_energy = energy(s.normal_force, kn_a) + energy(s.shear_force.norm(), ks_a) +
-                       energy(angular_norm<D>(s.bending_moment), kn_i);
-  if constexpr (D == 3) {
-    out.elastic_energy += energy(s.twisting_moment, p.shear_stiffness_pa_m * sec.polar_inertia);
-  }
+  out.elastic_energy = parallel_bond_energy<D>(p, s);
 
   out.broken = stresses.tensile >= p.tensile_strength_pa || stresses.shear >= p.shear_strength_pa;
   if (out.broken) {

@@ -45,6 +45,9 @@ class PvdCollection {
  public:
   explicit PvdCollection(std::filesystem::path path) : path_(std::move(path)) {}
   void add(Real time_s, const std::string& relative_file);
+  /// The frames so far, and setting them back (a resumed run: the next add() rewrites all).
+  const std::vector<std::pair<Real, std::string>>& entries() const { return entries_; }
+  void restore(std::vector<std::pair<Real, std::string>> e) { entries_ = std::move(e); }
 
  private:
   std::filesystem::path path_;

@@ -31,6 +31,9 @@ struct OutputConfig {
   Index history_every = 10;
   bool vtu = true;
   VtuEncoding vtu_encoding = VtuEncoding::Appended;
+  Index checkpoint_every_steps = 0;  // 0: not by step count
+  Real checkpoint_every_s = 900;     // wall-clock seconds; 0: not by time
+  Index checkpoint_keep = 2;         // newest checkpoints kept in <out>/checkpoints
 };
 
 struct DomainConfig {
@@ -105,15 +108,44 @@ struct DemParticle {
   Vec3 velocity_m_s{};
 };
 
+/// Contact law of a DEM part ([parts.dem] contact).
+enum class DemContact { HertzMindlin, LinearSpring };
+
+/// How a parallel bond's radius follows from the grain radii (dem::BondRadiusRule).
+enum class BondRadius { Min, Mean, Effective };
+
+/// Parallel bonds of a DEM part (paper eqs. 17-24), made at t = 0 between touching grains.
+struct DemBondConfig {
+  bool enabled = false;
+  BondRadius radius_rule = BondRadius::Min;
+  Real radius_multiplier = 1.0;    // \lambda [-]
+  Real normal_stiffness_pa_m = 0;  // k̄_n [Pa/m]
+  Real shear_stiffness_pa_m = 0;   // k̄_s [Pa/m]
+  Real tensile_strength_pa = 0;    // \bar\sigma_c [Pa]
+  Real shear_strength_pa = 0;      // \bar\tau_c [Pa]
+  Real gap_fraction = 0.01;        // bond pairs whose gap <= this x the smaller radius
+};
+
 struct DemConfig {
+  DemContact contact = DemContact::HertzMindlin;
+  Real normal_stiffness_n_m = 0;        // linear_spring: k_n [N/m] (per metre of depth in 2D)
+  Real shear_stiffness_n_m = 0;         // linear_spring: k_s [N/m]
+  Real stiffness_step_fraction = 0.17;  // stable step = this x sqrt(m_min / k_max)
   Real radius_min_m = 0;
   Real radius_max_m = 0;
   std::uint64_t seed = 1;
   Real local_damping = 0;
   Real rayleigh_fraction = 0.25;
+  Real rolling_friction = 0;  // \mu_r [-], 0: off
+  Real rolling_damping = 0;   // \eta_r [-]
+  bool rate_dependent_friction = false;
+  Real friction_rate_beta = 0.05;             // \beta [-]
+  Real friction_reference_strain_rate = 1.0;  // \dot\varepsilon_0 [1/s]
   std::vector<Face> walls;
   Real wall_friction = 0.5;
   Real wall_restitution = 0.5;
+  std::vector<Face> absorbing_walls;
+  DemBondConfig bonds;
   std::vector<DemParticle> particles;  // placed by hand; empty: the region's lattice
 };
 
@@ -127,7 +159,8 @@ struct PackingConfig {
   Real settle_kinetic_ratio = 1e-4;
   Real settle_max_time_s = 2.0;
   Real settle_damping = 0.7;
-  std::string cache_dir;  // absolute, or relative to the working directory
+  std::string cache_dir;   // absolute, or relative to the working directory
+  Real agitation_m_s = 0;  // random initial velocity, uniform in +-this per component
 };
 
 struct DetonationPoint {

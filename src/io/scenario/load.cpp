@@ -237,6 +237,9 @@ class Builder {
     c.output.interval_s = opt_num(ot, "interval_s").value_or(c.end_time_s / 20);
     c.output.history_every = ot.get("history_every")->as_integer()->get();
     c.output.vtu = ot.get("vtu")->as_boolean()->get();
+    c.output.checkpoint_every_steps = ot.get("checkpoint_every_steps")->as_integer()->get();
+    c.output.checkpoint_every_s = num(ot, "checkpoint_every_s");
+    c.output.checkpoint_keep = ot.get("checkpoint_keep")->as_integer()->get();
     c.output.vtu_encoding =
         str(ot, "vtu_encoding") == "base64" ? VtuEncoding::Base64 : VtuEncoding::Appended;
     if (c.output.interval_s > c.end_time_s)
@@ -519,6 +522,60 @@ class Builder {
     p.dem.walls = read_faces(*dt.get("walls")->as_array(), dw, key + ".dem.walls", dim);
     p.dem.wall_friction = num(dt, "wall_friction");
     p.dem.wall_restitution = num(dt, "wall_restitution");
+    p.dem.contact =
+        str(dt, "contact") == "linear_spring" ? DemContact::LinearSpring : DemContact::HertzMindlin;
+    p.dem.stiffness_step_fraction = num(dt, "stiffness_step_fraction");
+    if (p.dem.contact == DemContact::LinearSpring) {
+      if (const auto kn = opt_num(dt, "normal_stiffness_n_m")) {
+        p.dem.normal_stiffness_n_m = *kn;
+        // Mindlin's ratio of tangential to normal stiffness of equal grains.
+        const Real nu = p.material < c.materials.size()
+                            ? c.materials[p.material].granular.poisson_ratio
+                            : Real(0);
+        p.dem.shear_stiffness_n_m =
+            opt_num(dt, "shear_stiffness_n_m").value_or(*kn * 2 * (1 - nu) / (2 - nu));
+      } else {
+        error(loc(dt, "contact", dw), key + ".dem.normal_stiffness_n_m",
+              "missing: contact = \"linear_spring\" needs normal_stiffness_n_m (N/m)");
+      }
+    } else {
+      for (const char* k : {"normal_stiffness_n_m", "shear_stiffness_n_m"})
+        if (dt.get(k))
+          error(loc(dt, k, dw), key + ".dem." + k,
+                "only used by contact = \"linear_spring\"; the Hertz-Mindlin stiffness "
+                "follows from the material");
+    }
+    p.dem.rolling_friction = num(dt, "rolling_friction");
+    p.dem.rolling_damping = num(dt, "rolling_damping");
+    p.dem.rate_dependent_friction = dt.get("rate_dependent_friction")->as_boolean()->get();
+    p.dem.friction_rate_beta = num(dt, "friction_rate_beta");
+    p.dem.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
+    {
+      const auto& bt = table(dt, "bonds");
+      const SourceLocation bw = where_of(bt, dw);
+      DemBondConfig& b = p.dem.bonds;
+      b.enabled = bt.get("enabled")->as_boolean()->get();
+      const std::string rule = str(bt, "radius_rule");
+      b.radius_rule = rule == "mean"        ? BondRadius::Mean
+                      : rule == "effective" ? BondRadius::Effective
+                                            : BondRadius::Min;
+      b.radius_multiplier = num(bt, "radius_multiplier");
+      b.gap_fraction = num(bt, "gap_fraction");
+      if (b.enabled) {
+        const std::string kb = key + ".dem.bonds.";
+        auto need = [&](const char* name, Real& into) {
+          if (const auto v = opt_num(bt, name))
+            into = *v;
+          else
+            error(loc(bt, "enabled", bw), kb + name, "missing: bonds need it when enabled");
+        };
+        need("normal_stiffness_pa_m", b.normal_stiffness_pa_m);
+        need("tensile_strength_pa", b.tensile_strength_pa);
+        need("shear_strength_pa", b.shear_strength_pa);
+        b.shear_stiffness_pa_m =
+            opt_num(bt, "shear_stiffness_pa_m").value_or(b.normal_stiffness_pa_m);
+      }
+    }
     if (const toml::node* pn = t.get("particles")) {
       const auto& pa = *pn->as_array();
       for (std::size_t j = 0; j < pa.size(); ++j) {
@@ -550,6 +607,7 @@ class Builder {
     k.settle_kinetic_ratio = num(pt, "settle_kinetic_ratio");
     k.settle_max_time_s = num(pt, "settle_max_time_s");
     k.settle_damping = num(pt, "settle_damping");
+    k.agitation_m_s = num(pt, "agitation_m_s");
     fs::path cache = str(pt, "cache_dir");
     if (cache.is_relative()) cache = fs::path(file_).parent_path() / cache;
     k.cache_dir = cache.lexically_normal().string();

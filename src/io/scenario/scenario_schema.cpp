@@ -126,6 +126,24 @@ TableSchema make_output() {
                           "VTU data layout: raw appended binary (smallest, fastest) or inline "
                           "base64."),
                    "\"appended\""),
+      with_default(at_least(of_type(real("checkpoint_every_steps", "1",
+                                         "Write a checkpoint (<out>/checkpoints/) every this "
+                                         "many steps; 0: not by step count. A run resumes "
+                                         "from one with `crater run SCENARIO --resume DIR`."),
+                                    KeyType::Integer),
+                            0),
+                   "0"),
+      with_default(at_least(real("checkpoint_every_s", "s",
+                                 "Also write a checkpoint after this much wall-clock time since "
+                                 "the last one; 0: not by time. SIGINT and SIGTERM always "
+                                 "write one."),
+                            0),
+                   "900"),
+      with_default(at_least(of_type(real("checkpoint_keep", "1",
+                                         "Newest checkpoints kept; older ones are deleted."),
+                                    KeyType::Integer),
+                            1),
+                   "2"),
   };
   return t;
 }
@@ -304,13 +322,72 @@ const TableSchema& initial_schema() {
   static const TableSchema s = make_initial();
   return s;
 }
+TableSchema make_bond() {
+  TableSchema t{"parts.dem.bonds",
+                "Parallel bonds (Potyondy & Cundall 2004; paper eqs. 17-24): cement between "
+                "grains whose gap at t = 0 is at most gap_fraction x the smaller radius. A bond "
+                "carries force and moment in parallel with the contact and breaks for good when "
+                "its tensile or shear stress reaches the strength.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      with_default(of_type(real("enabled", "", "Bond the grains at t = 0."), KeyType::Bool),
+                   "false"),
+      with_default(choice("radius_rule", {"min", "mean", "effective"},
+                          "Bond radius R: min = multiplier x min(r1, r2) (Potyondy & Cundall); "
+                          "mean = multiplier x (r1 + r2)/2, effective = multiplier x r1 r2 / "
+                          "(r1 + r2) (the paper's two forms)."),
+                   "\"min\""),
+      with_default(positive(real("radius_multiplier", "1", "lambda of the bond radius.")), "1.0"),
+      positive(real("normal_stiffness_pa_m", "Pa/m",
+                    "Normal stiffness per unit area k_n of the cement. Required when enabled.")),
+      positive(real("shear_stiffness_pa_m", "Pa/m",
+                    "Shear stiffness per unit area k_s of the cement. Unset: the normal one.")),
+      positive(real("tensile_strength_pa", "Pa",
+                    "Tensile strength sigma_c: the bond breaks when F_n/A + abs(M_b) R / I "
+                    "reaches it. Required when enabled.")),
+      positive(
+          real("shear_strength_pa", "Pa",
+               "Shear strength tau_c: the bond breaks when abs(F_s)/A (+ abs(M_t) R / J in 3D) "
+               "reaches it. Required when enabled.")),
+      with_default(at_least(real("gap_fraction", "1",
+                                 "Pairs whose surface gap at t = 0 is at most this x the "
+                                 "smaller radius are bonded (overlapping pairs always)."),
+                            0),
+                   "0.01"),
+  };
+  return t;
+}
+
+const TableSchema& bond_schema() {
+  static const TableSchema s = make_bond();
+  return s;
+}
+
 TableSchema make_dem() {
   TableSchema t{"parts.dem", "DEM numerics of the part (paper section II-A).", {}, {}, {}};
   t.keys = {
-      with_default(choice("contact", {"hertz_mindlin"},
-                          "Contact law: Hertz normal, Mindlin no-slip tangential with history, "
-                          "Coulomb limit, damping from the restitution (LIGGGHTS' hertz)."),
+      with_default(choice("contact", {"hertz_mindlin", "linear_spring"},
+                          "Contact law. hertz_mindlin: Hertz normal, Mindlin no-slip tangential "
+                          "with history, Coulomb limit, damping from the restitution (LIGGGHTS' "
+                          "hertz); stiffness from the material. linear_spring: k_n, k_s springs "
+                          "(paper eqs. 2-16) with dashpots from the restitution and the same "
+                          "history and Coulomb limit; needs normal_stiffness_n_m."),
                    "\"hertz_mindlin\""),
+      positive(real("normal_stiffness_n_m", "N/m",
+                    "linear_spring: normal stiffness k_n of grain-grain and grain-wall "
+                    "contacts (2D: per metre of depth). Required with linear_spring.")),
+      positive(real("shear_stiffness_n_m", "N/m",
+                    "linear_spring: shear stiffness k_s. Unset: Mindlin's ratio for equal "
+                    "grains, k_s = k_n 2(1 - nu)/(2 - nu) (nu of the material).")),
+      with_default(at_most(positive(real("stiffness_step_fraction", "1",
+                                         "Stable step = this x sqrt(m_min / k_max) for "
+                                         "linear springs and bonds (m_min: the smallest "
+                                         "grain; k_max: the largest spring, contact plus "
+                                         "bond); 0.17 after O'Sullivan & Bray 2004.")),
+                           1),
+                   "0.17"),
       positive(real("radius_min_m", "m",
                     "Smallest grain radius; radii are uniform in [radius_min_m, radius_max_m]. "
                     "Unset: spacing_m / 2.")),
@@ -331,6 +408,30 @@ TableSchema make_dem() {
                                          "smallest grain.")),
                            1),
                    "0.25"),
+      with_default(at_least(real("rolling_friction", "1",
+                                 "Rolling friction coefficient mu_r of the elastic-plastic "
+                                 "rolling spring (Ai et al. 2011, model C): limit torque "
+                                 "mu_r R* abs(F_n); grain-grain and grain-wall. 0: off."),
+                            0),
+                   "0"),
+      with_default(at_least(real("rolling_damping", "1",
+                                 "Rolling damping ratio eta_r of the rolling spring (Ai et al. "
+                                 "use 0.3); acts while the rolling spring is below its limit."),
+                            0),
+                   "0"),
+      with_default(of_type(real("rate_dependent_friction", "",
+                                "Friction angle rises with the contact strain rate: phi_dyn = "
+                                "phi_s (1 + beta log10(rate / rate_0)) above rate_0, rate = "
+                                "abs(v_n) / (r_1 + r_2) (paper section III-C)."),
+                           KeyType::Bool),
+                   "false"),
+      with_default(
+          at_least(
+              real("friction_rate_beta", "1", "beta of rate_dependent_friction (paper: 0.05)."), 0),
+          "0.05"),
+      with_default(positive(real("friction_reference_strain_rate", "1/s",
+                                 "Reference strain rate rate_0 of rate_dependent_friction.")),
+                   "1.0"),
       with_default(choice_list("walls", {"left", "right", "bottom", "top", "back", "front"},
                                "Domain faces that are rigid walls for the grains."),
                    "[]"),
@@ -340,6 +441,8 @@ TableSchema make_dem() {
           at_most(positive(real("wall_restitution", "1", "Grain-wall coefficient of restitution.")),
                   1),
           "0.5"),
+      sub("bonds", KeyType::Table, bond_schema(),
+          "Parallel bonds between the grains touching at t = 0."),
   };
   return t;
 }
@@ -389,6 +492,12 @@ TableSchema make_packing() {
                                     0),
                            1),
                    "0.7"),
+      with_default(at_least(real("agitation_m_s", "m/s",
+                                 "Random initial velocity of the grains (after settling), "
+                                 "uniform in +-this per component, seeded by [parts.dem] seed; "
+                                 "added to [parts.initial] velocity_m_s."),
+                            0),
+                   "0"),
       with_default(text("cache_dir",
                         "Directory for settled packings, relative to the scenario file. A file "
                         "is keyed by a hash of every input that shapes the packing."),
