@@ -435,8 +435,12 @@ class DemPart final : public solver::Part<D> {
   // Slot of `partner` in grain i's history (last step's buffer), or -1.
   int find_slot(Index owner, std::int64_t partner) const {
     const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
-    for (int k = 0; k < kMaxContacts; ++k)
-      if (partner_[base + static_cast<std::size_t>(k)] == partner) return k;
+    // Slots are filled from the first, the rest hold kNoContact: stop at the first empty one.
+    for (int k = 0; k < kMaxContacts; ++k) {
+      const std::int64_t p = partner_[base + static_cast<std::size_t>(k)];
+      if (p == partner) return k;
+      if (p == kNoContact) break;
+    }
     return -1;
   }
   // The contact's stored tangential spring and rolling moment (zero for a new contact).
@@ -458,8 +462,11 @@ class DemPart final : public solver::Part<D> {
   int find_bond(Index owner, std::int64_t partner) const {
     if (bond_partner_.empty()) return -1;
     const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
-    for (int k = 0; k < kMaxContacts; ++k)
-      if (bond_partner_[base + static_cast<std::size_t>(k)] == partner) return k;
+    for (int k = 0; k < kMaxContacts; ++k) {
+      const std::int64_t p = bond_partner_[base + static_cast<std::size_t>(k)];
+      if (p == partner) return k;
+      if (p == kNoContact) break;
+    }
     return -1;
   }
 
@@ -483,15 +490,18 @@ class DemPart final : public solver::Part<D> {
   //     entries it owns directly and the others through their mirror entry (j, i); then walls
   //     and damping. The sums run in the same order as one gather pass would: results are
   //     bit-identical to it, and to any thread count.
+  // One entry's contact results together (the gather pass reads them at once).
+  struct ContactResult {
+    Vec<D> f1;               // force on body 1
+    AngularVec<D> t1, t2;    // torques on bodies 1 and 2 (contact + rolling)
+    std::uint8_t flags = 0;  // kBondOn, kContactOn
+  };
   struct PairCache {
-    std::vector<std::uint8_t> flags;  // kBondOn, kContactOn
-    std::vector<Vec<D>> bond_f1, contact_f1;
-    std::vector<AngularVec<D>> bond_t1, bond_t2, contact_t1, contact_t2;
+    std::vector<ContactResult> contact;
+    std::vector<Vec<D>> bond_f1;
+    std::vector<AngularVec<D>> bond_t1, bond_t2;
     void resize(std::size_t n, bool bonds) {
-      flags.assign(n, 0);
-      contact_f1.resize(n);
-      contact_t1.resize(n);
-      contact_t2.resize(n);
+      contact.assign(n, ContactResult{});
       if (bonds) {
         bond_f1.resize(n);
         bond_t1.resize(n);
@@ -534,7 +544,7 @@ class DemPart final : public solver::Part<D> {
       const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
       const int bond = find_bond(i, id_[j]);
       if (!g.touching() && bond < 0) {
-        cache_.flags[k] = 0;
+        cache_.contact[k].flags = 0;
         continue;
       }
       const RelativeVelocity<D> rel =
@@ -578,14 +588,15 @@ class DemPart final : public solver::Part<D> {
                                                      RollingBody{inertia_[j], m_[j], r_[j]})},
                                      h.roll, dt);
         flags |= kContactOn;
-        cache_.contact_f1[k] = cf.force_on_1;
-        cache_.contact_t1[k] = cf.torque_on_1 + rt.torque_on_1;
-        cache_.contact_t2[k] = cf.torque_on_2 - rt.torque_on_1;
+        ContactResult& c = cache_.contact[k];
+        c.f1 = cf.force_on_1;
+        c.t1 = cf.torque_on_1 + rt.torque_on_1;
+        c.t2 = cf.torque_on_2 - rt.torque_on_1;
         keep(id_[j], cf.shear_history, rt.history);
         tally.elastic += cf.elastic_energy + rt.elastic_energy;
         tally.dissipated += cf.dissipated_power + rt.dissipated_power;
       }
-      cache_.flags[k] = flags;
+      cache_.contact[k].flags = flags;
     }
     tally_[static_cast<std::size_t>(i)] = tally;
   }
@@ -604,26 +615,26 @@ class DemPart final : public solver::Part<D> {
     for (std::size_t e = 0; e < entries.size(); ++e) {
       const std::size_t k = first_entry + e;
       if (id_[i] < id_[entries[e]]) {
-        const std::uint8_t flags = cache_.flags[k];
-        if (flags & kBondOn) {
+        const ContactResult& c = cache_.contact[k];
+        if (c.flags & kBondOn) {
           force += cache_.bond_f1[k];
           torque += cache_.bond_t1[k];
         }
-        if (flags & kContactOn) {
-          force += cache_.contact_f1[k];
-          torque += cache_.contact_t1[k];
+        if (c.flags & kContactOn) {
+          force += c.f1;
+          torque += c.t1;
         }
       } else {
         const std::size_t m = static_cast<std::size_t>(mirror_[k]);
-        const std::uint8_t flags = cache_.flags[m];
-        if (flags & kBondOn) {
+        const ContactResult& c = cache_.contact[m];
+        if (c.flags & kBondOn) {
           ++bonds;
           force -= cache_.bond_f1[m];
           torque += cache_.bond_t2[m];
         }
-        if (flags & kContactOn) {
-          force -= cache_.contact_f1[m];
-          torque += cache_.contact_t2[m];
+        if (c.flags & kContactOn) {
+          force -= c.f1;
+          torque += c.t2;
         }
       }
     }
