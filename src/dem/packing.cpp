@@ -176,10 +176,18 @@ std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector
                         "porosity, or (box regions under gravity) the domain's face above the "
                         "region, so the column can grow",
                         out.size() + 1, radii.size(), r, can_grow ? "domain" : "region"));
+      const Real before = grow_high ? hi[up] : lo[up];
       if (grow_high)
         hi[up] = std::min(limit, hi[up] + step);
       else
         lo[up] = std::max(limit, lo[up] - step);
+      // A region tiny against its coordinates cannot grow in floating point (fuzzing found a
+      // 256 m region at 1e18 m: the step rounded away and the loop never ended).
+      if ((grow_high ? hi[up] : lo[up]) == before)
+        throw InputError(where, key,
+                         fmt::format("a region whose height ({:.3g} m) the column can grow by in "
+                                     "floating point; at coordinates of {:.3g} m it cannot",
+                                     step * 4, before));
     }
   }
   return out;
