@@ -2,10 +2,11 @@
 # Builds a libFuzzer target with clang (ASan + UBSan + coverage) and fuzzes it.
 #   tools/fuzz/run.sh TARGET SECONDS [extra libFuzzer flags...]
 #   tools/fuzz/run.sh scenario 600
-#   tools/fuzz/run.sh scenario merge      # minimise the corpus in place (-merge=1)
+#   tools/fuzz/run.sh scenario merge      # add the new inputs that reach new edges to the corpus
+#   tools/fuzz/run.sh scenario minimise   # rebuild the corpus: seeds + a minimal set (-merge=1)
 # TARGET is the <name> of tests/fuzz/fuzz_<name>.cpp. The seeds are tests/fuzz/corpus/TARGET
 # (read only while fuzzing); new interesting inputs go to build/fuzz/corpus/TARGET, and `merge`
-# minimises both into tests/fuzz/corpus/TARGET (do that before committing). Findings
+# adds those reaching new edges to tests/fuzz/corpus/TARGET (do that before committing). Findings
 # (crash-*, timeout-*, oom-*, leak-*) are written to build/fuzz/findings/TARGET/: report them,
 # then move them into tests/fuzz/crashes/TARGET/ once fixed, so `make test` replays them.
 # A dictionary tests/fuzz/TARGET.dict is used when present. Environment: BUILD_DIR (build/fuzz),
@@ -13,7 +14,7 @@
 set -euo pipefail
 
 if [ $# -lt 2 ]; then
-  sed -n '2,12p' "$0" >&2
+  sed -n '2,13p' "$0" >&2
   exit 2
 fi
 target=$1
@@ -52,15 +53,20 @@ export OMP_NUM_THREADS=1
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
-if [ "$seconds" = merge ]; then
-  # Minimise: the named seeds (seed-*) stay; of the other inputs (the corpus's and the fuzzer's
-  # new ones) only those that reach new edges are kept (-use_counters=0: edges, not hit counts,
-  # which keeps the corpus at a few hundred small files), smallest first.
+if [ "$seconds" = merge ] || [ "$seconds" = minimise ]; then
+  # merge: adds to the corpus the fuzzer's new inputs that reach new edges; the files already
+  # there stay (small diffs). minimise: rebuilds it: the named seeds (seed-*) stay, of the
+  # others only those reaching new edges. Edges, not hit counts (-use_counters=0), keep the
+  # corpus at a few hundred small files; smallest inputs first.
   tmp=$(mktemp -d)
-  find "$corpus" -maxdepth 1 -type f -name 'seed-*' -exec cp {} "$tmp"/ \;
+  if [ "$seconds" = merge ]; then
+    cp "$corpus"/* "$tmp"/
+  else
+    find "$corpus" -maxdepth 1 -type f -name 'seed-*' -exec cp {} "$tmp"/ \;
+  fi
   "$bin" -merge=1 -use_counters=0 -timeout=10 -rss_limit_mb=2048 "$@" "$tmp" "$corpus" "$work"
-  find "$corpus" -type f -delete
-  cp "$tmp"/* "$corpus"/
+  [ "$seconds" = minimise ] && find "$corpus" -type f -delete
+  cp -n "$tmp"/* "$corpus"/
   rm -rf "$tmp"
   echo "run.sh: $corpus holds $(ls "$corpus" | wc -l) inputs, $(cat "$corpus"/* | wc -c) bytes"
   exit 0
