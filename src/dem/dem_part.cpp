@@ -517,21 +517,29 @@ class DemPart final : public solver::Part<D> {
     int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
   };
 
+  // Stores a contact's history in the next free slot of grain i (this step's buffer).
+  void keep_history(Index i, PairTally& tally, std::int64_t partner, const Vec<D>& xi,
+                    const AngularVec<D>& roll) {
+    if (tally.slots == kMaxContacts) {
+#pragma omp critical(crater_dem_overflow)
+      overflow_ = std::min(overflow_, i);
+      return;
+    }
+    const std::size_t at =
+        static_cast<std::size_t>(i) * kMaxContacts + static_cast<std::size_t>(tally.slots);
+    partner_new_[at] = partner;
+    xi_new_[at] = xi;
+    if (!roll_new_.empty()) roll_new_[at] = roll;
+    ++tally.slots;
+  }
+
   template <class Law>
   void pair_pass(Index i, Real dt, const LawPair<Law>& laws) {
     PairTally tally;
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     const bool rolling = rolling_.friction > 0;
     auto keep = [&](std::int64_t partner, const Vec<D>& xi, const AngularVec<D>& roll) {
-      if (tally.slots == kMaxContacts) {
-#pragma omp critical(crater_dem_overflow)
-        overflow_ = std::min(overflow_, i);
-        return;
-      }
-      partner_new_[base + static_cast<std::size_t>(tally.slots)] = partner;
-      xi_new_[base + static_cast<std::size_t>(tally.slots)] = xi;
-      if (rolling) roll_new_[base + static_cast<std::size_t>(tally.slots)] = roll;
-      ++tally.slots;
+      keep_history(i, tally, partner, xi, roll);
     };
     const auto entries = list_.of(i);
     const std::size_t first_entry =
@@ -639,15 +647,7 @@ class DemPart final : public solver::Part<D> {
       }
     }
     auto keep = [&](std::int64_t partner, const Vec<D>& xi, const AngularVec<D>& roll) {
-      if (tally.slots == kMaxContacts) {
-#pragma omp critical(crater_dem_overflow)
-        overflow_ = std::min(overflow_, i);
-        return;
-      }
-      partner_new_[base + static_cast<std::size_t>(tally.slots)] = partner;
-      xi_new_[base + static_cast<std::size_t>(tally.slots)] = xi;
-      if (rolling) roll_new_[base + static_cast<std::size_t>(tally.slots)] = roll;
-      ++tally.slots;
+      keep_history(i, tally, partner, xi, roll);
     };
     Real elastic = tally.elastic, dissipated = tally.dissipated;
 
