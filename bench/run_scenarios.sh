@@ -17,6 +17,7 @@
 #              --set time.max_steps=STEPS [--set ...]
 # and reads summary.json: parts[0].count, steps, run.wall_time_s. It prints
 #   particle_steps_per_s = particles x steps / run.wall_time_s
+# (for FEM parts "particles" are the elements: element-steps per second)
 # and the whole-process wall time (exec to exit, measured here). run.wall_time_s includes the
 # setup (lattice, first neighbour list and forces, summary); with these step counts that is
 # 0.2-3 % of the run (docs/performance.md). steal_s is the CPU time the hypervisor took from
@@ -43,6 +44,8 @@ CASES=(
   "dem3d-45k|$SC/dem_bed_3d.toml|500|"
   "dem2d-45k|$SC/dem_bed_2d.toml|500|"
   "dem2d-160k|$SC/dem_bed_2d.toml|300|parts.bed.region.max_m=[2.0,2.0] domain.max_m=[2.0,2.4]"
+  "fem-plate-16k|$SC/fem_plate_2d.toml|1000|"
+  "fem-block-104k|$SC/fem_block_3d.toml|100|"
 )
 
 median() {

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <type_traits>
 
 namespace crater {
 
@@ -19,5 +20,9 @@ using Vec = Eigen::Matrix<Real, D, 1>;
 /// Dimension-independent integer cell coordinate.
 template <int D>
 using IVec = Eigen::Matrix<std::int64_t, D, 1>;
+
+/// A moment or angular velocity: the z component in 2D (a scalar), a vector in 3D.
+template <int D>
+using AxialVec = std::conditional_t<D == 2, Real, Eigen::Matrix<Real, 3, 1>>;
 
 }  // namespace crater

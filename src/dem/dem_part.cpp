@@ -26,6 +26,7 @@
 #include <random>
 #include <variant>
 
+#include "dem/laws/absorbing_wall.hpp"
 #include "dem/laws/contact_geometry.hpp"
 #include "dem/laws/hertz_mindlin.hpp"
 #include "dem/laws/linear_spring.hpp"
@@ -96,6 +97,14 @@ Real angular_kinetic(Real inertia, const AngularVec<D>& w) {
 }
 
 template <int D>
+Real angular_dot(const AngularVec<D>& a, const AngularVec<D>& b) {
+  if constexpr (D == 2)
+    return a * b;
+  else
+    return a.dot(b);
+}
+
+template <int D>
 bool angular_finite(const AngularVec<D>& w) {
   if constexpr (D == 2)
     return std::isfinite(w);
@@ -133,7 +142,11 @@ class DemPart final : public solver::Part<D> {
         local_power_(f_.add_scalar("local_damping_rate", "W", kNone)),
         bonds_(f_.add_scalar("bonds", "1", pc.dem.bonds.enabled ? kOutput : kNone)),
         bond_breaks_(f_.add_scalar("bond_breaks", "1", kNone)),
-        bond_released_(f_.add_scalar("bond_released_energy", "J", kNone)) {
+        bond_released_(f_.add_scalar("bond_released_energy", "J", kNone)),
+        static_reaction_(f_.add_vector("absorbing_wall_reaction", "N", kRestart)),
+        static_power_(f_.add_scalar("absorbing_wall_static_power", "W", kNone)),
+        contact_force_(f_.add_vector("coupling_force", "N", kRestart)),
+        contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)) {
     const auto& mat = c.materials[pc.material];
     rho_ = mat.rho0_kg_m3;
     const ElasticMaterial grain{
@@ -169,7 +182,13 @@ class DemPart final : public solver::Part<D> {
     std::vector<Vec<D>> pts;
     std::vector<Real> radii;
     std::vector<Vec<D>> vel;
-    if (local_damping) cfg_.local_damping = *local_damping;
+    if (local_damping) {
+      cfg_.local_damping = *local_damping;
+      // While settling, absorbing faces are rigid walls: the bed settles on them, and the
+      // run then holds the reactions they end with (absorbing_wall.hpp).
+      cfg_.walls.insert(cfg_.walls.end(), cfg_.absorbing_walls.begin(), cfg_.absorbing_walls.end());
+      cfg_.absorbing_walls.clear();
+    }
     if (grains) {
       for (const auto& q : *grains) {
         pts.push_back(q.x);
@@ -227,6 +246,7 @@ class DemPart final : public solver::Part<D> {
     // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
     // the run, between the settled grains.
     if (cfg_.bonds.enabled && !local_damping) make_bonds();
+    if (!cfg_.absorbing_walls.empty()) init_absorbing_walls(c, pc);
   }
 
   const std::string& name() const override { return name_; }
@@ -272,6 +292,20 @@ class DemPart final : public solver::Part<D> {
             cfg_.stiffness_step_fraction, m_min, k, cfg_.bonds.enabled ? ", contact + bond" : "");
       }
     }
+    if (absorbing_.normal_impedance > 0) {
+      // An explicit dashpot on a grain is stable below 2 m / \eta; keep half of that.
+      const Real m_min = D == 2 ? rho_ * std::numbers::pi * r_min_ * r_min_
+                                : rho_ * 4.0 / 3.0 * std::numbers::pi * r_min_ * r_min_ * r_min_;
+      const Real eta = std::max(absorbing_.normal_impedance, absorbing_.tangential_impedance) *
+                       absorbing_wall_area<D>(r_min_);
+      if (m_min / eta < s.dt_s) {
+        s.dt_s = m_min / eta;
+        s.reason = fmt::format(
+            "m / eta of the smallest grain on an absorbing wall (eta = {:.4g} "
+            "N s/m)",
+            eta);
+      }
+    }
     return s;
   }
 
@@ -297,20 +331,23 @@ class DemPart final : public solver::Part<D> {
     // Energy taken out over the last step by contacts and local damping (rates times dt), and
     // the energy the bonds that broke held.
     struct Sums {
-      Real dissipated = 0, local = 0, released = 0, breaks = 0;
+      Real dissipated = 0, local = 0, released = 0, breaks = 0, wall_work = 0;
       Sums& operator+=(const Sums& o) {
         dissipated += o.dissipated;
         local += o.local;
         released += o.released;
         breaks += o.breaks;
+        wall_work += o.wall_work;
         return *this;
       }
     };
     const Sums s = parallel::deterministic_sum<Sums>(n, [&](Index i) {
-      return Sums{dissipated_[i], local_power_[i], bond_released_[i], bond_breaks_[i]};
+      return Sums{dissipated_[i], local_power_[i], bond_released_[i], bond_breaks_[i],
+                  static_power_[i]};
     });
     contact_dissipated_ += dt * s.dissipated + s.released;
     local_dissipated_ += dt * s.local;
+    external_work_ += dt * s.wall_work;
     bonds_broken_ += s.breaks;
   }
 
@@ -341,9 +378,43 @@ class DemPart final : public solver::Part<D> {
     return solver::Fault{id_[i], "non-finite force or torque"};
   }
 
+  std::optional<solver::ContactPoints<D>> contact_points() const override {
+    solver::ContactPoints<D> p;
+    p.position = &x_;
+    p.velocity = &v_;
+    p.mass = &m_;
+    p.radius = &r_;
+    p.angular_velocity = &w_;
+    return p;
+  }
+
+  // Forces of contacts with other parts join force_ and torque_ after the grains' own (local
+  // damping acts on the grains' own unbalanced force only).
+  void add_contact_forces(const std::vector<Vec<D>>& force,
+                          const std::vector<AngularVec<D>>& torque) override {
+    if (static_cast<Index>(force.size()) != f_.size() ||
+        static_cast<Index>(torque.size()) != f_.size())
+      throw std::logic_error("dem: contact forces for another grain count");
+    if (contact_pending_ && last_dt_ > 0) {
+      const Real half_dt = 0.5 * last_dt_;
+      contact_work_ += parallel::deterministic_sum<Real>(f_.size(), [&](Index i) {
+        return half_dt * (v_[i].dot(contact_force_[i] + force[i]) +
+                          angular_dot<D>(w_[i], contact_torque_[i] + torque[i]));
+      });
+    }
+    contact_pending_ = false;
+    parallel::for_each(f_.size(), [&](Index i) {
+      contact_force_[i] = force[i];
+      contact_torque_[i] = torque[i];
+      force_[i] += force[i];
+      torque_[i] += torque[i];
+    });
+  }
+
   void advance(Real /*t*/, Real dt) override {
     const Real half = 0.5 * dt;
     last_dt_ = dt;
+    contact_pending_ = true;
     parallel::for_each(f_.size(), [&](Index i) {
       v_[i] += (half / m_[i]) * force_[i];
       w_[i] += (half / inertia_[i]) * torque_[i];
@@ -377,7 +448,8 @@ class DemPart final : public solver::Part<D> {
     });
     solver::Energies en;
     en.kinetic_j = s.k;
-    en.contact_j = s.e + contact_dissipated_;  // stored in the springs + lost in contacts
+    // Stored in the springs + lost in contacts, minus the work of contacts with other parts.
+    en.contact_j = s.e + contact_dissipated_ - contact_work_;
     en.damping_j = local_dissipated_;
     en.external_work_j = external_work_;
     return en;
@@ -423,6 +495,53 @@ class DemPart final : public solver::Part<D> {
   }
 
  private:
+  // The bed's impedance behind the absorbing walls (defaults from the grains, see the schema)
+  // and each touching grain's static reaction: the rigid wall law's elastic normal force at its
+  // overlap now (t = 0: after settling, or as placed).
+  void init_absorbing_walls(const io::Config& c, const io::PartConfig& pc) {
+    const Index n = f_.size();
+    Real mass = 0, radius = 0;
+    for (Index i = 0; i < n; ++i) {
+      mass += m_[i];
+      radius += r_[i];
+    }
+    const Real grains = static_cast<Real>(std::max<Index>(n, 1));
+    const Real rho = cfg_.absorbing_density_kg_m3 > 0 ? cfg_.absorbing_density_kg_m3
+                                                      : mass / region_volume<D>(pc.region);
+    Real cp = cfg_.absorbing_p_wave_speed_m_s;
+    if (!(cp > 0)) {
+      if (cfg_.contact != io::DemContact::LinearSpring)
+        throw std::logic_error("absorbing walls with Hertz contacts need a P-wave speed");
+      // A chain (square/cubic lattice) of the mean grain: 2r sqrt(k_n / m).
+      cp = 2 * (radius / grains) * std::sqrt(cfg_.normal_stiffness_n_m / (mass / grains));
+    }
+    const Real nu = c.materials[pc.material].granular.poisson_ratio;
+    const Real cs = cfg_.absorbing_s_wave_speed_m_s > 0
+                        ? cfg_.absorbing_s_wave_speed_m_s
+                        : cp * std::sqrt((1 - 2 * nu) / (2 - 2 * nu));
+    absorbing_ =
+        AbsorbingWallParams{.normal_impedance = rho * cp, .tangential_impedance = rho * cs};
+    add_diagnostic("absorbing_wall_density_kg_m3", rho);
+    add_diagnostic("absorbing_wall_p_wave_speed_m_s", cp);
+    add_diagnostic("absorbing_wall_s_wave_speed_m_s", cs);
+    std::visit(
+        [&](const auto& laws) {
+          using Law = typename std::decay_t<decltype(laws)>::Type;
+          for (Index i = 0; i < n; ++i)
+            for (const io::Face face : cfg_.absorbing_walls) {
+              const int axis = static_cast<int>(face) / 2;
+              Vec<D> foot = x_[i];
+              foot[axis] = static_cast<int>(face) % 2 == 0 ? domain_lo_[axis] : domain_hi_[axis];
+              const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+              if (!g.touching()) continue;
+              const ContactForce<D> cf = Law::template evaluate<D>(
+                  laws.wall, g, RelativeVelocity<D>{}, m_[i], Vec<D>::Zero(), Real(0));
+              static_reaction_[i][axis] = std::max(cf.normal_force, Real(0));
+            }
+        },
+        laws_);
+  }
+
   bool in_domain(Index i) const {
     for (int d = 0; d < D; ++d)
       if (!(x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d])) return false;
@@ -678,6 +797,21 @@ class DemPart final : public solver::Part<D> {
       elastic += cf.elastic_energy + rt.elastic_energy;
       dissipated += cf.dissipated_power + rt.dissipated_power;
     }
+    // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
+    Real absorbed = 0, static_power = 0;
+    for (const io::Face face : cfg_.absorbing_walls) {
+      const int axis = static_cast<int>(face) / 2;
+      const bool low = static_cast<int>(face) % 2 == 0;
+      Vec<D> foot = x_[i];
+      foot[axis] = low ? domain_lo_[axis] : domain_hi_[axis];
+      const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+      if (!g.touching()) continue;
+      const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
+          absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][axis]);
+      force += aw.force;
+      absorbed += aw.dissipated_power;
+      static_power += aw.static_power;
+    }
     for (int k = tally.slots; k < kMaxContacts; ++k)
       partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
     if (!bond_partner_new_.empty()) {
@@ -703,12 +837,14 @@ class DemPart final : public solver::Part<D> {
       torque += td.load;
       local_power = fd.dissipated_power + td.dissipated_power;
     }
+    local_power += absorbed;
     force_[i] = force;
     torque_[i] = torque;
     contacts_[i] = tally.slots;
     elastic_[i] = elastic;
     dissipated_[i] = dissipated;
     local_power_[i] = local_power;
+    static_power_[i] = static_power;
     bonds_[i] = bonds;
     bond_breaks_[i] = tally.breaks;
     bond_released_[i] = tally.released;
@@ -795,6 +931,8 @@ class DemPart final : public solver::Part<D> {
     w.value(external_work_);
     w.value(contact_dissipated_);
     w.value(local_dissipated_);
+    w.value(contact_work_);
+    w.value(contact_pending_);
     skin_.save(w);
   }
   void load_state(io::StateReader& r) override {
@@ -812,6 +950,8 @@ class DemPart final : public solver::Part<D> {
     r.value(external_work_);
     r.value(contact_dissipated_);
     r.value(local_dissipated_);
+    r.value(contact_work_);
+    r.value(contact_pending_);
     skin_.load(r);
     if (skin_.radius() > 0) build_lists();
   }
@@ -862,6 +1002,15 @@ class DemPart final : public solver::Part<D> {
   std::vector<Real>& bonds_;          // intact bonds of the grain (output when bonds are on)
   std::vector<Real>& bond_breaks_;    // bonds the grain owned that broke this step
   std::vector<Real>& bond_released_;  // energy those bonds held [J]
+  // Absorbing walls: per grain, the static reaction F_0 of the face on each axis (a grain
+  // touches at most one face of an axis) and the work rate of those reactions.
+  std::vector<Vec<D>>& static_reaction_;
+  std::vector<Real>& static_power_;
+  std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
+  std::vector<AngularVec<D>>& contact_torque_;
+  Real contact_work_ = 0;         // work of those forces on the grains [J]
+  bool contact_pending_ = false;  // moved since they were set
+  AbsorbingWallParams absorbing_;
 
   // Contact history: kMaxContacts slots per grain (partner id, tangential spring), last step's
   // and this step's.
@@ -904,6 +1053,13 @@ std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
                    d.rayleigh_fraction, d.wall_friction, d.wall_restitution);
   for (const auto f : d.walls)
     s += fmt::format("{},", static_cast<int>(f));
+  // Absorbing faces are rigid walls while settling (listed only when there are some, so the
+  // keys of packings without them are unchanged).
+  if (!d.absorbing_walls.empty()) {
+    s += "|absorbing=";
+    for (const auto f : d.absorbing_walls)
+      s += fmt::format("{},", static_cast<int>(f));
+  }
   s += fmt::format("|law={},{:a},{:a},{:a},{:a},{:a},{},{:a},{:a}", static_cast<int>(d.contact),
                    d.normal_stiffness_n_m, d.shear_stiffness_n_m, d.stiffness_step_fraction,
                    d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,

@@ -1,6 +1,6 @@
 // A DEM part: grains (disks in 2D, per metre of depth; spheres in 3D) with rotation, contact
-// laws from src/dem/laws, rigid walls on domain faces, gravity and Cundall local damping
-// (paper section II-A).
+// laws from src/dem/laws, rigid and absorbing (viscous) walls on domain faces, gravity and
+// Cundall local damping (paper section II-A).
 #pragma once
 
 #include <memory>

@@ -24,20 +24,9 @@ std::size_t at(Index i) {
   return static_cast<std::size_t>(i);
 }
 
-/// Below this many entities a loop runs on the calling thread: an OpenMP parallel region costs
-/// microseconds (milliseconds on an oversubscribed machine), more than a few thousand element
-/// updates. Each iteration writes only its own entity, so the results are the same either way.
-constexpr Index kSerialBelow = 2048;
-
 template <class F>
 void for_each_entity(Index n, F&& f) {
-  if (n < kSerialBelow) {
-    for (Index i = 0; i < n; ++i) {
-      f(i);
-    }
-  } else {
-    parallel::for_each(n, std::forward<F>(f));
-  }
+  parallel::for_each(n, std::forward<F>(f));
 }
 
 /// Per-element results of one force evaluation, reduced afterwards in a fixed order.

@@ -4,6 +4,8 @@
 // nothing; inner loops live inside each part and never dispatch per entity.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -66,6 +68,35 @@ struct Geometry {
   std::vector<std::uint8_t> cell_types;
 };
 
+/// What contacts between parts (src/contact/) see of a particle part: one sphere (disk) per
+/// particle. Pointers stay valid until the part's next stage.
+template <int D>
+struct ContactPoints {
+  const std::vector<Vec<D>>* position = nullptr;
+  const std::vector<Vec<D>>* velocity = nullptr;
+  const std::vector<Real>* mass = nullptr;                     // [kg] (per metre of depth in 2D)
+  const std::vector<Real>* radius = nullptr;                   // contact radius [m]
+  const std::vector<AxialVec<D>>* angular_velocity = nullptr;  // rotating particles (DEM) only
+};
+
+/// Nodes of a surface face: 2 (a segment, 2D) or 4 (a quadrilateral, 3D).
+template <int D>
+inline constexpr int kFaceNodes = D == 2 ? 2 : 4;
+
+/// What contacts see of a solid part: its surface faces (live elements' faces on the boundary),
+/// numbered so that the outward normal is (t_y, -t_x) for the segment tangent t = x_1 - x_0
+/// in 2D and (x_2 - x_0) x (x_3 - x_1) in 3D, with the element each face belongs to.
+template <int D>
+struct ContactSurface {
+  const std::vector<Vec<D>>* node_position = nullptr;
+  const std::vector<Vec<D>>* node_velocity = nullptr;
+  const std::vector<Real>* node_mass = nullptr;
+  const std::vector<std::array<Index, kFaceNodes<D>>>* faces = nullptr;
+  const std::vector<Index>* face_element = nullptr;
+  const std::vector<Real>* face_stiffness = nullptr;  // K A^2 / V of the face's element [N/m]
+  std::uint64_t revision = 0;                         // changes whenever `faces` changes (erosion)
+};
+
 template <int D>
 class Part {
  public:
@@ -111,6 +142,18 @@ class Part {
   virtual void load_state(io::StateReader& /*r*/) {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
                              ") cannot read checkpoints yet");
+  }
+
+  /// Contacts with other parts: a particle part offers points, a solid part its surface. The
+  /// forces of the contacts, found after compute_forces() on the same state, come back through
+  /// add_contact_forces() (per particle, or per node of the solid; torques for rotating
+  /// particles, else empty) and act in finish_step() and the next advance() like the part's own.
+  virtual std::optional<ContactPoints<D>> contact_points() const { return std::nullopt; }
+  virtual std::optional<ContactSurface<D>> contact_surface() const { return std::nullopt; }
+  virtual void add_contact_forces(const std::vector<Vec<D>>& /*force*/,
+                                  const std::vector<AxialVec<D>>& /*torque*/) {
+    throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
+                             ") does not take part in contacts");
   }
 
   /// Counters worth reporting (e.g. safeguards that acted); empty by default.

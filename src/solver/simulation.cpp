@@ -10,8 +10,10 @@
 #include <iterator>
 #include <limits>
 
+#include "contact/coupling.hpp"
 #include "core/error.hpp"
 #include "dem/dem_part.hpp"
+#include "fem/fem_part.hpp"
 #include "io/output/atomic_file.hpp"
 #include "io/output/json.hpp"
 #include "io/output/vtu_writer.hpp"
@@ -30,6 +32,7 @@ std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
   for (const auto& pc : config.parts) {
     if (pc.method == "sph") parts.push_back(sph::make_sph_part<D>(config, pc));
     if (pc.method == "dem") parts.push_back(dem::make_dem_part<D>(config, pc));
+    if (pc.method == "fem") parts.push_back(fem::make_fem_part<D>(config, pc));
   }
   return parts;
 }
@@ -42,16 +45,22 @@ namespace {
 template <int D>
 struct StepLimit {
   Real dt_s = std::numeric_limits<Real>::infinity();
-  const Part<D>* part = nullptr;
+  std::string who;   // "part 'x'" or the contact; empty when nothing limits the step
+  std::string part;  // the limiting part's name, or "contact"
   StableStep detail;
 };
 
 template <int D>
-StepLimit<D> smallest_stable_step(const std::vector<std::unique_ptr<Part<D>>>& parts) {
+StepLimit<D> smallest_stable_step(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                  const contact::Coupling<D>* coupling = nullptr) {
   StepLimit<D> lim;
   for (const auto& p : parts) {
     const StableStep s = p->stable_step();
-    if (s.dt_s < lim.dt_s) lim = {s.dt_s, p.get(), s};
+    if (s.dt_s < lim.dt_s) lim = {s.dt_s, "part '" + p->name() + "'", p->name(), s};
+  }
+  if (coupling && !coupling->empty()) {
+    const StableStep s = coupling->stable_step(parts);
+    if (s.dt_s < lim.dt_s) lim = {s.dt_s, "the contacts", "contact", s};
   }
   return lim;
 }
@@ -60,12 +69,12 @@ StepLimit<D> smallest_stable_step(const std::vector<std::unique_ptr<Part<D>>>& p
 // does); the error names the limiting part.
 template <int D>
 void check_fixed_step(const io::Config& c, const StepLimit<D>& lim) {
-  if (!c.time.fixed_dt_s || !lim.part) return;
+  if (!c.time.fixed_dt_s || lim.who.empty()) return;
   if (*c.time.fixed_dt_s > lim.dt_s)
     throw InputError(c.time.fixed_dt_where, "time.fixed_dt_s",
-                     fmt::format("fixed step {:.4g} s exceeds the stable limit {:.4g} s of part "
-                                 "'{}' ({}, entity {}); use at most {:.4g} s or unset it",
-                                 *c.time.fixed_dt_s, lim.dt_s, lim.part->name(), lim.detail.reason,
+                     fmt::format("fixed step {:.4g} s exceeds the stable limit {:.4g} s of {} "
+                                 "({}, entity {}); use at most {:.4g} s or unset it",
+                                 *c.time.fixed_dt_s, lim.dt_s, lim.who, lim.detail.reason,
                                  lim.detail.entity_id, lim.dt_s));
 }
 
@@ -76,15 +85,21 @@ class Outputs {
  public:
   // A new run writes history.csv's header; a resumed one keeps the file's first
   // `resume_history` bytes (what it held at the checkpoint) and goes on from there.
+  // `extra_columns` follow the energy columns (the contacts' forces).
   Outputs(const io::Config& c, const fs::path& dir,
-          const std::vector<std::unique_ptr<Part<D>>>& parts, std::string history_prefix = {})
+          const std::vector<std::unique_ptr<Part<D>>>& parts,
+          const std::vector<std::string>& extra_columns, std::string history_prefix = {})
       : config_(c), dir_(dir), history_(dir / "history.csv") {
     for (const auto& p : parts)
       pvd_.emplace_back(dir / (p->name() + ".pvd"));
-    if (history_prefix.empty())
+    if (history_prefix.empty()) {
       history_prefix =
           "step,time_s,dt_s,kinetic_j,internal_j,external_work_j,damping_j,hourglass_j,"
-          "contact_j,eroded_j,total_j,energy_error\n";
+          "contact_j,eroded_j,total_j,energy_error";
+      for (const auto& col : extra_columns)
+        history_prefix += "," + col;
+      history_prefix += "\n";
+    }
     history_.write(history_prefix);
     history_bytes_ = history_prefix.size();
   }
@@ -153,12 +168,16 @@ class Outputs {
                                                                          : io::VtuFormat::Appended);
   }
 
-  void history(Index step, Real t, Real dt, const Energies& e, Real total, Real error) {
-    const std::string row = fmt::format(
+  void history(Index step, Real t, Real dt, const Energies& e, Real total, Real error,
+               const std::vector<Real>& extra) {
+    std::string row = fmt::format(
         "{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-        "{:.17g},{:.17g},{:.17g}\n",
+        "{:.17g},{:.17g},{:.17g}",
         step, t, dt, e.kinetic_j, e.internal_j, e.external_work_j, e.damping_j, e.hourglass_j,
         e.contact_j, e.eroded_j, total, error);
+    for (Real v : extra)
+      row += fmt::format(",{:.17g}", v);
+    row += "\n";
     history_.write(row);
     history_bytes_ += row.size();
   }
@@ -219,7 +238,8 @@ template <int D>
 void write_summary(const io::Config& c, const fs::path& dir,
                    const std::vector<std::unique_ptr<Part<D>>>& parts, const RunResult& r,
                    Real dt_min, Real dt_max, const Energies& e0, const Energies& e,
-                   Real energy_error, const std::string& status, const std::string& message) {
+                   Real energy_error, const std::string& status, const std::string& message,
+                   const contact::Coupling<D>* coupling = nullptr) {
   io::JsonWriter j;
   j.begin_object();
   j.field("crater_version", CRATER_VERSION);
@@ -244,6 +264,12 @@ void write_summary(const io::Config& c, const fs::path& dir,
     j.end_object();
   }
   j.end_array();
+  if (coupling && !coupling->empty()) {
+    j.key("contacts").begin_object();
+    for (const auto& d : coupling->diagnostics())
+      j.field(d.name, d.value);
+    j.end_object();
+  }
   j.field("steps", static_cast<std::int64_t>(r.steps));
   j.field("time_s", r.time_s);
   j.key("time_step").begin_object();
@@ -367,6 +393,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   const auto wall_start = std::chrono::steady_clock::now();
   parallel::set_threads(opt.threads);
   auto parts = build_parts<D>(c);
+  contact::Coupling<D> coupling(c, parts);
   LoopState st;
   std::unique_ptr<Outputs<D>> outp;
   const bool resume = !opt.restart.empty();
@@ -401,15 +428,17 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
                                    "it has {} (resume into the directory the run wrote)",
                                    history_bytes, history.size()));
     history.resize(history_bytes);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, std::move(history));
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, coupling.history_columns(),
+                                        std::move(history));
     outp->restore_pvd(std::move(pvd));
     spdlog::info("resumed from {} at step {}, t = {:.6g} s", opt.restart.string(), st.steps, st.t);
   } else {
     for (auto& p : parts)
       p->compute_forces(st.t);  // rates and sound speeds of the initial state
-    check_fixed_step(c, smallest_stable_step(parts));
+    coupling.apply(parts);
+    check_fixed_step(c, smallest_stable_step(parts, &coupling));
     prepare_out_dir(opt.out_dir, opt.force);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts);
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, coupling.history_columns());
   }
   Outputs<D>& out = *outp;
   for (const auto& w : c.warnings)
@@ -427,7 +456,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     st.track = EnergyTrack{total_energy(st.e0), 0};
     st.err = st.track.error(st.e0);
     out.frame(parts, t, "000000");
-    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err);
+    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err, coupling.history_values());
     st.next_frame_t = std::min(c.output.interval_s, c.end_time_s);
   }
   e = st.e0;
@@ -440,18 +469,22 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
 
   try {
     while (t < c.end_time_s - t_eps && (c.time.max_steps == 0 || r.steps < c.time.max_steps)) {
-      const StepLimit<D> lim = smallest_stable_step(parts);
+      const StepLimit<D> lim = smallest_stable_step(parts, &coupling);
       Real dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : c.time.safety_factor * lim.dt_s;
+      // Nothing limits the step when no part has live entities left (every element of a
+      // solid eroded): go straight to the next output time.
+      if (!c.time.fixed_dt_s && lim.dt_s == std::numeric_limits<Real>::infinity())
+        dt = st.next_frame_t - t;
       // A fixed step accepted at t = 0 may exceed the limit later (an expanding charge speeds
       // up); going on would be unstable, so stop with the limiting part named.
       if (c.time.fixed_dt_s && *c.time.fixed_dt_s > lim.dt_s)
-        throw NumericalError(lim.part->name(), lim.detail.entity_id, t,
+        throw NumericalError(lim.part, lim.detail.entity_id, t,
                              fmt::format("the fixed time step {:.4g} s exceeds the stable step "
                                          "{:.4g} s ({}); lower time.fixed_dt_s or unset it",
                                          *c.time.fixed_dt_s, lim.dt_s, lim.detail.reason));
       if (!(dt > 0) || !std::isfinite(dt))
         throw NumericalError(
-            lim.part ? lim.part->name() : "?", lim.detail.entity_id, t,
+            lim.part.empty() ? "?" : lim.part, lim.detail.entity_id, t,
             fmt::format("stable time step is {} ({})", lim.dt_s, lim.detail.reason));
       // Land exactly on output times and on the end time.
       bool at_frame = false;
@@ -470,6 +503,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       st.steps = r.steps;
       for (auto& p : parts)
         p->compute_forces(t);
+      coupling.apply(parts);
       for (auto& p : parts)
         if (auto fault = p->check())
           throw NumericalError(p->name(), fault->entity_id, t, fault->what);
@@ -480,7 +514,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       if (r.steps % c.output.history_every == 0 || at_frame || last) {
         e = sum_energies(parts);
         st.err = st.track.error(e);
-        out.history(r.steps, t, dt, e, total_energy(e), st.err);
+        out.history(r.steps, t, dt, e, total_energy(e), st.err, coupling.history_values());
       }
       if (at_frame) {
         out.frame(parts, t, fmt::format("{:06d}", st.frame));
@@ -507,7 +541,8 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
         write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
                       "interrupted",
                       fmt::format("stopped by signal {} at step {}; resume with --resume {}", sig,
-                                  r.steps, opt.out_dir.string()));
+                                  r.steps, opt.out_dir.string()),
+                      &coupling);
         throw Interrupted(sig, r.steps, t);
       }
     }
@@ -519,7 +554,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     r.wall_s = elapsed();
     out.flush();
     write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, sum_energies(parts),
-                  st.err, "failed", ne.what());
+                  st.err, "failed", ne.what(), &coupling);
     throw;
   }
   r.time_s = t;
@@ -528,19 +563,24 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   e = sum_energies(parts);
   out.flush();
   write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
-                "completed", "");
+                "completed", "", &coupling);
   return r;
 }
 
 template <int D>
 std::vector<PartReport> check(const io::Config& c) {
   auto parts = build_parts<D>(c);
+  contact::Coupling<D> coupling(c, parts);
   std::vector<PartReport> reports;
   for (auto& p : parts) {
     p->compute_forces(0);
     reports.push_back({p->name(), p->method(), p->count(), p->mass_kg(), p->stable_step()});
   }
-  check_fixed_step(c, smallest_stable_step(parts));
+  if (!coupling.empty()) {
+    const StableStep s = coupling.stable_step(parts);
+    reports.push_back({"contacts", "contact", static_cast<Index>(c.contacts.size()), 0, s});
+  }
+  check_fixed_step(c, smallest_stable_step(parts, &coupling));
   return reports;
 }
 

@@ -143,7 +143,8 @@ class SphPart final : public solver::Part<D> {
         vh_(f_.add_vector("velocity_half", "m/s", kNone)),
         rhoh_(f_.add_scalar("density_half", "kg/m^3", kNone)),
         eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
-        dt_cv_(f_.add_scalar("dt_signal", "s", kNone)) {
+        dt_cv_(f_.add_scalar("dt_signal", "s", kNone)),
+        fc_(f_.add_vector("contact_force", "N", kRestart)) {
     const auto& mat = c.materials[pc.material];
     // Particles: the part's lattice, except where a zone with its own spacing lays its own
     // (equal-mass particles across a density jump, as a shock tube wants); each particle
@@ -302,6 +303,8 @@ class SphPart final : public solver::Part<D> {
       rho_[i] = rhoh_[i] + half * drho_[i];
       e_[i] = eh_[i] + half * de_[i];
     });
+    last_dt_ = dt;
+    contact_pending_ = true;
     // Work of gravity over the step, with the mid-step velocity.
     if (gravity_.squaredNorm() > 0)
       external_work_ += dt * parallel::deterministic_sum<Real>(
@@ -314,6 +317,37 @@ class SphPart final : public solver::Part<D> {
       v_[i] = vh_[i] + half * a_[i];
       rho_[i] = rhoh_[i] + half * drho_[i];
       e_[i] = eh_[i] + half * de_[i];
+    });
+  }
+
+  /// Particles as contacts see them: spheres (disks) of half their volume-equivalent size,
+  /// (m / rho)^(1/D) / 2, moving at the predicted velocity.
+  std::optional<solver::ContactPoints<D>> contact_points() const override {
+    contact_radius_.resize(static_cast<std::size_t>(f_.size()));
+    parallel::for_each(f_.size(), [&](Index i) {
+      contact_radius_[i] = Real(0.5) * std::pow(m_[i] / rho_[i], Real(1) / Real(D));
+    });
+    solver::ContactPoints<D> p;
+    p.position = &x_;
+    p.velocity = &v_;
+    p.mass = &m_;
+    p.radius = &contact_radius_;
+    return p;
+  }
+
+  void add_contact_forces(const std::vector<Vec<D>>& force,
+                          const std::vector<AxialVec<D>>& /*torque*/) override {
+    if (static_cast<Index>(force.size()) != f_.size())
+      throw std::logic_error("sph: contact forces for another particle count");
+    if (contact_pending_ && last_dt_ > 0) {
+      const Real half_dt = Real(0.5) * last_dt_;
+      contact_work_ += parallel::deterministic_sum<Real>(
+          f_.size(), [&](Index i) { return half_dt * vh_[i].dot(fc_[i] + force[i]); });
+    }
+    contact_pending_ = false;
+    parallel::for_each(f_.size(), [&](Index i) {
+      fc_[i] = force[i];
+      a_[i] += fc_[i] / m_[i];
     });
   }
 
@@ -333,6 +367,7 @@ class SphPart final : public solver::Part<D> {
     en.kinetic_j = s.k;
     en.internal_j = s.u;
     en.external_work_j = external_work_;
+    en.contact_j = -contact_work_;
     return en;
   }
 
@@ -433,6 +468,9 @@ class SphPart final : public solver::Part<D> {
     f_.save(w);
     w.value(h_max_);
     w.value(external_work_);
+    w.value(contact_work_);
+    w.value(last_dt_);
+    w.value(contact_pending_);
     w.value(reflections_);
     w.value(max_penetration_);
     skin_.save(w);
@@ -442,6 +480,9 @@ class SphPart final : public solver::Part<D> {
     f_.load(r);
     r.value(h_max_);
     r.value(external_work_);
+    r.value(contact_work_);
+    r.value(last_dt_);
+    r.value(contact_pending_);
     r.value(reflections_);
     r.value(max_penetration_);
     skin_.load(r);
@@ -736,6 +777,11 @@ class SphPart final : public solver::Part<D> {
   std::vector<Real>& rhoh_;
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
+  std::vector<Vec<D>>& fc_;  // force of the contacts with other parts (in a_ too)
+  mutable std::vector<Real> contact_radius_;
+  Real contact_work_ = 0;  // work of the contact forces on the part [J]
+  Real last_dt_ = 0;
+  bool contact_pending_ = false;  // moved since the contact forces were set
 
   // Fixed wall particles (not part of the FieldSet: they are not entities of the part).
   std::vector<Vec<D>> wall_x_, wall_mirror_;

@@ -114,6 +114,20 @@ def read_vtu(path):
     return pts, arrays, grid.GetNumberOfCells(), time
 
 
+def read_vtu_cells(path):
+    """Cell data of a .vtu read with VTK's own XML reader: {name: array}."""
+    import vtk
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    if reader.GetErrorCode() != 0:
+        raise AssertionError(f"VTK could not read {path}")
+    cd = reader.GetOutput().GetCellData()
+    return {cd.GetArrayName(i): vtk_to_numpy(cd.GetArray(i)) for i in range(cd.GetNumberOfArrays())}
+
+
 def read_pvd(path):
     """Reads a .pvd (ParaView collection) with VTK's own XML parser; returns [(time, file)].
     VTK 9.1 has no PVD reader class (it is ParaView's); vtkXMLUtilities parses VTK XML files."""

@@ -119,8 +119,10 @@ class Checkpoints(unittest.TestCase):
 
     def test_restart_from_mid_run_checkpoints(self):
         # Every part type, restarted from checkpoints the uninterrupted run wrote (kept): DEM
-        # with contact histories (a settling bed) and with bonds breaking, SPH in 3D.
-        cases = [("dem_bed_2d.toml", 5000), ("dem_bonded_2d.toml", 100), ("sph3d_small.toml", 5)]
+        # with contact histories (a settling bed) and with bonds breaking, SPH in 3D, FEM with
+        # plasticity, damage and erosion.
+        cases = [("dem_bed_2d.toml", 5000), ("dem_bonded_2d.toml", 100), ("sph3d_small.toml", 5),
+                 ("fem_plate_2d.toml", 150)]
         for name, every in cases:
             with self.subTest(scenario=name):
                 scen = SOURCE / "tests" / "data" / name

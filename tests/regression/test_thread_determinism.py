@@ -1,6 +1,7 @@
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
 history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, a
-settling DEM bed in 2D, and a bonded DEM block breaking on a floor in 2D."""
+settling DEM bed in 2D, a bonded DEM block breaking on a floor in 2D, an FEM plate eroding
+in 2D and the 3D Taylor bar (FEM, Johnson-Cook with heating, read from a Gmsh file)."""
 import sys
 import unittest
 
@@ -24,6 +25,21 @@ class ThreadDeterminism(unittest.TestCase):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/dem_bonded_2d.toml",
                                           scratch("det_dem_bonded"))
         self.assertIn("rock.pvd", files)
+
+    def test_fem_plate_2d(self):
+        # Johnson-Cook plate with damage; elements erode during the run.
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/fem_plate_2d.toml",
+                                          scratch("det_fem_plate"))
+        self.assertIn("plate.pvd", files)
+
+    def test_fem_taylor_bar_3d(self):
+        sys.path.insert(0, str(SOURCE_DIR / "tests/verification/fem_taylor"))
+        from test_taylor_bar import write_case
+
+        work = scratch("det_fem_taylor")
+        files = assert_bit_identical_runs(write_case(work), work,
+                                          sets=["scenario.end_time_s=1.5e-5", "output.interval_s=5e-6"])
+        self.assertIn("rod.pvd", files)
 
     def test_sph_3d(self):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",

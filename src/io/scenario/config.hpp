@@ -4,13 +4,17 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/types.hpp"
+#include "io/mesh/gmsh.hpp"
+#include "materials/damage/johnson_cook_damage.hpp"
 #include "materials/eos/eos.hpp"
+#include "materials/strength/strength.hpp"
 #include "sph/kernels.hpp"
 
 namespace crater::io {
@@ -50,11 +54,18 @@ struct GranularMaterial {
   Real restitution = 1;
 };
 
+/// Solid material of an FEM part (models "elastic", "johnson_cook", "drucker_prager").
+struct SolidMaterialConfig {
+  materials::StrengthParams strength = materials::ElasticParams{};
+  std::optional<materials::JohnsonCookDamageParams> damage;  // [materials.damage]; none: no erosion
+};
+
 struct MaterialConfig {
   std::string name;
-  std::string model;          // "jwl", "ideal_gas", "tait"
+  std::string model;          // "jwl", "ideal_gas", "tait", "granular", "elastic", ...
   materials::EosParams eos;   // SPH materials
   GranularMaterial granular;  // DEM materials (model "granular")
+  SolidMaterialConfig solid;  // FEM materials
   Real rho0_kg_m3 = 0;
   SourceLocation where;
 };
@@ -144,7 +155,12 @@ struct DemConfig {
   std::vector<Face> walls;
   Real wall_friction = 0.5;
   Real wall_restitution = 0.5;
+  // Absorbing (viscous, Lysmer-Kuhlemeyer) walls: faces holding the grains' static reaction
+  // of t = 0 plus dashpots of the bed's impedance (docs/theory.md §3).
   std::vector<Face> absorbing_walls;
+  Real absorbing_density_kg_m3 = 0;     // rho_b of the bed; 0: grain mass / region volume
+  Real absorbing_p_wave_speed_m_s = 0;  // c_p; 0: linear_spring estimate 2r sqrt(k_n / m)
+  Real absorbing_s_wave_speed_m_s = 0;  // c_s; 0: c_p sqrt((1 - 2 nu) / (2 - 2 nu))
   DemBondConfig bonds;
   std::vector<DemParticle> particles;  // placed by hand; empty: the region's lattice
 };
@@ -163,6 +179,31 @@ struct PackingConfig {
   Real agitation_m_s = 0;  // random initial velocity, uniform in +-this per component
 };
 
+/// How the nodes of an FEM boundary condition are chosen and what is imposed on them.
+enum class FemBoundaryType { Fixed, Symmetry, Velocity, NonReflecting };
+
+struct FemBoundaryConfig {
+  FemBoundaryType type = FemBoundaryType::Fixed;
+  std::optional<Face> face;                          // a face of the part's bounding box
+  std::string group;                                 // or a physical group of the mesh file
+  Vec3 velocity_m_s{};                               // Velocity: imposed components
+  std::array<bool, 3> components{true, true, true};  // Velocity: which components are imposed
+  SourceLocation where;
+};
+
+/// Numerics of an FEM part ([parts.fem]).
+struct FemConfig {
+  bool hourglass_stiffness = false;  // false: viscous form
+  Real hourglass_coefficient = 0.1;
+  Real bulk_viscosity_quadratic = 1.5;
+  Real bulk_viscosity_linear = 0.06;
+  Real initial_temperature_k = 293.15;
+  std::vector<FemBoundaryConfig> boundaries;
+  std::string mesh_file;                 // Gmsh .msh 4.1; empty: structured mesh of the region box
+  std::string mesh_group;                // physical group of the elements in mesh_file; empty: all
+  std::shared_ptr<const GmshMesh> mesh;  // mesh_file as read when the scenario was loaded
+};
+
 struct DetonationPoint {
   Vec3 point_m{};
   Real time_s = 0;
@@ -170,7 +211,7 @@ struct DetonationPoint {
 
 struct PartConfig {
   std::string name;
-  std::string method;        // "sph"
+  std::string method;        // "sph", "dem" or "fem"
   std::size_t material = 0;  // index into Config::materials
   Real spacing_m = 0;
   RegionConfig region;
@@ -179,7 +220,17 @@ struct PartConfig {
   SphConfig sph;
   DemConfig dem;
   PackingConfig packing;
+  FemConfig fem;
   std::vector<DetonationPoint> detonations;
+  SourceLocation where;
+};
+
+/// A contact between two parts ([[contacts]]): penalty forces, equal and opposite.
+struct ContactConfig {
+  std::array<std::size_t, 2> parts{};  // indices into Config::parts
+  Real penalty_scale = 1.0;            // s of the penalty stiffness
+  Real friction = 0;                   // Coulomb coefficient between the two parts
+  Real damping_ratio = 0.1;            // fraction of critical damping of the normal penalty
   SourceLocation where;
 };
 
@@ -195,6 +246,7 @@ struct Config {
   DomainConfig domain;
   std::vector<MaterialConfig> materials;
   std::vector<PartConfig> parts;
+  std::vector<ContactConfig> contacts;
   std::vector<std::string> warnings;  // non-fatal remarks shown by check and run
   std::string effective_toml;         // the scenario with defaults filled in
 };

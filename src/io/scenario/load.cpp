@@ -7,8 +7,11 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "fem/fem_mesh_source.hpp"
+#include "io/mesh/gmsh.hpp"
 #include "io/scenario/schema.hpp"
 #include "io/scenario/validate.hpp"
 
@@ -263,6 +266,7 @@ class Builder {
 
     read_materials(c, top);
     read_parts(c, top);
+    read_contacts(c, top);
     if (!errors_.empty()) throw InputErrors(std::move(errors_));
     for (auto& wmsg : c_warnings_)
       c.warnings.push_back(std::move(wmsg));
@@ -318,6 +322,8 @@ class Builder {
         m.granular.poisson_ratio = num(t, "poisson_ratio");
         m.granular.friction = num(t, "friction");
         m.granular.restitution = num(t, "restitution");
+      } else if (m.model == "elastic" || m.model == "johnson_cook" || m.model == "drucker_prager") {
+        read_solid(t, w, key, m);
       } else if (m.model == "ideal_gas") {
         materials::IdealGasParams p;
         p.gamma = num(t, "gamma");
@@ -334,6 +340,70 @@ class Builder {
       }
       c.materials.push_back(std::move(m));
     }
+  }
+
+  void read_solid(const toml::table& t, const SourceLocation& w, const std::string& key,
+                  MaterialConfig& m) {
+    const materials::ElasticParams elastic{.youngs_modulus_pa = num(t, "youngs_modulus_pa"),
+                                           .poisson_ratio = num(t, "poisson_ratio")};
+    if (m.model == "elastic") {
+      m.solid.strength = elastic;
+    } else if (m.model == "johnson_cook") {
+      materials::JohnsonCookParams p;
+      p.elastic = elastic;
+      p.a_pa = num(t, "a_pa");
+      p.b_pa = num(t, "b_pa");
+      p.n = num(t, "n");
+      p.c = num(t, "c");
+      p.m = num(t, "m");
+      p.reference_strain_rate_1_s = num(t, "reference_strain_rate_1_s");
+      p.thermal_softening = t.get("thermal_softening")->as_boolean()->get();
+      p.room_temperature_k = num(t, "room_temperature_k");
+      p.melt_temperature_k = num(t, "melt_temperature_k");
+      p.specific_heat_j_kg_k = num(t, "specific_heat_j_kg_k");
+      p.taylor_quinney = num(t, "taylor_quinney");
+      if (!(p.melt_temperature_k > p.room_temperature_k))
+        error(
+            loc(t, "melt_temperature_k", w), key + ".melt_temperature_k",
+            fmt::format("expected a melting temperature above room_temperature_k = {} K, got {} K",
+                        p.room_temperature_k, p.melt_temperature_k));
+      m.solid.strength = p;
+      if (const toml::node* dn = t.get("damage")) {
+        const auto& dt = *dn->as_table();
+        materials::JohnsonCookDamageParams d;
+        d.d1 = num(dt, "d1");
+        d.d2 = num(dt, "d2");
+        d.d3 = num(dt, "d3");
+        d.d4 = num(dt, "d4");
+        d.d5 = num(dt, "d5");
+        d.reference_strain_rate_1_s = p.reference_strain_rate_1_s;
+        d.room_temperature_k = p.room_temperature_k;
+        d.melt_temperature_k = p.melt_temperature_k;
+        // The failure strain at zero triaxiality must be positive, or every element fails at
+        // its first plastic step.
+        if (!(d.d1 + d.d2 > 0))
+          error(where_of(dt, w), key + ".damage",
+                fmt::format("expected D1 + D2 > 0 (the failure strain at zero triaxiality), got "
+                            "{}",
+                            d.d1 + d.d2));
+        m.solid.damage = d;
+      }
+    } else {
+      const Real phi = num(t, "friction_angle_deg") * M_PI / 180;
+      const Real psi =
+          opt_num(t, "dilation_angle_deg").value_or(num(t, "friction_angle_deg")) * M_PI / 180;
+      const std::string fit = str(t, "fit");
+      const auto f = fit == "extension"      ? materials::MohrCoulombFit::kExtensionCone
+                     : fit == "plane_strain" ? materials::MohrCoulombFit::kPlaneStrain
+                                             : materials::MohrCoulombFit::kCompressionCone;
+      if (psi > phi + 1e-12)
+        error(loc(t, "dilation_angle_deg", w), key + ".dilation_angle_deg",
+              "expected a dilation angle at most the friction angle (more dilation than "
+              "friction is not admissible)");
+      m.solid.strength =
+          materials::drucker_prager_from_mohr_coulomb(elastic, num(t, "cohesion_pa"), phi, psi, f);
+    }
+    report(t, w, key, materials::strength_check(m.solid.strength));
   }
 
   RegionConfig read_region(const toml::table& t, const SourceLocation& w, const std::string& key,
@@ -374,7 +444,25 @@ class Builder {
       p.where = w;
       p.name = str(t, "name");
       p.method = str(t, "method");
-      p.spacing_m = num(t, "spacing_m");
+      // An FEM part read from a mesh file takes its geometry from the mesh; every other part
+      // is a region filled at a spacing.
+      const toml::node* fem_node = t.get("fem");
+      const bool from_mesh = p.method == "fem" && fem_node && fem_node->is_table() &&
+                             fem_node->as_table()->get("mesh_file");
+      if (from_mesh) {
+        for (const char* k : {"spacing_m", "region"})
+          if (t.get(k))
+            error(loc(t, k, w), key + "." + k,
+                  "not used with fem.mesh_file (the mesh gives the geometry); remove it");
+      } else {
+        for (const char* k : {"spacing_m", "region"})
+          if (!t.get(k))
+            error(w, key + "." + k,
+                  std::string("missing required key (") +
+                      (k == std::string("region") ? "a table [parts.region]" : "a number, in m") +
+                      ")" + (p.method == "fem" ? ", or give fem.mesh_file" : ""));
+      }
+      p.spacing_m = opt_num(t, "spacing_m").value_or(0);
       for (const auto& other : c.parts)
         if (other.name == p.name)
           error(
@@ -402,8 +490,12 @@ class Builder {
         p.material = static_cast<std::size_t>(it - c.materials.begin());
       }
 
-      const auto& rt = table(t, "region");
-      p.region = read_region(rt, where_of(rt, w), key + ".region", dim);
+      const toml::table* region_table = t.get("region") ? t.get("region")->as_table() : nullptr;
+      if (region_table)
+        p.region = read_region(*region_table, where_of(*region_table, w), key + ".region", dim);
+      if (region_table && p.method == "fem" && p.region.type != RegionType::Box)
+        error(loc(*region_table, "type", w), key + ".region.type",
+              "an FEM part's structured mesh fills a box; for other shapes give fem.mesh_file");
 
       const auto& it_init = table(t, "initial");
       p.initial.density_kg_m3 = opt_num(it_init, "density_kg_m3");
@@ -419,6 +511,7 @@ class Builder {
           z.region =
               read_region(zr, where_of(zr, zw), fmt::format("{}.zones[{}].region", key, j), dim);
           z.spacing_m = opt_num(zt, "spacing_m");
+          if (z.spacing_m) check_zone_spacing(zt, zw, fmt::format("{}.zones[{}]", key, j), z, dim);
           z.density_kg_m3 = opt_num(zt, "density_kg_m3");
           z.pressure_pa = opt_num(zt, "pressure_pa");
           if (zt.get("velocity_m_s")) z.velocity_m_s = vec3(zt, "velocity_m_s");
@@ -426,6 +519,64 @@ class Builder {
         }
       }
 
+      if (region_table) check_region(c, t, *region_table, w, key, p);
+
+      // The material must suit the method.
+      if (p.material < c.materials.size()) {
+        const std::string& model = c.materials[p.material].model;
+        const char* needs =
+            model == "granular"                                                            ? "dem"
+            : (model == "elastic" || model == "johnson_cook" || model == "drucker_prager") ? "fem"
+                                                                                           : "sph";
+        static const std::map<std::string, std::string> kinds = {
+            {"sph", "an equation-of-state material (jwl, ideal_gas, tait)"},
+            {"dem", "a \"granular\" material"},
+            {"fem", "a solid material (elastic, johnson_cook, drucker_prager)"}};
+        if (p.method != needs)
+          error(loc(t, "material", w), key + ".material",
+                fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", p.method, kinds.at(p.method),
+                            c.materials[p.material].name, model));
+      }
+      if (p.method == "sph") read_sph(c, t, w, key, p);
+      if (p.method == "dem") read_dem(c, t, w, key, p);
+      if (p.method == "fem") read_fem(c, t, w, key, p);
+      c.parts.push_back(std::move(p));
+    }
+
+    // Bodies must not overlap (e.g. the plate "at 0.5 m depth" read as its top face).
+    for (std::size_t a = 0; a < c.parts.size(); ++a)
+      for (std::size_t b = a + 1; b < c.parts.size(); ++b)
+        if (overlap(c.parts[a].region, c.parts[b].region, dim))
+          error(c.parts[b].region.where, fmt::format("parts[{}].region", b),
+                fmt::format("bodies overlap: part '{}' intersects part '{}' (line {})",
+                            c.parts[b].name, c.parts[a].name, c.parts[a].region.where.line));
+  }
+
+  // A zone's own lattice: at least two sites across, and not an absurd count.
+  void check_zone_spacing(const toml::table& zt, const SourceLocation& zw, const std::string& key,
+                          const ZoneConfig& z, int dim) {
+    const Aabb b = bounds(z.region, dim);
+    Real min_extent = 1e300;
+    for (int d = 0; d < dim; ++d)
+      min_extent = std::min(min_extent, b.hi[d] - b.lo[d]);
+    if (!(min_extent > 0)) return;  // an inverted region is reported by read_region
+    const Real count = volume(z.region, dim) / std::pow(*z.spacing_m, dim);
+    if (*z.spacing_m > min_extent / 2)
+      error(loc(zt, "spacing_m", zw), key + ".spacing_m",
+            fmt::format("expected a spacing below half the zone's smallest extent ({} m), got {} m",
+                        min_extent / 2, *z.spacing_m));
+    else if (count > kMaxEntities)
+      error(loc(zt, "spacing_m", zw), key + ".spacing_m",
+            fmt::format("spacing {} m gives about {:.3g} particles in the zone, above the limit of "
+                        "{:.0e}",
+                        *z.spacing_m, count, kMaxEntities));
+  }
+
+  // The region inside the domain, and a sensible resolution.
+  void check_region(const Config& c, const toml::table& t, const toml::table& rt,
+                    const SourceLocation& w, const std::string& key, PartConfig& p) {
+    const int dim = c.dimension;
+    {
       // Inside the domain (when both are well formed: one error per mistake).
       const Aabb b = bounds(p.region, dim);
       bool well_formed = domain_ok_;
@@ -446,39 +597,81 @@ class Builder {
       Real min_extent = 1e300;
       for (int d = 0; d < dim; ++d)
         min_extent = std::min(min_extent, b.hi[d] - b.lo[d]);
-      if (!(min_extent > 0)) {
-        // An inverted region was reported above.
-      } else if (p.spacing_m > min_extent / 2)
+      if (!(min_extent > 0) || !(p.spacing_m > 0)) {
+        // An inverted region was reported above; a missing spacing too.
+      } else if (p.method == "fem" ? p.spacing_m > min_extent * (1 + 1e-9)
+                                   : p.spacing_m > min_extent / 2)
         error(loc(t, "spacing_m", w), key + ".spacing_m",
-              fmt::format("expected a spacing below half the region's smallest extent ({} m), "
-                          "got {} m",
-                          min_extent / 2, p.spacing_m));
+              p.method == "fem"
+                  ? fmt::format("expected an element size at most the region's smallest extent "
+                                "({} m), got {} m",
+                                min_extent, p.spacing_m)
+                  : fmt::format("expected a spacing below half the region's smallest extent ({} "
+                                "m), got {} m",
+                                min_extent / 2, p.spacing_m));
       else if (count > kMaxEntities)
         error(loc(t, "spacing_m", w), key + ".spacing_m",
               fmt::format("spacing {} m gives about {:.3g} particles, above the limit of {:.0e}",
                           p.spacing_m, count, kMaxEntities));
-
-      // The material must suit the method.
-      if (p.material < c.materials.size()) {
-        const bool granular = c.materials[p.material].model == "granular";
-        if (granular != (p.method == "dem"))
-          error(loc(t, "material", w), key + ".material",
-                fmt::format("a {} part needs {} material; '{}' is \"{}\"", p.method,
-                            p.method == "dem" ? "a \"granular\"" : "an equation-of-state",
-                            c.materials[p.material].name, c.materials[p.material].model));
-      }
-      if (p.method == "sph") read_sph(c, t, w, key, p);
-      if (p.method == "dem") read_dem(c, t, w, key, p);
-      c.parts.push_back(std::move(p));
     }
+  }
 
-    // Bodies must not overlap (e.g. the plate "at 0.5 m depth" read as its top face).
-    for (std::size_t a = 0; a < c.parts.size(); ++a)
-      for (std::size_t b = a + 1; b < c.parts.size(); ++b)
-        if (overlap(c.parts[a].region, c.parts[b].region, dim))
-          error(c.parts[b].region.where, fmt::format("parts[{}].region", b),
-                fmt::format("bodies overlap: part '{}' intersects part '{}' (line {})",
-                            c.parts[b].name, c.parts[a].name, c.parts[a].region.where.line));
+  void read_contacts(Config& c, const SourceLocation& top) {
+    const toml::node* cn = root_.get("contacts");
+    if (!cn) return;
+    const auto& arr = *cn->as_array();
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const auto& t = *arr.get(i)->as_table();
+      const SourceLocation w = where_of(t, top);
+      const std::string key = fmt::format("contacts[{}]", i);
+      ContactConfig k;
+      k.where = w;
+      k.penalty_scale = num(t, "penalty_scale");
+      k.friction = num(t, "friction");
+      k.damping_ratio = num(t, "damping_ratio");
+      const auto& names = *t.get("parts")->as_array();
+      const SourceLocation pw = loc(t, "parts", w);
+      if (names.size() != 2) {
+        error(pw, key + ".parts", fmt::format("expected two part names, got {}", names.size()));
+        continue;
+      }
+      std::array<std::string, 2> methods;
+      bool ok = true;
+      for (std::size_t j = 0; j < 2; ++j) {
+        const std::string name = names.get(j)->as_string()->get();
+        const auto it = std::find_if(c.parts.begin(), c.parts.end(),
+                                     [&](const PartConfig& p) { return p.name == name; });
+        if (it == c.parts.end()) {
+          std::string known;
+          for (const auto& p : c.parts)
+            known += (known.empty() ? "'" : ", '") + p.name + "'";
+          error(pw, fmt::format("{}.parts[{}]", key, j),
+                fmt::format("no part named '{}' (parts: {})", name, known));
+          ok = false;
+          continue;
+        }
+        k.parts[j] = static_cast<std::size_t>(it - c.parts.begin());
+        methods[j] = it->method;
+      }
+      if (!ok) continue;
+      // Particles against a solid's surface, or SPH against DEM particles.
+      std::array<std::string, 2> m = methods;
+      std::sort(m.begin(), m.end());
+      const bool supported =
+          (m[0] == "dem" && (m[1] == "fem" || m[1] == "sph")) || (m[0] == "fem" && m[1] == "sph");
+      if (!supported)
+        error(pw, key + ".parts",
+              fmt::format("contacts join sph or dem particles to an fem surface, or sph to dem "
+                          "particles; '{}' and '{}' are {} and {}",
+                          c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, methods[0],
+                          methods[1]));
+      for (const auto& other : c.contacts)
+        if (std::minmax(other.parts[0], other.parts[1]) == std::minmax(k.parts[0], k.parts[1]))
+          error(pw, key + ".parts",
+                fmt::format("a second contact between '{}' and '{}' (first at line {})",
+                            c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, other.where.line));
+      c.contacts.push_back(k);
+    }
   }
 
   std::vector<Face> read_faces(const toml::array& walls, const SourceLocation& w,
@@ -497,6 +690,235 @@ class Builder {
       faces.push_back(static_cast<Face>(f));
     }
     return faces;
+  }
+
+  void read_fem(const Config& c, const toml::table& t, const SourceLocation& w,
+                const std::string& key, PartConfig& p) {
+    const int dim = c.dimension;
+    const auto& ft = table(t, "fem");
+    const SourceLocation fw = where_of(ft, w);
+    FemConfig& f = p.fem;
+    f.hourglass_stiffness = str(ft, "hourglass") == "stiffness";
+    f.hourglass_coefficient = num(ft, "hourglass_coefficient");
+    f.bulk_viscosity_quadratic = num(ft, "bulk_viscosity_quadratic");
+    f.bulk_viscosity_linear = num(ft, "bulk_viscosity_linear");
+    f.initial_temperature_k = num(ft, "initial_temperature_k");
+    // A solid starts unstressed at its reference density; only velocities can be set.
+    const auto& it_init = table(t, "initial");
+    for (const char* k : {"density_kg_m3", "pressure_pa"})
+      if (it_init.get(k))
+        error(loc(it_init, k, w), key + ".initial." + k,
+              "not used by fem parts (a solid starts unstressed at the material's rho0_kg_m3)");
+    if (const toml::node* zn = t.get("zones"))
+      for (std::size_t j = 0; j < zn->as_array()->size(); ++j) {
+        const auto& zt = *zn->as_array()->get(j)->as_table();
+        for (const char* k : {"spacing_m", "density_kg_m3", "pressure_pa"})
+          if (zt.get(k))
+            error(loc(zt, k, w), fmt::format("{}.zones[{}].{}", key, j, k),
+                  "not used by fem parts (zones set the initial velocity of the nodes in them)");
+      }
+    if (ft.get("mesh_file")) {
+      fs::path mesh = str(ft, "mesh_file");
+      if (mesh.is_relative()) mesh = fs::path(file_).parent_path() / mesh;
+      f.mesh_file = mesh.lexically_normal().string();
+      if (ft.get("mesh_group")) f.mesh_group = str(ft, "mesh_group");
+    } else if (ft.get("mesh_group")) {
+      error(loc(ft, "mesh_group", fw), key + ".fem.mesh_group", "only used with fem.mesh_file");
+    }
+    if (p.spacing_m > 0 && p.region.type == RegionType::Box) {
+      // The structured mesh: whole elements of about spacing_m along each axis.
+      for (int d = 0; d < dim; ++d) {
+        const Real cells = (p.region.max_m[d] - p.region.min_m[d]) / p.spacing_m;
+        if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
+          c_warnings_.push_back(fmt::format(
+              "part '{}': the region's extent along axis {} ({} m) is not a multiple of "
+              "spacing_m = {} m; the elements are stretched to {} whole ones",
+              p.name, d, p.region.max_m[d] - p.region.min_m[d], p.spacing_m,
+              std::max<Real>(1, std::round(cells))));
+      }
+    }
+    if (const toml::node* bn = ft.get("boundary")) {
+      static const char* faces[] = {"left", "right", "bottom", "top", "back", "front"};
+      const auto& ba = *bn->as_array();
+      for (std::size_t j = 0; j < ba.size(); ++j) {
+        const auto& bt = *ba.get(j)->as_table();
+        const SourceLocation bw = where_of(bt, fw);
+        const std::string bk = fmt::format("{}.fem.boundary[{}]", key, j);
+        FemBoundaryConfig b;
+        b.where = bw;
+        const std::string type = str(bt, "type");
+        b.type = type == "fixed"      ? FemBoundaryType::Fixed
+                 : type == "symmetry" ? FemBoundaryType::Symmetry
+                 : type == "velocity" ? FemBoundaryType::Velocity
+                                      : FemBoundaryType::NonReflecting;
+        const bool has_face = bt.get("face") != nullptr, has_group = bt.get("group") != nullptr;
+        if (has_face == has_group) {
+          error(bw, bk, "expected exactly one of face or group");
+          continue;
+        }
+        if (has_face) {
+          const std::string face = str(bt, "face");
+          const int fi = static_cast<int>(std::find(std::begin(faces), std::end(faces), face) -
+                                          std::begin(faces));
+          if (fi / 2 >= dim) {
+            error(loc(bt, "face", bw), bk + ".face",
+                  fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+            continue;
+          }
+          b.face = static_cast<Face>(fi);
+        } else {
+          b.group = str(bt, "group");
+          if (f.mesh_file.empty())
+            error(loc(bt, "group", bw), bk + ".group",
+                  "mesh groups need fem.mesh_file; on a structured mesh give face");
+        }
+        if (bt.get("velocity_m_s") || bt.get("components")) {
+          if (b.type != FemBoundaryType::Velocity)
+            error(loc(bt, bt.get("velocity_m_s") ? "velocity_m_s" : "components", bw),
+                  bk + (bt.get("velocity_m_s") ? ".velocity_m_s" : ".components"),
+                  "only used by type = \"velocity\"");
+          b.velocity_m_s = vec3(bt, "velocity_m_s");
+          if (const toml::node* cn = bt.get("components")) {
+            b.components = {false, false, false};
+            for (const auto& e : *cn->as_array()) {
+              const std::string axis = e.as_string()->get();
+              const int a = axis[0] - 'x';
+              if (a >= dim)
+                error(where_of(e, bw), bk + ".components",
+                      "\"z\" is not a component of a 2D scenario");
+              else
+                b.components[static_cast<std::size_t>(a)] = true;
+            }
+          }
+        }
+        f.boundaries.push_back(b);
+      }
+    }
+    if (!f.mesh_file.empty()) read_fem_mesh(c, ft, fw, key, p);
+  }
+
+  // Mesh files are read when the scenario is, so that a malformed mesh is an input error
+  // (exit 2) before anything runs; the part reads the file again when it is built.
+  void read_fem_mesh(const Config& c, const toml::table& ft, const SourceLocation& fw,
+                     const std::string& key, PartConfig& p) {
+    FemConfig& f = p.fem;
+    const SourceLocation mw = loc(ft, "mesh_file", fw);
+    std::error_code ec;
+    if (!fs::is_regular_file(f.mesh_file, ec)) {
+      error(mw, key + ".fem.mesh_file",
+            fmt::format("expected a Gmsh .msh file; '{}' {}", f.mesh_file,
+                        fs::exists(f.mesh_file, ec) ? "is not a file" : "does not exist"));
+      return;
+    }
+    try {
+      f.mesh = std::make_shared<const GmshMesh>(read_gmsh(f.mesh_file));
+      Index reordered = 0;
+      std::vector<std::string> groups;
+      std::map<std::string, int> normal_axis;
+      std::array<Real, 3> lo{}, hi{};
+      auto inspect = [&](const auto& source) {
+        for (const auto& [name, set] : source.groups) {
+          groups.push_back(name);
+          normal_axis[name] = set.normal_axis;
+        }
+        const auto& x = source.mesh.position;
+        for (int d = 0; d < c.dimension; ++d) {
+          lo[static_cast<std::size_t>(d)] = hi[static_cast<std::size_t>(d)] = x.front()[d];
+          for (const auto& q : x) {
+            lo[static_cast<std::size_t>(d)] = std::min(lo[static_cast<std::size_t>(d)], q[d]);
+            hi[static_cast<std::size_t>(d)] = std::max(hi[static_cast<std::size_t>(d)], q[d]);
+          }
+        }
+      };
+      if (c.dimension == 2)
+        inspect(fem::mesh_from_gmsh<2>(*f.mesh, f.mesh_file, f.mesh_group, reordered));
+      else
+        inspect(fem::mesh_from_gmsh<3>(*f.mesh, f.mesh_file, f.mesh_group, reordered));
+      if (reordered > 0)
+        c_warnings_.push_back(fmt::format(
+            "part '{}': {} elements of {} were numbered clockwise (as seen along the normal); "
+            "their node order was mirrored",
+            p.name, reordered, f.mesh_file));
+      // The mesh's bounding box stands for the region: inside the domain, not overlapping.
+      p.region.type = RegionType::Box;
+      p.region.min_m = lo;
+      p.region.max_m = hi;
+      p.region.where = mw;
+      for (int d = 0; d < c.dimension; ++d)
+        if (lo[static_cast<std::size_t>(d)] < c.domain.min_m[static_cast<std::size_t>(d)] ||
+            hi[static_cast<std::size_t>(d)] > c.domain.max_m[static_cast<std::size_t>(d)]) {
+          error(mw, key + ".fem.mesh_file",
+                fmt::format("expected the mesh inside the domain {} .. {}; it spans {} .. {}",
+                            vec_text(c.domain.min_m, c.dimension),
+                            vec_text(c.domain.max_m, c.dimension), vec_text(lo, c.dimension),
+                            vec_text(hi, c.dimension)));
+          break;
+        }
+      for (std::size_t j = 0; j < f.boundaries.size(); ++j) {
+        const auto& b = f.boundaries[j];
+        if (b.group.empty()) continue;
+        if (std::find(groups.begin(), groups.end(), b.group) != groups.end()) {
+          if (b.type == FemBoundaryType::Symmetry && normal_axis[b.group] < 0)
+            error(b.where, fmt::format("{}.fem.boundary[{}].group", key, j),
+                  fmt::format("a symmetry condition needs a plane normal to x, y{}; the nodes of "
+                              "group '{}' are not on one",
+                              c.dimension == 3 ? " or z" : "", b.group));
+          continue;
+        }
+        std::string known;
+        for (const auto& g : groups)
+          known += (known.empty() ? "'" : ", '") + g + "'";
+        error(b.where, fmt::format("{}.fem.boundary[{}].group", key, j),
+              fmt::format("no physical group '{}' with nodes of the part in {} (groups: {})",
+                          b.group, f.mesh_file, known.empty() ? "none" : known));
+      }
+    } catch (const InputError& e) {
+      errors_.push_back(e);
+    }
+  }
+
+  // Absorbing walls: faces of their own (not also rigid walls, not twice) and the bed's
+  // impedance (Hertz contacts have no fixed stiffness: their P-wave speed must be given).
+  void read_absorbing_walls(const toml::table& dt, const SourceLocation& dw, const std::string& key,
+                            int dim, DemConfig& d) {
+    const std::string ak = key + ".dem.absorbing_walls";
+    const auto& arr = *dt.get("absorbing_walls")->as_array();
+    d.absorbing_walls = read_faces(arr, dw, ak, dim);
+    static const char* names[] = {"left", "right", "bottom", "top", "back", "front"};
+    std::vector<std::string> seen;
+    for (std::size_t j = 0; j < arr.size(); ++j) {
+      const std::string name = arr.get(j)->as_string()->get();
+      const SourceLocation fw = where_of(*arr.get(j), dw);
+      const bool rigid = std::any_of(d.walls.begin(), d.walls.end(),
+                                     [&](Face f) { return name == names[static_cast<int>(f)]; });
+      if (rigid)
+        error(fw, fmt::format("{}[{}]", ak, j),
+              fmt::format("\"{}\" is also in walls: a face is either a rigid or an absorbing "
+                          "wall",
+                          name));
+      else if (std::find(seen.begin(), seen.end(), name) != seen.end())
+        error(fw, fmt::format("{}[{}]", ak, j), fmt::format("\"{}\" is listed twice", name));
+      seen.push_back(name);
+    }
+    const bool absorbing = !d.absorbing_walls.empty();
+    static const char* speed_keys[] = {"absorbing_wall_density_kg_m3",
+                                       "absorbing_wall_p_wave_speed_m_s",
+                                       "absorbing_wall_s_wave_speed_m_s"};
+    Real* into[] = {&d.absorbing_density_kg_m3, &d.absorbing_p_wave_speed_m_s,
+                    &d.absorbing_s_wave_speed_m_s};
+    for (int k = 0; k < 3; ++k) {
+      const auto v = opt_num(dt, speed_keys[k]);
+      if (!v) continue;
+      if (!absorbing)
+        error(loc(dt, speed_keys[k], dw), key + ".dem." + speed_keys[k],
+              "only used with absorbing_walls");
+      *into[k] = *v;
+    }
+    if (absorbing && d.contact == DemContact::HertzMindlin && !(d.absorbing_p_wave_speed_m_s > 0))
+      error(loc(dt, "absorbing_walls", dw), key + ".dem.absorbing_wall_p_wave_speed_m_s",
+            "missing: absorbing walls with Hertz-Mindlin contacts need the bed's P-wave speed "
+            "(a Hertzian packing has no fixed stiffness to estimate it from; dry sand near the "
+            "surface: about 100-300 m/s)");
   }
 
   void read_dem(const Config& c, const toml::table& t, const SourceLocation& w,
@@ -550,6 +972,7 @@ class Builder {
     p.dem.rate_dependent_friction = dt.get("rate_dependent_friction")->as_boolean()->get();
     p.dem.friction_rate_beta = num(dt, "friction_rate_beta");
     p.dem.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
+    read_absorbing_walls(dt, dw, key, dim, p.dem);
     {
       const auto& bt = table(dt, "bonds");
       const SourceLocation bw = where_of(bt, dw);
@@ -709,6 +1132,31 @@ class Builder {
                           "spacing_m = {} m; the {} wall's particles leave a gap at the far end",
                           p.name, d, c.domain.max_m[d] - c.domain.min_m[d], p.spacing_m, face));
       }
+    }
+    if (p.sph.wall_no_slip && !p.sph.walls.empty() && p.spacing_m > 0) {
+      // Dummy particles fill every walled face over the whole domain, as deep as the kernel
+      // support of the largest particle (the coarsest lattice: part or zone).
+      Real coarsest = p.spacing_m;
+      for (const auto& z : p.zones)
+        if (z.spacing_m) coarsest = std::max(coarsest, *z.spacing_m);
+      const Real layers =
+          std::max<Real>(p.sph.wall_layers, std::ceil(2 * p.sph.h_factor * coarsest / p.spacing_m));
+      Real count = 0;
+      for (Face f : p.sph.walls) {
+        Real n = layers;
+        for (int d = 0; d < dim; ++d)
+          if (d != static_cast<int>(f) / 2)
+            n *= std::max<Real>(1,
+                                (c.domain.max_m[d] - c.domain.min_m[d]) / p.spacing_m + 2 * layers);
+        count += n;
+      }
+      if (count > kMaxEntities)
+        error(
+            loc(st, "walls", w), key + ".sph.walls",
+            fmt::format("no-slip walls along the whole domain need about {:.3g} wall particles at "
+                        "spacing_m = {} m, above the limit of {:.0e}: shrink [domain] to the "
+                        "fluid's reach or coarsen the spacing",
+                        count, p.spacing_m, kMaxEntities));
     }
     if (const toml::node* dn = t.get("detonation")) {
       const auto& da = *dn->as_array();

@@ -64,6 +64,10 @@ KeySchema text(std::string name, std::string doc) {
 KeySchema vec(std::string name, std::string unit, std::string doc) {
   return of_type(real(std::move(name), std::move(unit), std::move(doc)), KeyType::RealVector);
 }
+KeySchema absent_means_unset(KeySchema k) {
+  k.absent_means_unset = true;
+  return k;
+}
 KeySchema sub(std::string name, KeyType t, const TableSchema& s, std::string doc) {
   KeySchema k;
   k.name = std::move(name);
@@ -163,6 +167,27 @@ TableSchema make_domain() {
   return t;
 }
 
+TableSchema make_jc_damage() {
+  TableSchema t{"materials.damage",
+                "Johnson-Cook damage (Johnson & Cook 1985): D accumulates d(eps_p) / eps_f with "
+                "eps_f = [D1 + D2 exp(D3 sigma*)] [1 + D4 ln(rate*)] [1 + D5 T*].",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(real("d1", "1", "D1.")),
+      required(real("d2", "1", "D2.")),
+      required(real("d3", "1", "D3.")),
+      with_default(real("d4", "1", "D4 (rate)."), "0"),
+      with_default(real("d5", "1", "D5 (temperature)."), "0"),
+  };
+  return t;
+}
+const TableSchema& jc_damage_schema() {
+  static const TableSchema s = make_jc_damage();
+  return s;
+}
+
 TableSchema make_material() {
   TableSchema t{"materials",
                 "Materials, referenced by name from parts. `model` selects the law and its "
@@ -172,10 +197,70 @@ TableSchema make_material() {
                 {}};
   t.keys = {
       required(text("name", "Name used by parts' `material`.")),
-      required(choice("model", {"jwl", "ideal_gas", "tait", "granular"},
-                      "The law: an equation of state for SPH parts (jwl, ideal_gas, tait), or "
-                      "granular for DEM parts.")),
+      required(choice(
+          "model",
+          {"jwl", "ideal_gas", "tait", "granular", "elastic", "johnson_cook", "drucker_prager"},
+          "The law: an equation of state for SPH parts (jwl, ideal_gas, tait), "
+          "granular for DEM parts, or a strength law for FEM parts (elastic, "
+          "johnson_cook, drucker_prager).")),
   };
+  const std::vector<KeySchema> elastic = {
+      required(positive(real("rho0_kg_m3", "kg/m^3", "Density of the undeformed solid."))),
+      required(positive(real("youngs_modulus_pa", "Pa", "Young's modulus E."))),
+      required(
+          at_most(at_least(real("poisson_ratio", "1", "Poisson's ratio; below 0.5."), 0), 0.4999)),
+  };
+  t.variants["elastic"] = elastic;
+  t.variants["johnson_cook"] = elastic;
+  for (KeySchema k : {
+           required(
+               positive(real("a_pa", "Pa", "Johnson-Cook A, the initial yield stress (eq. 41)."))),
+           required(at_least(real("b_pa", "Pa", "Johnson-Cook B, hardening modulus."), 0)),
+           required(positive(real("n", "1", "Johnson-Cook hardening exponent n."))),
+           with_default(at_least(real("c", "1", "Johnson-Cook strain-rate coefficient C."), 0),
+                        "0"),
+           with_default(positive(real("m", "1", "Johnson-Cook thermal softening exponent m.")),
+                        "1"),
+           with_default(positive(real("reference_strain_rate_1_s", "1/s",
+                                      "Reference plastic strain rate of the rate term (eq. 41).")),
+                        "1.0"),
+           with_default(of_type(real("thermal_softening", "",
+                                     "Use the (1 - T*^m) term with adiabatic heating (off in the "
+                                     "paper)."),
+                                KeyType::Bool),
+                        "false"),
+           with_default(positive(real("room_temperature_k", "K", "T_room of T*.")), "293.15"),
+           with_default(positive(real("melt_temperature_k", "K", "T_melt of T*.")), "1793.0"),
+           with_default(positive(real("specific_heat_j_kg_k", "J/(kg K)",
+                                      "Specific heat for adiabatic heating.")),
+                        "486.0"),
+           with_default(at_most(at_least(real("taylor_quinney", "1",
+                                              "Fraction of plastic work turned into heat."),
+                                         0),
+                                1),
+                        "0.9"),
+           absent_means_unset(
+               sub("damage", KeyType::Table, jc_damage_schema(),
+                   "Johnson-Cook damage; elements erode at D = 1. Unset: no damage, no erosion.")),
+       })
+    t.variants["johnson_cook"].push_back(k);
+  t.variants["drucker_prager"] = elastic;
+  for (KeySchema k : {
+           required(at_least(real("cohesion_pa", "Pa", "Mohr-Coulomb cohesion c."), 0)),
+           required(at_most(
+               at_least(real("friction_angle_deg", "deg", "Mohr-Coulomb friction angle phi."), 0),
+               89)),
+           at_most(at_least(real("dilation_angle_deg", "deg",
+                                 "Dilation angle psi (psi = phi: associative). Unset: phi."),
+                            0),
+                   89),
+           with_default(choice("fit", {"compression", "extension", "plane_strain"},
+                               "Which Mohr-Coulomb condition the Drucker-Prager cone matches: "
+                               "the triaxial compression or extension meridian, or the plane-"
+                               "strain collapse load."),
+                        "\"compression\""),
+       })
+    t.variants["drucker_prager"].push_back(k);
   t.variants["jwl"] = {
       required(positive(real("rho0_kg_m3", "kg/m^3", "Unreacted explosive density rho_0."))),
       required(positive(real("a_pa", "Pa", "JWL A (paper eq. 40)."))),
@@ -441,6 +526,28 @@ TableSchema make_dem() {
           at_most(positive(real("wall_restitution", "1", "Grain-wall coefficient of restitution.")),
                   1),
           "0.5"),
+      with_default(
+          choice_list(
+              "absorbing_walls", {"left", "right", "bottom", "top", "back", "front"},
+              "Domain faces that are absorbing (viscous, Lysmer-Kuhlemeyer) walls, for the "
+              "non-reflecting boundaries of a bed: a grain touching one gets its static reaction "
+              "of t = 0 (the wall's elastic normal force at its initial overlap, so a bed settled "
+              "on it keeps resting on it) plus dashpots rho c_p A on its normal and rho c_s A on "
+              "its tangential velocity, A = 2r (2D, per metre of depth) or (2r)^2 (3D); the wall "
+              "pushes, never pulls. While the packing settles they are rigid walls. A face is "
+              "in walls or here, not both."),
+          "[]"),
+      positive(real("absorbing_wall_density_kg_m3", "kg/m^3",
+                    "Bulk density rho of the bed behind the absorbing walls. Unset: the part's "
+                    "grain mass over its region's volume.")),
+      positive(real("absorbing_wall_p_wave_speed_m_s", "m/s",
+                    "P-wave speed c_p of the bed behind the absorbing walls. Unset: with "
+                    "linear_spring, the lattice estimate 2r sqrt(k_n/m) of the mean grain (exact "
+                    "for a chain or a square/cubic lattice); with hertz_mindlin it is required "
+                    "(dry sand near the surface: about 100-300 m/s).")),
+      positive(real("absorbing_wall_s_wave_speed_m_s", "m/s",
+                    "S-wave speed c_s of the bed behind the absorbing walls. Unset: c_p "
+                    "sqrt((1 - 2 nu)/(2 - 2 nu)), nu the material's Poisson ratio.")),
       sub("bonds", KeyType::Table, bond_schema(),
           "Parallel bonds between the grains touching at t = 0."),
   };
@@ -566,6 +673,77 @@ TableSchema make_zone() {
   return t;
 }
 
+TableSchema make_fem_boundary() {
+  TableSchema t{"parts.fem.boundary",
+                "A boundary condition on the nodes of one face of the part (or of a mesh "
+                "group). Later entries win where they share nodes.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(choice("type", {"fixed", "symmetry", "velocity", "non_reflecting"},
+                      "fixed: all velocity components zero. symmetry: the velocity normal to the "
+                      "face zero (also a frictionless rigid wall). velocity: the given "
+                      "components of velocity_m_s imposed. non_reflecting: viscous dashpots "
+                      "rho c_p on the normal and rho c_s on the tangential velocity "
+                      "(Lysmer-Kuhlemeyer), absorbing waves that reach the face.")),
+      choice("face", {"left", "right", "bottom", "top", "back", "front"},
+             "A face of the part's bounding box: left/right = x min/max, bottom/top = y min/max, "
+             "back/front = z min/max. Give face or group."),
+      text("group", "A physical group of the mesh file (lines in 2D, surfaces in 3D)."),
+      vec("velocity_m_s", "m/s", "velocity: the imposed velocity. Unset: at rest."),
+      choice_list("components", {"x", "y", "z"},
+                  "velocity: the components imposed; the others stay free. Unset: all."),
+  };
+  return t;
+}
+const TableSchema& fem_boundary_schema() {
+  static const TableSchema s = make_fem_boundary();
+  return s;
+}
+
+TableSchema make_fem() {
+  TableSchema t{"parts.fem",
+                "Explicit finite-element numerics of the part (paper section III-B): one-point "
+                "Q4 (2D plane strain) or Hex8 (3D) elements, lumped mass, central difference.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      with_default(choice("hourglass", {"viscous", "stiffness"},
+                          "Flanagan-Belytschko hourglass control form (LS-DYNA types 3 and 5)."),
+                   "\"viscous\""),
+      with_default(at_most(at_least(real("hourglass_coefficient", "1",
+                                         "Hourglass coefficient kappa (LS-DYNA QH)."),
+                                    0),
+                           0.5),
+                   "0.1"),
+      with_default(at_least(real("bulk_viscosity_quadratic", "1",
+                                 "Quadratic bulk viscosity coefficient C_0 (LS-DYNA Q1)."),
+                            0),
+                   "1.5"),
+      with_default(at_least(real("bulk_viscosity_linear", "1",
+                                 "Linear bulk viscosity coefficient C_1 (LS-DYNA Q2)."),
+                            0),
+                   "0.06"),
+      with_default(positive(real("initial_temperature_k", "K", "Initial temperature.")), "293.15"),
+      text("mesh_file",
+           "A Gmsh mesh (.msh format 4.1, ASCII), relative to the scenario file: 4-node "
+           "quadrangles (2D) or 8-node hexahedra (3D). Unset: a structured mesh of the part's "
+           "box region with elements of size spacing_m."),
+      text("mesh_group",
+           "The physical group of mesh_file holding the part's elements. Unset: every "
+           "element of the scenario's dimension."),
+      sub("boundary", KeyType::TableArray, fem_boundary_schema(),
+          "Boundary conditions. Faces without one are free (traction-free)."),
+  };
+  return t;
+}
+const TableSchema& fem_schema() {
+  static const TableSchema s = make_fem();
+  return s;
+}
+
 TableSchema make_part() {
   TableSchema t{"parts",
                 "Bodies of the model, one method each. `method` selects the keys.",
@@ -574,11 +752,15 @@ TableSchema make_part() {
                 {}};
   t.keys = {
       required(text("name", "Unique part name; names output files.")),
-      required(choice("method", {"sph", "dem"},
-                      "Discretisation: sph (fluids, explosives) or dem (grains).")),
+      required(choice("method", {"sph", "dem", "fem"},
+                      "Discretisation: sph (fluids, explosives), dem (grains) or fem (solids).")),
       required(text("material", "Name of an entry of [[materials]].")),
-      required(positive(real("spacing_m", "m", "Particle spacing (lattice pitch)."))),
-      required(sub("region", KeyType::Table, region_schema(), "Where the part is.")),
+      positive(real("spacing_m", "m",
+                    "Particle spacing (lattice pitch); for fem the element size of the "
+                    "structured mesh. Required unless fem.mesh_file is given.")),
+      absent_means_unset(sub("region", KeyType::Table, region_schema(),
+                             "Where the part is (fem: a box). Required unless fem.mesh_file is "
+                             "given.")),
       sub("initial", KeyType::Table, initial_schema(), "Initial state."),
       sub("zones", KeyType::TableArray, zone_schema(),
           "Zones with their own initial state, inside the part's region."),
@@ -590,11 +772,47 @@ TableSchema make_part() {
       sub("packing", KeyType::Table, packing_schema(),
           "How the grains are laid and settled. Unset: on the lattice, not settled."),
   };
+  t.variants["fem"] = {
+      sub("fem", KeyType::Table, fem_schema(), "FEM numerics and boundary conditions."),
+  };
   t.variants["sph"] = {
       sub("sph", KeyType::Table, sph_schema(), "SPH numerics."),
       sub("detonation", KeyType::TableArray, detonation_schema(),
           "Detonation points (JWL materials only). None: the part starts as detonation "
           "products at the CJ energy (constant-volume burn)."),
+  };
+  return t;
+}
+
+TableSchema make_contact() {
+  TableSchema t{"contacts",
+                "Contacts between parts (paper section III-D): penalty forces, equal and "
+                "opposite, between the particles of one part and the surface of an FEM part "
+                "(sph-fem, dem-fem), or between the particles of an SPH and a DEM part.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(of_type(text("parts", "The two parts, by name, e.g. [\"charge\", \"plate\"]."),
+                       KeyType::StringArray)),
+      with_default(positive(real("penalty_scale", "1",
+                                 "Scale s of the penalty stiffness: particle-surface k = s K A^2 / "
+                                 "V of the face's element (K its bulk modulus, A the face area, V "
+                                 "its volume; LS-DYNA's segment stiffness), particle-particle "
+                                 "k = s E r (3D) or s E (2D) with the grain's Young's modulus. "
+                                 "The paper uses 0.1 for sph-fem, 1 for dem-fem.")),
+                   "1.0"),
+      with_default(at_least(real("friction", "1",
+                                 "Coulomb friction coefficient at the contact (the paper's "
+                                 "soil-steel 0.4)."),
+                            0),
+                   "0"),
+      with_default(at_most(at_least(real("damping_ratio", "1",
+                                         "Viscous damping of the normal penalty force as a "
+                                         "fraction of critical."),
+                                    0),
+                           1),
+                   "0.1"),
   };
   return t;
 }
@@ -608,6 +826,7 @@ const TableSchema& scenario_schema() {
   static const TableSchema domain = make_domain();
   static const TableSchema material = make_material();
   static const TableSchema part = make_part();
+  static const TableSchema contact = make_contact();
   static const TableSchema root = [] {
     TableSchema r{"", "A crater scenario file (TOML, SI units).", {}, {}, {}};
     r.keys = {
@@ -617,6 +836,7 @@ const TableSchema& scenario_schema() {
         required(sub("domain", KeyType::Table, domain, domain.doc)),
         required(sub("materials", KeyType::TableArray, material, material.doc)),
         required(sub("parts", KeyType::TableArray, part, part.doc)),
+        sub("contacts", KeyType::TableArray, contact, contact.doc),
     };
     return r;
   }();
@@ -647,6 +867,8 @@ std::string type_doc(const KeySchema& k) {
         s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
       return s;
     }
+    case KeyType::StringArray:
+      return "[string, ...]";
     case KeyType::RealVector:
       return "[number; dimension]";
     case KeyType::RealArray:

@@ -11,16 +11,17 @@
 namespace crater::io {
 
 enum class KeyType {
-  Real,        // floating point (integers are accepted and converted)
-  Integer,     // integer
-  Bool,        // true / false
-  String,      // free text
-  Choice,      // one of `choices`
-  ChoiceList,  // array of distinct strings, each one of `choices`
-  RealVector,  // array of reals with `dimension` entries
-  RealArray,   // array of reals of any length
-  Table,       // sub-table described by `sub`
-  TableArray,  // array of tables ([[name]]) each described by `sub`
+  Real,         // floating point (integers are accepted and converted)
+  Integer,      // integer
+  Bool,         // true / false
+  String,       // free text
+  Choice,       // one of `choices`
+  ChoiceList,   // array of distinct strings, each one of `choices`
+  StringArray,  // array of distinct strings (names), any number
+  RealVector,   // array of reals with `dimension` entries
+  RealArray,    // array of reals of any length
+  Table,        // sub-table described by `sub`
+  TableArray,   // array of tables ([[name]]) each described by `sub`
 };
 
 struct TableSchema;
@@ -38,6 +39,9 @@ struct KeySchema {
   std::optional<double> max;         // inclusive
   std::vector<std::string> choices;  // for Choice
   const TableSchema* sub = nullptr;  // for Table / TableArray
+  // Table: when absent, it is created (so that its defaults apply) unless this is set; then
+  // absence means "not given" (e.g. a material without [materials.damage]).
+  bool absent_means_unset = false;
 };
 
 /// A table's keys. A table with a discriminator (e.g. `model` of a material) has common keys

@@ -21,6 +21,7 @@ std::string type_name(KeyType t, int dimension) {
     case KeyType::Choice:
       return "a string";
     case KeyType::ChoiceList:
+    case KeyType::StringArray:
       return "an array of strings";
     case KeyType::RealVector:
       return fmt::format("an array of {} numbers", dimension);
@@ -157,6 +158,24 @@ void check_value(toml::node& node, const KeySchema& k, const std::string& key_pa
       for (const auto& c : k.choices)
         ok = ok || (c == s->get());
       if (!ok) expect("expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
+      break;
+    }
+    case KeyType::StringArray: {
+      auto* a = node.as_array();
+      if (!a) {
+        expect("expected an array of strings, got " + node_type_name(node));
+        break;
+      }
+      std::set<std::string> seen;
+      for (std::size_t i = 0; i < a->size(); ++i) {
+        auto* s = a->get(i)->as_string();
+        const SourceLocation w = where_of(*a->get(i), where);
+        const std::string kp = fmt::format("{}[{}]", key_path, i);
+        if (!s)
+          errors.emplace_back(w, kp, "expected a string, got " + node_type_name(*a->get(i)));
+        else if (!seen.insert(s->get()).second)
+          errors.emplace_back(w, kp, "\"" + s->get() + "\" is listed twice");
+      }
       break;
     }
     case KeyType::ChoiceList: {
@@ -306,7 +325,7 @@ void validate_table(toml::table& table, const TableSchema& schema, const std::st
       if (k->default_toml) {
         insert_default(table, *k);
         node = table.get(k->name);
-      } else if (k->type == KeyType::Table) {
+      } else if (k->type == KeyType::Table && !k->absent_means_unset) {
         // Optional sub-tables are created so that their own defaults apply.
         table.insert(k->name, toml::table{});
         node = table.get(k->name);

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 
+#include "dem/laws/absorbing_wall.hpp"
 #include "dem/laws/contact_force.hpp"
 #include "dem/laws/contact_geometry.hpp"
 #include "dem/laws/hertz_mindlin.hpp"
@@ -664,6 +665,38 @@ TEST(DemTimeScales, RayleighStepAndHertzContactTime) {
 template <class Law, int D>
 ContactForce<D> evaluate_law(const typename Law::Params& p, const ContactGeometry<D>& g) {
   return Law::template evaluate<D>(p, g, RelativeVelocity<D>{}, 1e-4, Vec<D>::Zero(), 1e-7);
+}
+
+// Absorbing wall (absorbing_wall.hpp): a grain r = 2 mm against a wall whose normal is +y,
+// rho c_p = 3e5 and rho c_s = 1.5e5 kg/(m^2 s), held reaction F_0 = 2 N.
+TEST(DemAbsorbingWall, HeldReactionPlusDashpots) {
+  const AbsorbingWallParams p{.normal_impedance = 3e5, .tangential_impedance = 1.5e5};
+  const Real r = 2e-3;
+  EXPECT_DOUBLE_EQ(absorbing_wall_area<2>(r), 4e-3);   // 2r per metre of depth
+  EXPECT_DOUBLE_EQ(absorbing_wall_area<3>(r), 16e-6);  // (2r)^2
+  const Real area = absorbing_wall_area<3>(r);
+  const Vec<3> n(0, 1, 0);
+  // Moving into the wall at 0.1 m/s and along it at 0.2 m/s:
+  // f_n = 2 + 3e5 * 16e-6 * 0.1 = 2.48 N; F_t = -1.5e5 * 16e-6 * 0.2 = -0.48 N.
+  const auto in = absorbing_wall_force<3>(p, area, n, Vec<3>(0.2, -0.1, 0), 2.0);
+  EXPECT_NEAR(in.force.x(), -0.48, 1e-12);
+  EXPECT_NEAR(in.force.y(), 2.48, 1e-12);
+  EXPECT_NEAR(in.force.z(), 0.0, 1e-15);
+  // The reaction's work rate 2 * (-0.1); dissipated 0.48 * 0.1 + 0.48 * 0.2.
+  EXPECT_NEAR(in.static_power, -0.2, 1e-12);
+  EXPECT_NEAR(in.dissipated_power, 0.048 + 0.096, 1e-12);
+  // Leaving at 1 m/s: 2 - 4.8 < 0, so the wall lets go (never pulls): f_n = 0; the held
+  // reaction's power 2 W is then all dissipated by the dashpot's share.
+  const auto out = absorbing_wall_force<3>(p, area, n, Vec<3>(0, 1, 0), 2.0);
+  EXPECT_EQ(out.force.y(), 0.0);
+  EXPECT_NEAR(out.static_power, 2.0, 1e-12);
+  EXPECT_NEAR(out.dissipated_power, 2.0, 1e-12);
+  EXPECT_NEAR(out.static_power - out.dissipated_power, out.force.dot(Vec<3>(0, 1, 0)), 1e-12);
+  // 2D, at rest: the held reaction alone.
+  const auto rest =
+      absorbing_wall_force<2>(p, absorbing_wall_area<2>(r), Vec<2>(-1, 0), Vec<2>::Zero(), 0.5);
+  EXPECT_DOUBLE_EQ(rest.force.x(), -0.5);
+  EXPECT_DOUBLE_EQ(rest.dissipated_power, 0.0);
 }
 
 TEST(DemLawTypes, SameSignatureForPairLoops) {

@@ -1,0 +1,493 @@
+// Contacts between parts; see coupling.hpp.
+#include "contact/coupling.hpp"
+
+#include <fmt/format.h>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <stdexcept>
+
+#include "neighbors/neighbor_list.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::contact {
+namespace {
+
+std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
+
+template <int D>
+AxialVec<D> axial_zero() {
+  if constexpr (D == 2) {
+    return Real(0);
+  } else {
+    return AxialVec<D>::Zero();
+  }
+}
+
+/// Velocity of the point at arm `r` from the centre of a body spinning at w: w x r.
+template <int D>
+Vec<D> spin_velocity(const AxialVec<D>& w, const Vec<D>& r) {
+  if constexpr (D == 2) {
+    return Vec<D>(-w * r[1], w * r[0]);
+  } else {
+    return w.cross(r);
+  }
+}
+
+/// Moment of force F at arm r: r x F.
+template <int D>
+AxialVec<D> moment(const Vec<D>& r, const Vec<D>& f) {
+  if constexpr (D == 2) {
+    return r[0] * f[1] - r[1] * f[0];
+  } else {
+    return r.cross(f);
+  }
+}
+
+/// Closest point of a face to x, with the weights of the face's nodes at it.
+template <int D>
+struct FacePoint {
+  Vec<D> point = Vec<D>::Zero();
+  std::array<Real, solver::kFaceNodes<D>> weight{};
+};
+
+/// Closest point of triangle (a, b, c) to p, as barycentric weights (Ericson, Real-Time
+/// Collision Detection, 2005, section 5.1.5).
+inline std::array<Real, 3> closest_on_triangle(const Vec<3>& p, const Vec<3>& a, const Vec<3>& b,
+                                               const Vec<3>& c) {
+  const Vec<3> ab = b - a, ac = c - a, ap = p - a;
+  const Real d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
+  const Vec<3> bp = p - b;
+  const Real d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
+  const Real vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const Real v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
+  const Vec<3> cp = p - c;
+  const Real d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
+  const Real vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const Real w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
+  const Real va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const Real w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
+  const Real denom = 1 / (va + vb + vc);
+  const Real v = vb * denom, w = vc * denom;
+  return {1 - v - w, v, w};
+}
+
+template <int D>
+FacePoint<D> closest_on_face(const Vec<D>& p, const std::array<Vec<D>, solver::kFaceNodes<D>>& x) {
+  FacePoint<D> fp;
+  if constexpr (D == 2) {
+    const Vec<D> t = x[1] - x[0];
+    const Real len2 = t.squaredNorm();
+    const Real s = len2 > 0 ? std::clamp((p - x[0]).dot(t) / len2, Real(0), Real(1)) : Real(0);
+    fp.weight = {1 - s, s};
+    fp.point = x[0] + s * t;
+  } else {
+    // The quadrilateral as the triangles (0, 1, 2) and (0, 2, 3); the nearer one's point.
+    const auto w1 = closest_on_triangle(p, x[0], x[1], x[2]);
+    const auto w2 = closest_on_triangle(p, x[0], x[2], x[3]);
+    const Vec<3> c1 = w1[0] * x[0] + w1[1] * x[1] + w1[2] * x[2];
+    const Vec<3> c2 = w2[0] * x[0] + w2[1] * x[2] + w2[2] * x[3];
+    if ((p - c1).squaredNorm() <= (p - c2).squaredNorm()) {
+      fp.point = c1;
+      fp.weight = {w1[0], w1[1], w1[2], 0};
+    } else {
+      fp.point = c2;
+      fp.weight = {w2[0], 0, w2[1], w2[2]};
+    }
+  }
+  return fp;
+}
+
+/// Outward unit normal of a face (numbering of solver::ContactSurface).
+template <int D>
+Vec<D> face_normal(const std::array<Vec<D>, solver::kFaceNodes<D>>& x) {
+  Vec<D> n;
+  if constexpr (D == 2) {
+    const Vec<D> t = x[1] - x[0];
+    n = Vec<D>(t[1], -t[0]);
+  } else {
+    n = (x[2] - x[0]).cross(x[3] - x[1]);
+  }
+  const Real len = n.norm();
+  return len > 0 ? Vec<D>(n / len) : Vec<D>::Zero();
+}
+
+/// Normal and tangential penalty force on side 1 for overlap delta along n (from 2 to 1), the
+/// relative velocity v of side 1's contact point, the effective mass m.
+template <int D>
+Vec<D> penalty_force(Real k, Real delta, const Vec<D>& n, const Vec<D>& v, Real m, Real xi, Real mu,
+                     Real& normal) {
+  const Real root = std::sqrt(k * m);
+  const Real vn = v.dot(n);
+  normal = std::max(Real(0), k * delta - 2 * xi * root * vn);
+  Vec<D> f = normal * n;
+  if (mu > 0 && normal > 0) {
+    const Vec<D> vt = v - vn * n;
+    const Real speed = vt.norm();
+    // The dashpot that regularises sticking: c_t = sqrt(k m*) / 2. The tangential motion of a
+    // rolling grain has an effective mass of m / (1 + m r^2 / I), down to m* / 3.5 for a
+    // sphere, so a critically damped c_t = 2 sqrt(k m*) would be unstable at the step limit.
+    if (speed > 0) f -= (std::min(mu * normal, Real(0.5) * root * speed) / speed) * vt;
+  }
+  return f;
+}
+
+Real reduced_mass(Real a, Real b) {
+  if (!(a > 0)) return b;
+  if (!(b > 0)) return a;
+  return a * b / (a + b);
+}
+
+/// Step limit of a penalty spring: omega dt <= 1/2, i.e. at least 12 steps per period. The
+/// central-difference stability limit of a damped spring, (2/omega)(sqrt(1 + xi^2) - xi), is
+/// ~4x larger, but an impact resolved in two or three steps books its energy badly: an SPH blob
+/// hitting a plate at 200 m/s gained 10 % energy at omega dt = 1.6, 0.4 % at 0.8, 0.06 % at
+/// 0.36 (tests/verification/contact_conservation).
+Real spring_step(Real k, Real m, Real xi) {
+  if (!(k > 0) || !(m > 0)) return std::numeric_limits<Real>::infinity();
+  const Real omega = std::sqrt(k / m);
+  return std::min(Real(0.5) / omega, 2 / omega * (std::sqrt(1 + xi * xi) - xi));
+}
+
+}  // namespace
+
+template <int D>
+Coupling<D>::Coupling(const io::Config& config,
+                      const std::vector<std::unique_ptr<solver::Part<D>>>& parts) {
+  for (const auto& c : config.contacts) {
+    Pairing p;
+    p.config = c;
+    const std::string& m0 = config.parts[c.parts[0]].method;
+    const std::string& m1 = config.parts[c.parts[1]].method;
+    if (m0 == "fem" || m1 == "fem") {
+      p.kind = Kind::ParticleSurface;
+      p.points = m0 == "fem" ? c.parts[1] : c.parts[0];
+      p.other = m0 == "fem" ? c.parts[0] : c.parts[1];
+    } else {
+      p.kind = Kind::ParticleParticle;
+      p.points = m0 == "sph" ? c.parts[0] : c.parts[1];
+      p.other = m0 == "sph" ? c.parts[1] : c.parts[0];
+      const auto& g = config.materials[config.parts[p.other].material].granular;
+      p.grain_modulus_pa = 2 * g.shear_modulus_pa * (1 + g.poisson_ratio);
+    }
+    p.name = parts[p.points]->name() + "-" + parts[p.other]->name();
+    for (std::size_t k : {p.points, p.other})
+      if (std::find(involved_.begin(), involved_.end(), k) == involved_.end())
+        involved_.push_back(k);
+    pairings_.push_back(p);
+  }
+  std::sort(involved_.begin(), involved_.end());
+}
+
+template <int D>
+solver::StableStep Coupling<D>::stable_step(
+    const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const {
+  solver::StableStep best;
+  best.dt_s = std::numeric_limits<Real>::infinity();
+  for (const auto& p : pairings_) {
+    const auto pts = parts[p.points]->contact_points();
+    if (!pts || pts->mass->empty()) continue;
+    const Real m_min = parallel::min_over(static_cast<Index>(pts->mass->size()),
+                                          std::numeric_limits<Real>::infinity(),
+                                          [&](Index i) { return (*pts->mass)[at(i)]; });
+    Real k_max = 0;
+    if (p.kind == Kind::ParticleSurface) {
+      const auto surf = parts[p.other]->contact_surface();
+      if (!surf || surf->face_stiffness->empty()) continue;
+      k_max = p.config.penalty_scale *
+              *std::max_element(surf->face_stiffness->begin(), surf->face_stiffness->end());
+      // The spring joins the particle to a face node, which may be the lighter of the two.
+      Real node_min = std::numeric_limits<Real>::infinity();
+      for (const auto& face : *surf->faces)
+        for (Index n : face)
+          if ((*surf->node_mass)[at(n)] > 0)
+            node_min = std::min(node_min, (*surf->node_mass)[at(n)]);
+      const Real dt = spring_step(k_max, reduced_mass(m_min, node_min), p.config.damping_ratio);
+      if (dt < best.dt_s) {
+        best.dt_s = dt;
+        best.reason =
+            fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
+      }
+      continue;
+    } else {
+      const auto grains = parts[p.other]->contact_points();
+      if (!grains || grains->radius->empty()) continue;
+      const Real r_max = *std::max_element(grains->radius->begin(), grains->radius->end());
+      k_max = p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? r_max : Real(1));
+      const Real m_grain = parallel::min_over(static_cast<Index>(grains->mass->size()),
+                                              std::numeric_limits<Real>::infinity(),
+                                              [&](Index i) { return (*grains->mass)[at(i)]; });
+      const Real dt = spring_step(k_max, std::min(m_min, m_grain), p.config.damping_ratio);
+      if (dt < best.dt_s) {
+        best.dt_s = dt;
+        best.reason =
+            fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
+      }
+      continue;
+    }
+    const Real dt = spring_step(k_max, m_min, p.config.damping_ratio);
+    if (dt < best.dt_s) {
+      best.dt_s = dt;
+      best.reason =
+          fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
+    }
+  }
+  return best;
+}
+
+template <int D>
+void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts) {
+  if (pairings_.empty()) return;
+  // Forces per part in any contact: per particle, or per node of a surface.
+  std::vector<std::vector<Vec<D>>> force(parts.size());
+  std::vector<std::vector<AxialVec<D>>> torque(parts.size());
+  for (std::size_t k : involved_) {
+    Index n = 0;
+    if (const auto pts = parts[k]->contact_points())
+      n = static_cast<Index>(pts->position->size());
+    else if (const auto surf = parts[k]->contact_surface())
+      n = static_cast<Index>(surf->node_position->size());
+    force[k].assign(at(n), Vec<D>::Zero());
+    if (const auto pts = parts[k]->contact_points(); pts && pts->angular_velocity)
+      torque[k].assign(at(n), axial_zero<D>());
+  }
+  for (auto& p : pairings_) {
+    const auto pts = parts[p.points]->contact_points();
+    if (p.kind == Kind::ParticleSurface) {
+      const auto surf = parts[p.other]->contact_surface();
+      particle_surface(p, *pts, *surf, force[p.points], torque[p.points], force[p.other]);
+    } else {
+      const auto grains = parts[p.other]->contact_points();
+      particle_particle(p, *pts, *grains, force[p.points], force[p.other], torque[p.other]);
+    }
+  }
+  for (std::size_t k : involved_)
+    parts[k]->add_contact_forces(force[k], torque[k]);
+}
+
+template <int D>
+void Coupling<D>::particle_surface(Pairing& p, const solver::ContactPoints<D>& pts,
+                                   const solver::ContactSurface<D>& surf,
+                                   std::vector<Vec<D>>& f_points,
+                                   std::vector<AxialVec<D>>& t_points,
+                                   std::vector<Vec<D>>& f_nodes) const {
+  constexpr int kF = solver::kFaceNodes<D>;
+  const auto& xn = *surf.node_position;
+  const auto& faces = *surf.faces;
+  const Index nf = static_cast<Index>(faces.size());
+  const Index np = static_cast<Index>(pts.position->size());
+  p.active = 0;
+  p.max_overlap_m = 0;
+  p.normal_force_n = 0;
+  p.force_on_other.setZero();
+  if (nf == 0 || np == 0) return;
+
+  // Candidates: faces whose centre is within r_max + the largest face half-size.
+  std::vector<Vec<D>> centre(at(nf));
+  Real half_size = 0;
+  for (Index f = 0; f < nf; ++f) {
+    Vec<D> c = Vec<D>::Zero();
+    for (Index n : faces[at(f)])
+      c += xn[at(n)] / Real(kF);
+    centre[at(f)] = c;
+    for (Index n : faces[at(f)])
+      half_size = std::max(half_size, (xn[at(n)] - c).norm());
+  }
+  const Real r_max = *std::max_element(pts.radius->begin(), pts.radius->end());
+  neighbors::NeighborList candidates;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*pts.position),
+                                 std::span<const Vec<D>>(centre), r_max + half_size, candidates);
+
+  struct Hit {
+    Index face = -1;
+    FacePoint<D> where;
+    Vec<D> n = Vec<D>::Zero();  // contact normal, from the surface to the particle
+    Vec<D> force = Vec<D>::Zero();
+    Real overlap = 0, normal = 0;
+  };
+  std::vector<Hit> hits(at(np));
+  parallel::for_each(np, [&](Index i) {
+    const Vec<D>& x = (*pts.position)[at(i)];
+    const Real r = (*pts.radius)[at(i)];
+    Hit best;
+    for (Index f : candidates.of(i)) {
+      std::array<Vec<D>, kF> fx;
+      for (int k = 0; k < kF; ++k)
+        fx[at(k)] = xn[at(faces[at(f)][at(k)])];
+      const FacePoint<D> fp = closest_on_face<D>(x, fx);
+      const Vec<D> nf_out = face_normal<D>(fx);
+      const Vec<D> d = x - fp.point;
+      const Real s = d.dot(nf_out);
+      Real overlap = 0;
+      Vec<D> n;
+      if (s >= 0) {
+        const Real dist = d.norm();
+        overlap = r - dist;
+        n = dist > 0 ? Vec<D>(d / dist) : nf_out;
+      } else {
+        if (s <= -r) continue;  // beyond the reach of this face (e.g. the other side of a plate)
+        overlap = r - s;
+        n = nf_out;
+      }
+      if (overlap > best.overlap) {
+        best.face = f;
+        best.overlap = overlap;
+        best.where = fp;
+        best.n = n;
+      }
+    }
+    if (best.face < 0) {
+      hits[at(i)] = best;
+      return;
+    }
+    const auto& face = faces[at(best.face)];
+    Real m_face = 0;
+    Vec<D> v_face = Vec<D>::Zero();
+    for (int k = 0; k < kF; ++k) {
+      m_face += best.where.weight[at(k)] * (*surf.node_mass)[at(face[at(k)])];
+      v_face += best.where.weight[at(k)] * (*surf.node_velocity)[at(face[at(k)])];
+    }
+    Vec<D> v = (*pts.velocity)[at(i)];
+    const Vec<D> arm = -r * best.n;
+    if (pts.angular_velocity) v += spin_velocity<D>((*pts.angular_velocity)[at(i)], arm);
+    const Real k = p.config.penalty_scale * (*surf.face_stiffness)[at(best.face)];
+    best.force = penalty_force<D>(k, best.overlap, best.n, v - v_face,
+                                  reduced_mass((*pts.mass)[at(i)], m_face), p.config.damping_ratio,
+                                  p.config.friction, best.normal);
+    hits[at(i)] = best;
+  });
+
+  // Scatter in particle order: the same sums for any thread count.
+  for (Index i = 0; i < np; ++i) {
+    const Hit& h = hits[at(i)];
+    if (h.face < 0) continue;
+    ++p.active;
+    p.max_overlap_m = std::max(p.max_overlap_m, h.overlap);
+    p.normal_force_n += h.normal;
+    p.force_on_other -= h.force;
+    f_points[at(i)] += h.force;
+    // The arm -r n from the centre to the contact point; only the tangential part of the
+    // force has a moment about the centre.
+    if (!t_points.empty())
+      t_points[at(i)] += moment<D>(Vec<D>(-(*pts.radius)[at(i)] * h.n), h.force);
+    const auto& face = faces[at(h.face)];
+    for (int k = 0; k < kF; ++k)
+      f_nodes[at(face[at(k)])] -= h.where.weight[at(k)] * h.force;
+  }
+}
+
+template <int D>
+void Coupling<D>::particle_particle(Pairing& p, const solver::ContactPoints<D>& a,
+                                    const solver::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
+                                    std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const {
+  const Index na = static_cast<Index>(a.position->size());
+  const Index nb = static_cast<Index>(b.position->size());
+  p.active = 0;
+  p.max_overlap_m = 0;
+  p.normal_force_n = 0;
+  p.force_on_other.setZero();
+  if (na == 0 || nb == 0) return;
+  const Real ra_max = *std::max_element(a.radius->begin(), a.radius->end());
+  const Real rb_max = *std::max_element(b.radius->begin(), b.radius->end());
+  neighbors::NeighborList list;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*a.position),
+                                 std::span<const Vec<D>>(*b.position), ra_max + rb_max, list);
+  // Per pair results, in list order (a ascending, then b ascending).
+  struct PairForce {
+    Vec<D> force = Vec<D>::Zero();  // on a
+    Vec<D> arm_b = Vec<D>::Zero();  // from b's centre to the contact point
+    Real overlap = 0, normal = 0;
+  };
+  std::vector<PairForce> out(list.indices.size());
+  parallel::for_each(na, [&](Index i) {
+    const Vec<D>& xi = (*a.position)[at(i)];
+    const Real ri = (*a.radius)[at(i)];
+    const auto row = list.of(i);
+    const auto base = at(list.offsets[at(i)]);
+    for (std::size_t q = 0; q < row.size(); ++q) {
+      const Index j = row[q];
+      PairForce& pf = out[base + q];
+      const Vec<D> d = xi - (*b.position)[at(j)];
+      const Real dist = d.norm();
+      const Real rj = (*b.radius)[at(j)];
+      const Real overlap = ri + rj - dist;
+      if (overlap <= 0 || !(dist > 0)) continue;
+      const Vec<D> n = d / dist;  // from b to a
+      pf.arm_b = rj * n;
+      Vec<D> v = (*a.velocity)[at(i)] - (*b.velocity)[at(j)];
+      if (b.angular_velocity) v -= spin_velocity<D>((*b.angular_velocity)[at(j)], pf.arm_b);
+      const Real k = p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? rj : Real(1));
+      pf.force =
+          penalty_force<D>(k, overlap, n, v, reduced_mass((*a.mass)[at(i)], (*b.mass)[at(j)]),
+                           p.config.damping_ratio, p.config.friction, pf.normal);
+      pf.overlap = overlap;
+    }
+  });
+  for (Index i = 0; i < na; ++i) {
+    const auto row = list.of(i);
+    const auto base = at(list.offsets[at(i)]);
+    for (std::size_t q = 0; q < row.size(); ++q) {
+      const PairForce& pf = out[base + q];
+      if (pf.overlap <= 0) continue;
+      const Index j = row[q];
+      ++p.active;
+      p.max_overlap_m = std::max(p.max_overlap_m, pf.overlap);
+      p.normal_force_n += pf.normal;
+      p.force_on_other -= pf.force;
+      f_a[at(i)] += pf.force;
+      f_b[at(j)] -= pf.force;
+      if (!t_b.empty()) t_b[at(j)] += moment<D>(pf.arm_b, Vec<D>(-pf.force));
+    }
+  }
+}
+
+template <int D>
+std::vector<solver::Diagnostic> Coupling<D>::diagnostics() const {
+  std::vector<solver::Diagnostic> d;
+  for (const auto& p : pairings_) {
+    d.push_back({"contact_" + p.name + "_pairs", static_cast<Real>(p.active)});
+    d.push_back({"contact_" + p.name + "_max_overlap_m", p.max_overlap_m});
+    d.push_back({"contact_" + p.name + "_normal_force_n", p.normal_force_n});
+  }
+  return d;
+}
+
+template <int D>
+std::vector<std::string> Coupling<D>::history_columns() const {
+  std::vector<std::string> cols;
+  for (const auto& p : pairings_)
+    for (int k = 0; k < D; ++k)
+      cols.push_back(fmt::format("force_{}_{}", p.name, "xyz"[k]));
+  return cols;
+}
+
+template <int D>
+std::vector<Real> Coupling<D>::history_values() const {
+  std::vector<Real> v;
+  for (const auto& p : pairings_)
+    for (int k = 0; k < D; ++k)
+      v.push_back(p.force_on_other[k]);
+  return v;
+}
+
+template class Coupling<2>;
+template class Coupling<3>;
+
+}  // namespace crater::contact

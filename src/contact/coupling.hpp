@@ -1,0 +1,95 @@
+// Contacts between parts (paper section III-D; DESIGN section 3 "Coupling"): penalty forces,
+// equal and opposite, found with the shared neighbour search.
+//
+//   particle-surface (sph-fem, dem-fem): each particle (a disk/sphere of its contact radius r)
+//     against the nearest face of the solid's surface. Closest point c on the face, outward
+//     normal n_f; the particle centre at signed distance s = (x - c).n_f. In front of the face
+//     (s >= 0) the normal is n = (x - c)/|x - c| (rounded edges and corners) and the overlap
+//     delta = r - |x - c|; behind it (-r < s < 0, the centre has crossed) n = n_f and
+//     delta = r - s. Each particle takes the face of largest overlap (ties: the lowest face).
+//     Stiffness k = s_p K A^2 / V of the face's element (LS-DYNA's segment stiffness; K bulk
+//     modulus, A face area, V element volume; s_p = penalty_scale).
+//   particle-particle (sph-dem): an SPH particle (radius = half its spacing) against every
+//     grain it overlaps, delta = r_1 + r_2 - d, k = s_p E r_2 (3D) or s_p E (2D, per metre),
+//     E the grain's Young's modulus.
+// Force on the particle (the other side gets its opposite, spread over the face's nodes with
+// the weights of c):
+//     F_n = max(0, k delta - c_n v_n),   c_n = 2 xi sqrt(k m*),  m* = m_1 m_2 / (m_1 + m_2)
+//     F_t = -min(mu F_n, c_t |v_t|) v_t / |v_t|,   c_t = sqrt(k m*) / 2
+// with v the velocity of the particle's contact point (spin included for grains) relative to
+// the other side's (the face's interpolated node velocity), v_n = v.n, v_t = v - v_n n. The
+// tangential force is Coulomb friction regularised by a dashpot at low slip speed (c_t is a
+// quarter of critical: a rolling grain's tangential mass is down to m*/3.5): no history is kept, so
+// the forces depend only on the current state (bit-identical restarts need nothing stored here). A
+// grain also gets the moment (-r n) x F_t.
+//
+// Energy: the parts book the work the contact forces do on them (trapezoidal, like their
+// external work) as -contact_j; the sum over both sides is what the penalty springs store plus
+// what damping and friction dissipate.
+//
+// Step limit: each pair is a spring k between the masses, omega = sqrt(k_max / m*) with k_max
+// over the contact's faces (grains) and m* the reduced mass of its lightest particle and its
+// lightest face node (grain); dt <= 1/(2 omega), a quarter of the
+// damped spring's stability limit, so that an impact spans a dozen steps and its energy is
+// booked to ~0.1 % (see spring_step in coupling.cpp).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scenario/config.hpp"
+#include "solver/part.hpp"
+
+namespace crater::contact {
+
+template <int D>
+class Coupling {
+ public:
+  /// The contacts of the scenario between `parts` (built from the same Config).
+  Coupling(const io::Config& config, const std::vector<std::unique_ptr<solver::Part<D>>>& parts);
+
+  bool empty() const { return pairings_.empty(); }
+
+  /// Smallest stable step over the contacts, with the contact named in `reason`.
+  solver::StableStep stable_step(const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const;
+
+  /// Forces of the current state, handed to every part in a contact (after compute_forces).
+  void apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts);
+
+  /// Per contact: pairs in contact, deepest overlap and total normal force at the last apply().
+  std::vector<solver::Diagnostic> diagnostics() const;
+
+  /// history.csv columns: per contact the total force on its second part (the surface, or the
+  /// grains) at the last apply(), force_<contact>_x, _y[, _z] [N] (N/m in 2D).
+  std::vector<std::string> history_columns() const;
+  std::vector<Real> history_values() const;
+
+ private:
+  enum class Kind { ParticleSurface, ParticleParticle };
+  struct Pairing {
+    Kind kind;
+    std::size_t points;  // the particle part (sph for sph-dem)
+    std::size_t other;   // the surface part, or the dem part
+    io::ContactConfig config;
+    Real grain_modulus_pa = 0;  // particle-particle: E of the grains
+    std::string name;
+    // Last apply():
+    Index active = 0;
+    Real max_overlap_m = 0;
+    Real normal_force_n = 0;
+    Vec<D> force_on_other = Vec<D>::Zero();
+  };
+
+  void particle_surface(Pairing& p, const solver::ContactPoints<D>& pts,
+                        const solver::ContactSurface<D>& surf, std::vector<Vec<D>>& f_points,
+                        std::vector<AxialVec<D>>& t_points, std::vector<Vec<D>>& f_nodes) const;
+  void particle_particle(Pairing& p, const solver::ContactPoints<D>& a,
+                         const solver::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
+                         std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const;
+
+  std::vector<Pairing> pairings_;
+  std::vector<std::size_t> involved_;  // parts in any contact, ascending
+};
+
+}  // namespace crater::contact

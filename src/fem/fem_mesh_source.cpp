@@ -1,0 +1,375 @@
+// Meshes and node sets of FEM parts; see fem_mesh_source.hpp.
+#include "fem/fem_mesh_source.hpp"
+
+#include <fmt/format.h>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "fem/element_geometry.hpp"
+
+namespace crater::fem {
+namespace {
+
+std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
+
+/// Local node numbers of the faces of an element (VTK / Gmsh numbering).
+template <int D>
+const std::vector<std::vector<int>>& local_faces() {
+  static const std::vector<std::vector<int>> q4 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  static const std::vector<std::vector<int>> hex8 = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                                     {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  if constexpr (D == 2) {
+    return q4;
+  } else {
+    return hex8;
+  }
+}
+
+/// Outward normal x area of a face of element e.
+template <int D>
+Vec<D> face_area_vector(const ExplicitMesh<D>& mesh, Index e, const std::vector<Index>& nodes,
+                        const std::vector<Vec<D>>& x) {
+  Vec<D> a;
+  if constexpr (D == 2) {
+    const Vec<D> t = x[at(nodes[1])] - x[at(nodes[0])];
+    a = Vec<D>(t[1], -t[0]);  // length x unit normal (x 1 m of depth)
+  } else {
+    const Vec<D> d1 = x[at(nodes[2])] - x[at(nodes[0])];
+    const Vec<D> d2 = x[at(nodes[3])] - x[at(nodes[1])];
+    a = Real(0.5) * d1.cross(d2);
+  }
+  // Orient it away from the element's centre.
+  Vec<D> centre = Vec<D>::Zero(), face_centre = Vec<D>::Zero();
+  for (Index n : mesh.elements[at(e)])
+    centre += x[at(n)] / Real(kElementNodes<D>);
+  for (Index n : nodes)
+    face_centre += x[at(n)] / Real(nodes.size());
+  if (a.dot(face_centre - centre) < 0) a = -a;
+  return a;
+}
+
+}  // namespace
+
+template <int D>
+const NodeSet<D>& MeshSource<D>::group(const std::string& name) const {
+  const auto it = groups.find(name);
+  if (it != groups.end()) return it->second;
+  std::string known;
+  for (const auto& [n, s] : groups)
+    known += (known.empty() ? "" : ", ") + n;
+  throw std::runtime_error(
+      fmt::format("no mesh group '{}' (the mesh has: {})", name, known.empty() ? "none" : known));
+}
+
+template <int D>
+std::vector<BoundaryFace<D>> boundary_faces_within(const ExplicitMesh<D>& mesh,
+                                                   const std::vector<Index>& sorted_nodes) {
+  auto in_set = [&](Index n) {
+    return std::binary_search(sorted_nodes.begin(), sorted_nodes.end(), n);
+  };
+  // Faces of elements whose nodes are all in the set, keyed by their sorted nodes; a face that
+  // two elements share is interior.
+  struct Candidate {
+    std::array<Index, 4> key{};
+    Index element = 0;
+    int face = 0;
+  };
+  std::vector<Candidate> candidates;
+  const auto& faces = local_faces<D>();
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    const auto& nodes = mesh.elements[at(e)];
+    for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+      Candidate c;
+      c.key.fill(-1);
+      bool all = true;
+      for (std::size_t k = 0; k < faces[at(f)].size(); ++k) {
+        const Index n = nodes[at(faces[at(f)][k])];
+        all = all && in_set(n);
+        c.key[k] = n;
+      }
+      if (!all) continue;
+      std::sort(c.key.begin(), c.key.end());  // unused entries (-1) sort first
+      c.element = e;
+      c.face = f;
+      candidates.push_back(c);
+    }
+  }
+  std::vector<std::size_t> order(candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return candidates[a].key < candidates[b].key;
+  });
+  std::vector<BoundaryFace<D>> out;
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i + 1;
+    while (j < order.size() && candidates[order[j]].key == candidates[order[i]].key)
+      ++j;
+    if (j == i + 1) {
+      const Candidate& c = candidates[order[i]];
+      BoundaryFace<D> bf;
+      for (int local : faces[at(c.face)])
+        bf.nodes.push_back(mesh.elements[at(c.element)][at(local)]);
+      const Vec<D> a = face_area_vector(mesh, c.element, bf.nodes, mesh.reference_position);
+      bf.area = a.norm();
+      bf.unit_normal = bf.area > 0 ? Vec<D>(a / bf.area) : Vec<D>::Zero();
+      out.push_back(std::move(bf));
+    }
+    i = j;
+  }
+  // In the order of the sorted face keys: deterministic.
+  return out;
+}
+
+template <int D>
+SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
+  constexpr int kF = D == 2 ? 2 : 4;
+  const auto& faces = local_faces<D>();
+  struct Candidate {
+    std::array<Index, 4> key{};
+    Index element = 0;
+    int face = 0;
+  };
+  std::vector<Candidate> candidates;
+  candidates.reserve(at(mesh.element_count()) * faces.size());
+  for (Index e = 0; e < mesh.element_count(); ++e) {
+    if (!mesh.eroded.empty() && mesh.eroded[at(e)]) continue;
+    for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+      Candidate c;
+      c.key.fill(-1);
+      for (int k = 0; k < kF; ++k)
+        c.key[at(k)] = mesh.elements[at(e)][at(faces[at(f)][at(k)])];
+      std::sort(c.key.begin(), c.key.end());
+      c.element = e;
+      c.face = f;
+      candidates.push_back(c);
+    }
+  }
+  std::vector<std::size_t> order(candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return candidates[a].key < candidates[b].key;
+  });
+  SurfaceFaces<D> out;
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i + 1;
+    while (j < order.size() && candidates[order[j]].key == candidates[order[i]].key)
+      ++j;
+    if (j == i + 1) {
+      const Candidate& c = candidates[order[i]];
+      std::array<Index, kF> nodes;
+      for (int k = 0; k < kF; ++k)
+        nodes[at(k)] = mesh.elements[at(c.element)][at(faces[at(c.face)][at(k)])];
+      std::vector<Index> as_vector(nodes.begin(), nodes.end());
+      const Vec<D> outward = face_area_vector(mesh, c.element, as_vector, mesh.position);
+      // The numbering's own normal, reversed when it points inward.
+      Vec<D> own;
+      const auto& x = mesh.position;
+      if constexpr (D == 2) {
+        const Vec<D> t = x[at(nodes[1])] - x[at(nodes[0])];
+        own = Vec<D>(t[1], -t[0]);
+      } else {
+        own = Real(0.5) *
+              (x[at(nodes[2])] - x[at(nodes[0])]).cross(x[at(nodes[3])] - x[at(nodes[1])]);
+      }
+      if (own.dot(outward) < 0) {
+        if constexpr (D == 2) {
+          std::swap(nodes[0], nodes[1]);
+        } else {
+          std::swap(nodes[1], nodes[3]);
+        }
+      }
+      out.nodes.push_back(nodes);
+      out.element.push_back(c.element);
+      out.area.push_back(outward.norm());
+    }
+    i = j;
+  }
+  return out;
+}
+
+template <int D>
+NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face) {
+  const int axis = static_cast<int>(face) / 2;
+  const bool upper = static_cast<int>(face) % 2 == 1;
+  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (const Vec<D>& x : mesh.reference_position) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const Real plane = upper ? hi[axis] : lo[axis];
+  const Real tol = 1e-9 * (hi - lo).maxCoeff();
+  NodeSet<D> set;
+  set.normal_axis = axis;
+  for (Index n = 0; n < mesh.node_count(); ++n)
+    if (std::abs(mesh.reference_position[at(n)][axis] - plane) <= tol) set.nodes.push_back(n);
+  set.faces = boundary_faces_within(mesh, set.nodes);
+  return set;
+}
+
+template <int D>
+MeshSource<D> mesh_from_gmsh(const io::GmshMesh& gmsh, const std::string& file,
+                             const std::string& group, Index& reordered) {
+  constexpr int kNodes = kElementNodes<D>;
+  const int wanted_type = D == 2 ? 3 : 5;  // quadrangle, hexahedron
+  const char* wanted = D == 2 ? "4-node quadrangles" : "8-node hexahedra";
+  auto fail = [&](int line, const std::string& what) {
+    throw InputError({file, line, 0}, "", what);
+  };
+  // The part's elements: blocks of the scenario's dimension (of the named group).
+  std::vector<const io::GmshMesh::Block*> blocks;
+  bool group_seen = false;
+  for (const auto& b : gmsh.blocks) {
+    if (b.dim != D) continue;
+    if (!group.empty() && b.physical_name != group) continue;
+    group_seen = true;
+    if (b.gmsh_type != wanted_type)
+      fail(b.source_lines.empty() ? 0 : b.source_lines.front(),
+           fmt::format("the part's elements must be {}; this {} has {} (Gmsh: "
+                       "Mesh.RecombineAll = 1{} and Mesh.ElementOrder = 1)",
+                       wanted, group.empty() ? "mesh" : "group '" + group + "'",
+                       b.gmsh_type == 2   ? "triangles"
+                       : b.gmsh_type == 4 ? "tetrahedra"
+                                          : "other elements",
+                       D == 3 ? " with a transfinite or extruded volume" : ""));
+    blocks.push_back(&b);
+  }
+  if (blocks.empty()) {
+    std::string known;
+    for (const auto& b : gmsh.blocks)
+      if (b.dim == D && !b.physical_name.empty())
+        known += (known.empty() ? "'" : ", '") + b.physical_name + "'";
+    fail(0, group.empty() || !group_seen
+                ? fmt::format("no {} {}{} in the mesh (groups of dimension {}: {})", wanted,
+                              group.empty() ? "" : "in group '", group.empty() ? "" : group + "'",
+                              D, known.empty() ? "none" : known)
+                : "no elements");
+  }
+
+  // Nodes the part uses, in file order.
+  const std::size_t n_all = gmsh.nodes.size();
+  std::vector<Index> new_index(n_all, -1);
+  for (const auto* b : blocks)
+    for (std::int64_t n : b->connectivity)
+      new_index[static_cast<std::size_t>(n)] = 0;
+  MeshSource<D> source;
+  ExplicitMesh<D>& mesh = source.mesh;
+  for (std::size_t n = 0; n < n_all; ++n) {
+    if (new_index[n] < 0) continue;
+    new_index[n] = static_cast<Index>(mesh.position.size());
+    Vec<D> x;
+    for (int k = 0; k < D; ++k)
+      x[k] = gmsh.nodes[n][at(k)];
+    if constexpr (D == 2) {
+      if (gmsh.nodes[n][2] != 0)
+        fail(0, fmt::format("a 2D part needs a flat mesh in the plane z = 0; node {} has z = {}",
+                            gmsh.node_tags[n], gmsh.nodes[n][2]));
+    }
+    mesh.position.push_back(x);
+  }
+  mesh.reference_position = mesh.position;
+
+  reordered = 0;
+  for (const auto* b : blocks) {
+    for (std::int64_t e = 0; e < b->element_count(); ++e) {
+      ElementNodes<D> nodes;
+      for (int k = 0; k < kNodes; ++k)
+        nodes[at(k)] = new_index[static_cast<std::size_t>(
+            b->connectivity[static_cast<std::size_t>(e * kNodes + k)])];
+      NodeArray<D> x;
+      for (int k = 0; k < kNodes; ++k)
+        x[at(k)] = mesh.position[at(nodes[at(k)])];
+      Real v = uniform_strain_gradients<D>(x).volume;
+      if (v < 0) {
+        // Numbered the other way round (e.g. a surface whose normal is -z): mirror the order.
+        if constexpr (D == 2) {
+          std::swap(nodes[1], nodes[3]);
+        } else {
+          std::swap(nodes[1], nodes[3]);
+          std::swap(nodes[5], nodes[7]);
+        }
+        for (int k = 0; k < kNodes; ++k)
+          x[at(k)] = mesh.position[at(nodes[at(k)])];
+        v = uniform_strain_gradients<D>(x).volume;
+        ++reordered;
+      }
+      if (!(v > 0))
+        fail(b->source_lines[static_cast<std::size_t>(e)],
+             "degenerate element (zero volume, or twisted: its nodes are not in Gmsh's order)");
+      mesh.elements.push_back(nodes);
+    }
+  }
+
+  // Every physical group is a node set (of the nodes the part uses).
+  std::map<std::string, std::vector<Index>> members;
+  for (const auto& b : gmsh.blocks) {
+    if (b.physical_name.empty()) continue;
+    auto& list = members[b.physical_name];
+    for (std::int64_t n : b.connectivity)
+      if (const Index k = new_index[static_cast<std::size_t>(n)]; k >= 0) list.push_back(k);
+  }
+  for (auto& [name, list] : members) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    if (list.empty()) continue;
+    NodeSet<D> set;
+    set.nodes = std::move(list);
+    // A plane normal to an axis: the set's extent along it is ~0.
+    Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+    for (Index n : set.nodes) {
+      lo = lo.cwiseMin(mesh.position[at(n)]);
+      hi = hi.cwiseMax(mesh.position[at(n)]);
+    }
+    const Vec<D> extent = hi - lo;
+    for (int k = 0; k < D; ++k)
+      if (extent[k] <= 1e-9 * extent.maxCoeff()) set.normal_axis = k;
+    set.faces = boundary_faces_within(mesh, set.nodes);
+    source.groups.emplace(name, std::move(set));
+  }
+  return source;
+}
+
+template <int D>
+MeshSource<D> build_mesh_source(const io::Config& /*config*/, const io::PartConfig& part) {
+  MeshSource<D> source;
+  if (part.fem.mesh) {
+    Index reordered = 0;
+    return mesh_from_gmsh<D>(*part.fem.mesh, part.fem.mesh_file, part.fem.mesh_group, reordered);
+  }
+  StructuredMeshSpec<D> spec;
+  for (int d = 0; d < D; ++d) {
+    spec.lo[d] = part.region.min_m[at(d)];
+    spec.hi[d] = part.region.max_m[at(d)];
+    spec.cells[at(d)] = std::max<Index>(
+        1, static_cast<Index>(std::llround((spec.hi[d] - spec.lo[d]) / part.spacing_m)));
+  }
+  source.mesh = structured_mesh<D>(spec);
+  return source;
+}
+
+template MeshSource<2> mesh_from_gmsh<2>(const io::GmshMesh&, const std::string&,
+                                         const std::string&, Index&);
+template MeshSource<3> mesh_from_gmsh<3>(const io::GmshMesh&, const std::string&,
+                                         const std::string&, Index&);
+template struct MeshSource<2>;
+template struct MeshSource<3>;
+template MeshSource<2> build_mesh_source<2>(const io::Config&, const io::PartConfig&);
+template MeshSource<3> build_mesh_source<3>(const io::Config&, const io::PartConfig&);
+template SurfaceFaces<2> surface_faces<2>(const ExplicitMesh<2>&);
+template SurfaceFaces<3> surface_faces<3>(const ExplicitMesh<3>&);
+template NodeSet<2> face_node_set<2>(const ExplicitMesh<2>&, io::Face);
+template NodeSet<3> face_node_set<3>(const ExplicitMesh<3>&, io::Face);
+template std::vector<BoundaryFace<2>> boundary_faces_within<2>(const ExplicitMesh<2>&,
+                                                               const std::vector<Index>&);
+template std::vector<BoundaryFace<3>> boundary_faces_within<3>(const ExplicitMesh<3>&,
+                                                               const std::vector<Index>&);
+
+}  // namespace crater::fem

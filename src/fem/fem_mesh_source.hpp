@@ -1,0 +1,80 @@
+// Where an FEM part's mesh comes from (a structured mesh of a box, or a mesh file) and the node
+// sets its boundary conditions act on: a face of the mesh's bounding box, or a named group of
+// the mesh file; with the boundary faces (segments in 2D, quadrilaterals in 3D) that lie in it.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fem/explicit_mesh.hpp"
+#include "io/mesh/gmsh.hpp"
+#include "io/scenario/config.hpp"
+
+namespace crater::fem {
+
+/// A face of the mesh boundary: its nodes, outward unit normal and area [m^2] (length x 1 m in
+/// 2D), in the reference configuration.
+template <int D>
+struct BoundaryFace {
+  std::vector<Index> nodes;
+  Vec<D> unit_normal = Vec<D>::Zero();
+  Real area = 0;
+};
+
+/// Nodes of a boundary condition, ascending, and the boundary faces made of them only.
+template <int D>
+struct NodeSet {
+  std::vector<Index> nodes;
+  int normal_axis = -1;  // the axis the set is a plane normal to, or -1
+  std::vector<BoundaryFace<D>> faces;
+};
+
+/// The part's mesh (positions and connectivity) and its named node sets.
+template <int D>
+struct MeshSource {
+  ExplicitMesh<D> mesh;
+  std::map<std::string, NodeSet<D>> groups;
+  /// The named group; throws std::runtime_error naming the known groups if there is none.
+  const NodeSet<D>& group(const std::string& name) const;
+};
+
+/// Builds the mesh of an FEM part: the structured mesh of its box region (about spacing_m per
+/// element, whole elements), or the elements of its mesh file.
+template <int D>
+MeshSource<D> build_mesh_source(const io::Config& config, const io::PartConfig& part);
+
+/// The part's mesh from the elements of a Gmsh file: the quadrangles (2D) or hexahedra (3D) of
+/// physical group `group` (empty: all of them), with only the nodes they use (in file order);
+/// elements numbered the other way round are reordered (`reordered` counts them). Every
+/// physical group becomes a node set. Throws InputError naming `file` and the line of the
+/// element at fault: no elements, triangles or tetrahedra where the part's elements are, a
+/// 2D mesh that is not flat, a degenerate (zero or twisted) element.
+template <int D>
+MeshSource<D> mesh_from_gmsh(const io::GmshMesh& gmsh, const std::string& file,
+                             const std::string& group, Index& reordered);
+
+/// The nodes on a face of the mesh's bounding box (within 1e-9 of its extent).
+template <int D>
+NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face);
+
+/// The surface of the live (not eroded) elements: faces no other live element shares, numbered
+/// so that the outward normal is (t_y, -t_x), t = x_1 - x_0 (2D) or (x_2 - x_0) x (x_3 - x_1)
+/// (3D), with the element of each and its area [m^2] (2D: length x 1 m), in the current
+/// configuration; sorted by their node keys (deterministic).
+template <int D>
+struct SurfaceFaces {
+  std::vector<std::array<Index, D == 2 ? 2 : 4>> nodes;
+  std::vector<Index> element;
+  std::vector<Real> area;
+};
+template <int D>
+SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh);
+
+/// The boundary faces (faces of exactly one element) whose nodes are all in `sorted_nodes`.
+template <int D>
+std::vector<BoundaryFace<D>> boundary_faces_within(const ExplicitMesh<D>& mesh,
+                                                   const std::vector<Index>& sorted_nodes);
+
+}  // namespace crater::fem

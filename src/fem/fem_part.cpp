@@ -1,0 +1,617 @@
+// The FEM part; see fem_part.hpp.
+#include "fem/fem_part.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "fem/explicit_mesh.hpp"
+#include "fem/explicit_solid.hpp"
+#include "fem/fem_mesh_source.hpp"
+#include "io/scenario/region.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::fem {
+namespace {
+
+std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
+
+template <int D>
+using MatD = Eigen::Matrix<Real, D, D>;
+
+/// The element-loop material of a part.
+SolidMaterial solid_material(const io::Config& config, const io::PartConfig& pc) {
+  const io::MaterialConfig& m = config.materials[pc.material];
+  SolidMaterial s;
+  s.strength = m.solid.strength;
+  s.damage = m.solid.damage;
+  s.density_kg_m3 = m.rho0_kg_m3;
+  s.initial_temperature_k = pc.fem.initial_temperature_k;
+  s.hourglass.form =
+      pc.fem.hourglass_stiffness ? HourglassForm::kStiffness : HourglassForm::kViscous;
+  s.hourglass.coefficient = pc.fem.hourglass_coefficient;
+  s.bulk_viscosity.quadratic = pc.fem.bulk_viscosity_quadratic;
+  s.bulk_viscosity.linear = pc.fem.bulk_viscosity_linear;
+  return s;
+}
+
+template <int D>
+class FemPart final : public solver::Part<D> {
+ public:
+  FemPart(const io::Config& config, const io::PartConfig& pc)
+      : name_(pc.name), material_(solid_material(config, pc)) {
+    MeshSource<D> source = build_mesh_source<D>(config, pc);
+    mesh_ = std::move(source.mesh);
+    initialise(mesh_, material_);
+    const Index nn = mesh_.node_count();
+    for (int k = 0; k < D; ++k)
+      gravity_[k] = config.domain.gravity_m_s2[at(k)];
+    Vec<D> v0;
+    for (int k = 0; k < D; ++k)
+      v0[k] = pc.initial.velocity_m_s[at(k)];
+    mesh_.velocity.assign(at(nn), v0);
+    // Zones set the initial velocity of the nodes inside them (later zones win).
+    for (const auto& z : pc.zones) {
+      if (!z.velocity_m_s) continue;
+      Vec<D> vz;
+      for (int k = 0; k < D; ++k)
+        vz[k] = (*z.velocity_m_s)[at(k)];
+      for (Index i = 0; i < nn; ++i)
+        if (io::region_contains<D>(z.region, mesh_.reference_position[at(i)]))
+          mesh_.velocity[at(i)] = vz;
+    }
+    initial_mass_ = total_mass();
+
+    live_elements_of_node_.assign(at(nn), 0);
+    for (const auto& nodes : mesh_.elements)
+      for (Index n : nodes)
+        ++live_elements_of_node_[at(n)];
+    element_accounted_.assign(at(mesh_.element_count()), 0);
+    constrained_.assign(at(nn), 0);
+    imposed_velocity_.assign(at(nn), Vec<D>::Zero());
+    dashpot_of_node_.assign(at(nn), -1);
+    acceleration_.assign(at(nn), Vec<D>::Zero());
+    external_force_.assign(at(nn), Vec<D>::Zero());
+    dashpot_force_.assign(at(nn), Vec<D>::Zero());
+    contact_force_.assign(at(nn), Vec<D>::Zero());
+    rebuild_surface();
+    for (const auto& b : pc.fem.boundaries)
+      apply_boundary_config(source, b, config);
+    impose_velocities();
+
+    last_.stable_dt_s = stable_time_step(mesh_, material_);
+  }
+
+  const std::string& name() const override { return name_; }
+  const char* method() const override { return "fem"; }
+  Index count() const override { return mesh_.element_count() - eroded_count_; }
+  Real mass_kg() const override { return total_mass(); }
+
+  solver::StableStep stable_step() const override {
+    solver::StableStep s;
+    s.dt_s = last_.stable_dt_s;
+    s.entity_id = last_.limiting_element;
+    s.reason = "element size / dilatational wave speed (with bulk viscosity)";
+    return s;
+  }
+
+  void compute_forces(Real /*t_s*/) override {
+    if (!stale_) return;
+    last_ = compute_internal_forces(mesh_, material_, dt_pending_);
+    if (last_.newly_eroded > 0) account_erosion();
+    const Real dt = dt_pending_;
+    const Index nn = mesh_.node_count();
+    struct Work {
+      Real external = 0, dissipated = 0;
+      Work& operator+=(const Work& o) {
+        external += o.external;
+        dissipated += o.dissipated;
+        return *this;
+      }
+    };
+    // New accelerations and the work of the external forces over the step just taken
+    // (trapezoidal in the force: dx . (f^n + f^{n+1}) / 2 with dx = v^{n+1/2} dt).
+    std::vector<Work> work(at(nn));
+    parallel::for_each(nn, [&](Index i) {
+      const std::size_t u = at(i);
+      const Real m = mesh_.mass[u];
+      if (!(m > 0)) {
+        acceleration_[u].setZero();
+        external_force_[u].setZero();
+        dashpot_force_[u].setZero();
+        return;
+      }
+      const Vec<D>& v = mesh_.velocity[u];
+      Vec<D> external = m * gravity_;
+      Vec<D> dashpot = Vec<D>::Zero();
+      if (const Index d = dashpot_of_node_[u]; d >= 0) dashpot = -(dashpot_matrix_[at(d)] * v);
+      Vec<D> f = mesh_.internal_force[u] + external + dashpot;
+      for (int k = 0; k < D; ++k)
+        if (constrained_[u] & (1u << k)) {
+          external[k] -= f[k];  // the reaction holding the imposed component
+          f[k] = 0;
+        }
+      acceleration_[u] = f / m;
+      if (dt > 0) {
+        work[u].external = Real(0.5) * dt * v.dot(external_force_[u] + external);
+        work[u].dissipated = -Real(0.5) * dt * v.dot(dashpot_force_[u] + dashpot);
+      }
+      external_force_[u] = external;
+      dashpot_force_[u] = dashpot;
+    });
+    const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) { return work[at(i)]; });
+    external_work_ += w.external;
+    dissipated_ += w.dissipated;
+    stale_ = false;
+  }
+
+  std::optional<solver::Fault> check() const override {
+    if (last_.inverted_element >= 0)
+      return solver::Fault{last_.inverted_element,
+                           "element inverted (volume <= 0): the mesh is tangled; lower "
+                           "time.safety_factor or raise the hourglass coefficient"};
+    const Index bad = first_index(mesh_.node_count(), [&](Index i) {
+      return !acceleration_[at(i)].allFinite() || !mesh_.position[at(i)].allFinite();
+    });
+    if (bad >= 0)
+      return solver::Fault{bad,
+                           "non-finite position or acceleration at node " + std::to_string(bad)};
+    const Index bad_e = first_index(mesh_.element_count(),
+                                    [&](Index e) { return !mesh_.stress[at(e)].allFinite(); });
+    if (bad_e >= 0) return solver::Fault{bad_e, "non-finite stress"};
+    return std::nullopt;
+  }
+
+  void advance(Real /*t_s*/, Real dt_s) override {
+    const Real half = Real(0.5) * dt_s;
+    parallel::for_each(mesh_.node_count(), [&](Index i) {
+      const std::size_t u = at(i);
+      Vec<D>& v = mesh_.velocity[u];
+      v += half * total_acceleration(u);
+      impose_velocity(u);
+      mesh_.position[u] += dt_s * v;
+    });
+    dt_pending_ = dt_s;
+    stale_ = true;
+    contact_pending_ = true;
+  }
+
+  void finish_step(Real dt_s) override {
+    const Real half = Real(0.5) * dt_s;
+    parallel::for_each(mesh_.node_count(), [&](Index i) {
+      const std::size_t u = at(i);
+      mesh_.velocity[u] += half * total_acceleration(u);
+      impose_velocity(u);
+    });
+  }
+
+  std::optional<solver::ContactSurface<D>> contact_surface() const override {
+    solver::ContactSurface<D> s;
+    s.node_position = &mesh_.position;
+    s.node_velocity = &mesh_.velocity;
+    s.node_mass = &mesh_.mass;
+    s.faces = &surface_faces_;
+    s.face_element = &surface_element_;
+    s.face_stiffness = &surface_stiffness_;
+    s.revision = surface_revision_;
+    return s;
+  }
+
+  void add_contact_forces(const std::vector<Vec<D>>& force,
+                          const std::vector<AxialVec<D>>& /*torque*/) override {
+    const Index nn = mesh_.node_count();
+    if (static_cast<Index>(force.size()) != nn)
+      throw std::logic_error("fem: contact forces for another node count");
+    if (contact_pending_ && dt_pending_ > 0) {
+      // Work of the contact forces over the step just taken (trapezoidal, v = v^{n+1/2}); on
+      // imposed components the support takes the force, and does the opposite work.
+      struct Work {
+        Real contact = 0, support = 0;
+        Work& operator+=(const Work& o) {
+          contact += o.contact;
+          support += o.support;
+          return *this;
+        }
+      };
+      const Real half_dt = Real(0.5) * dt_pending_;
+      const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) {
+        const std::size_t u = at(i);
+        const Vec<D> mean = contact_force_[u] + force[u];
+        Work r;
+        r.contact = half_dt * mesh_.velocity[u].dot(mean);
+        for (int k = 0; k < D; ++k)
+          if (constrained_[u] & (1u << k)) r.support -= half_dt * mesh_.velocity[u][k] * mean[k];
+        return r;
+      });
+      contact_work_ += w.contact;
+      external_work_ += w.support;
+    }
+    contact_pending_ = false;
+    contact_force_ = force;
+  }
+
+  solver::Energies energies() const override {
+    struct Sums {
+      Real internal = 0, hourglass = 0;
+      Sums& operator+=(const Sums& o) {
+        internal += o.internal;
+        hourglass += o.hourglass;
+        return *this;
+      }
+    };
+    const Sums s = parallel::deterministic_sum<Sums>(mesh_.element_count(), [&](Index e) {
+      if (mesh_.eroded[at(e)]) return Sums{};
+      return Sums{mesh_.internal_energy_j[at(e)], mesh_.hourglass_energy_j[at(e)]};
+    });
+    solver::Energies en;
+    en.kinetic_j = kinetic_energy(mesh_);
+    en.internal_j = s.internal;
+    en.hourglass_j = s.hourglass;
+    en.external_work_j = external_work_;
+    en.damping_j = dissipated_;
+    en.eroded_j = eroded_energy_;
+    en.contact_j = -contact_work_;
+    return en;
+  }
+
+  solver::Geometry<D> geometry() const override {
+    solver::Geometry<D> g;
+    g.points = &mesh_.position;
+    constexpr int kNodes = kElementNodes<D>;
+    const Index ne = mesh_.element_count();
+    g.connectivity.reserve(at(ne * kNodes));
+    g.offsets.reserve(at(ne));
+    for (const auto& nodes : mesh_.elements) {
+      for (Index n : nodes)
+        g.connectivity.push_back(n);
+      g.offsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
+    }
+    g.cell_types.assign(at(ne), D == 2 ? std::uint8_t{9} : std::uint8_t{12});  // QUAD, HEXAHEDRON
+    return g;
+  }
+
+  std::vector<fields::FieldView> point_fields() const override {
+    const Index nn = mesh_.node_count();
+    displacement_.resize(at(nn));
+    for (Index i = 0; i < nn; ++i)
+      displacement_[at(i)] = mesh_.position[at(i)] - mesh_.reference_position[at(i)];
+    return {vector_view(kVelocityInfo, mesh_.velocity),
+            vector_view(kDisplacementInfo, displacement_), scalar_view(kNodeMassInfo, mesh_.mass)};
+  }
+
+  std::vector<fields::FieldView> cell_fields() const override {
+    const Index ne = mesh_.element_count();
+    von_mises_.resize(at(ne));
+    pressure_.resize(at(ne));
+    eroded_flag_.resize(at(ne));
+    density_.resize(at(ne));
+    for (Index e = 0; e < ne; ++e) {
+      const materials::Mat3& s = mesh_.stress[at(e)];
+      const Real p = -s.trace() / 3;
+      const materials::Mat3 dev = s + p * materials::Mat3::Identity();
+      von_mises_[at(e)] = std::sqrt(Real(1.5) * dev.cwiseProduct(dev).sum());
+      pressure_[at(e)] = p;
+      eroded_flag_[at(e)] = mesh_.eroded[at(e)];
+      density_[at(e)] = material_.density_kg_m3 * mesh_.reference_volume[at(e)] /
+                        std::max(mesh_.volume[at(e)], std::numeric_limits<Real>::min());
+    }
+    std::vector<fields::FieldView> out = {
+        scalar_view(kVonMisesInfo, von_mises_),
+        scalar_view(kPressureInfo, pressure_),
+        scalar_view(kPlasticStrainInfo, mesh_.plastic_strain),
+        scalar_view(kDensityInfo, density_),
+    };
+    if (material_.damage) out.push_back(scalar_view(kDamageInfo, mesh_.damage));
+    out.push_back(fields::FieldView{&kErodedInfo, 1, true, nullptr, eroded_flag_.data(), ne});
+    if (const auto* jc = std::get_if<materials::JohnsonCookParams>(&material_.strength);
+        jc && jc->thermal_softening)
+      out.push_back(scalar_view(kTemperatureInfo, mesh_.temperature_k));
+    return out;
+  }
+
+  void save_state(io::StateWriter& w) const override {
+    w.tag("fem");
+    w.vector(mesh_.position);
+    w.vector(mesh_.velocity);
+    w.vector(mesh_.internal_force);
+    w.vector(mesh_.mass);
+    w.vector(mesh_.stress);
+    w.vector(mesh_.plastic_strain);
+    w.vector(mesh_.temperature_k);
+    w.vector(mesh_.damage);
+    w.vector(mesh_.volume);
+    w.vector(mesh_.internal_energy_j);
+    w.vector(mesh_.hourglass_energy_j);
+    w.vector(mesh_.hourglass);
+    w.vector(mesh_.eroded);
+    w.vector(acceleration_);
+    w.vector(external_force_);
+    w.vector(dashpot_force_);
+    w.vector(live_elements_of_node_);
+    w.vector(element_accounted_);
+    w.vector(contact_force_);
+    w.value(contact_work_);
+    w.value(contact_pending_);
+    w.value(last_);
+    w.value(dt_pending_);
+    w.value(stale_);
+    w.value(external_work_);
+    w.value(dissipated_);
+    w.value(eroded_energy_);
+    w.value(eroded_mass_);
+    w.value(eroded_count_);
+  }
+
+  void load_state(io::StateReader& r) override {
+    r.tag("fem");
+    const std::size_t nn = mesh_.position.size(), ne = mesh_.elements.size();
+    auto sized = [&](auto& v, std::size_t n, const char* what) {
+      r.vector(v);
+      if (v.size() != n)
+        r.fail(fmt::format("part '{}': {} has {} entries, the mesh {}", name_, what, v.size(), n));
+    };
+    sized(mesh_.position, nn, "positions");
+    sized(mesh_.velocity, nn, "velocities");
+    sized(mesh_.internal_force, nn, "forces");
+    sized(mesh_.mass, nn, "masses");
+    sized(mesh_.stress, ne, "stresses");
+    sized(mesh_.plastic_strain, ne, "plastic strains");
+    sized(mesh_.temperature_k, ne, "temperatures");
+    sized(mesh_.damage, ne, "damage");
+    sized(mesh_.volume, ne, "volumes");
+    sized(mesh_.internal_energy_j, ne, "internal energies");
+    sized(mesh_.hourglass_energy_j, ne, "hourglass energies");
+    sized(mesh_.hourglass, ne, "hourglass forces");
+    sized(mesh_.eroded, ne, "erosion flags");
+    sized(acceleration_, nn, "accelerations");
+    sized(external_force_, nn, "external forces");
+    sized(dashpot_force_, nn, "dashpot forces");
+    sized(live_elements_of_node_, nn, "node element counts");
+    sized(element_accounted_, ne, "erosion records");
+    sized(contact_force_, nn, "contact forces");
+    r.value(contact_work_);
+    r.value(contact_pending_);
+    r.value(last_);
+    r.value(dt_pending_);
+    r.value(stale_);
+    r.value(external_work_);
+    r.value(dissipated_);
+    r.value(eroded_energy_);
+    r.value(eroded_mass_);
+    r.value(eroded_count_);
+    if (eroded_count_ > 0) rebuild_surface();
+  }
+
+  std::vector<solver::Diagnostic> diagnostics() const override {
+    return {{"elements", static_cast<Real>(mesh_.element_count())},
+            {"nodes", static_cast<Real>(mesh_.node_count())},
+            {"eroded_elements", static_cast<Real>(eroded_count_)},
+            {"eroded_mass_kg", eroded_mass_},
+            {"initial_mass_kg", initial_mass_},
+            {"max_plastic_strain", parallel::max_over(mesh_.element_count(), 0, [&](Index e) {
+               return mesh_.plastic_strain[at(e)];
+             })}};
+  }
+
+ private:
+  static inline const fields::FieldInfo kVelocityInfo{"velocity", "m/s", fields::kOutput};
+  static inline const fields::FieldInfo kDisplacementInfo{"displacement", "m", fields::kOutput};
+  static inline const fields::FieldInfo kNodeMassInfo{"node_mass", "kg", fields::kOutput};
+  static inline const fields::FieldInfo kVonMisesInfo{"von_mises", "Pa", fields::kOutput};
+  static inline const fields::FieldInfo kPressureInfo{"pressure", "Pa", fields::kOutput};
+  static inline const fields::FieldInfo kPlasticStrainInfo{"plastic_strain", "1", fields::kOutput};
+  static inline const fields::FieldInfo kDensityInfo{"density", "kg/m^3", fields::kOutput};
+  static inline const fields::FieldInfo kDamageInfo{"damage", "1", fields::kOutput};
+  static inline const fields::FieldInfo kErodedInfo{"eroded", "1", fields::kOutput};
+  static inline const fields::FieldInfo kTemperatureInfo{"temperature", "K", fields::kOutput};
+
+  static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
+    return fields::FieldView{&info, 1, false, v.data(), nullptr, static_cast<Index>(v.size())};
+  }
+  static fields::FieldView vector_view(const fields::FieldInfo& info,
+                                       const std::vector<Vec<D>>& v) {
+    return fields::FieldView{&info,   D,
+                             false,   v.empty() ? nullptr : v.front().data(),
+                             nullptr, static_cast<Index>(v.size())};
+  }
+
+  /// The smallest i in [0, n) with pred(i), or -1 (the same answer for any thread count).
+  template <class Pred>
+  static Index first_index(Index n, Pred&& pred) {
+    const Real found = parallel::min_over(n, std::numeric_limits<Real>::infinity(), [&](Index i) {
+      return pred(i) ? static_cast<Real>(i) : std::numeric_limits<Real>::infinity();
+    });
+    return std::isfinite(found) ? static_cast<Index>(found) : Index{-1};
+  }
+
+  /// Acceleration of the part's own forces plus the contacts' (zero on frozen nodes).
+  Vec<D> total_acceleration(std::size_t u) const {
+    const Real m = mesh_.mass[u];
+    return m > 0 ? Vec<D>(acceleration_[u] + contact_force_[u] / m) : Vec<D>(Vec<D>::Zero());
+  }
+
+  /// The faces of live elements that no other live element shares, oriented outward, with
+  /// the LS-DYNA segment stiffness K A^2 / V of their element.
+  void rebuild_surface() {
+    const SurfaceFaces<D> sf = surface_faces(mesh_);
+    const Real bulk = materials::bulk_modulus(materials::elastic_of(material_.strength));
+    surface_faces_ = sf.nodes;
+    surface_element_ = sf.element;
+    surface_stiffness_.resize(sf.nodes.size());
+    for (std::size_t f = 0; f < sf.nodes.size(); ++f)
+      surface_stiffness_[f] =
+          bulk * sf.area[f] * sf.area[f] / mesh_.reference_volume[at(sf.element[f])];
+    ++surface_revision_;
+  }
+
+  Real total_mass() const {
+    return parallel::deterministic_sum<Real>(mesh_.node_count(),
+                                             [&](Index i) { return mesh_.mass[at(i)]; });
+  }
+
+  void impose_velocity(std::size_t u) {
+    const unsigned c = constrained_[u];
+    if (c == 0) return;
+    for (int k = 0; k < D; ++k)
+      if (c & (1u << k)) mesh_.velocity[u][k] = imposed_velocity_[u][k];
+  }
+  void impose_velocities() {
+    for (Index i = 0; i < mesh_.node_count(); ++i)
+      impose_velocity(at(i));
+  }
+
+  /// Moves the mass, kinetic, internal and hourglass energy of the elements that failed in the
+  /// last force evaluation to the eroded account, in element order (deterministic); the faces
+  /// they uncover join the contact surface.
+  void account_erosion() {
+    constexpr int kNodes = kElementNodes<D>;
+    for (Index e = 0; e < mesh_.element_count(); ++e) {
+      const std::size_t ue = at(e);
+      if (!mesh_.eroded[ue] || element_accounted_[ue]) continue;
+      element_accounted_[ue] = 1;
+      ++eroded_count_;
+      eroded_energy_ += mesh_.internal_energy_j[ue] + mesh_.hourglass_energy_j[ue];
+      const Real share = material_.density_kg_m3 * mesh_.reference_volume[ue] / kNodes;
+      for (Index n : mesh_.elements[ue]) {
+        const std::size_t un = at(n);
+        const Real removed = --live_elements_of_node_[un] == 0 ? mesh_.mass[un] : share;
+        eroded_mass_ += removed;
+        eroded_energy_ += Real(0.5) * removed * mesh_.velocity[un].squaredNorm();
+        mesh_.mass[un] -= removed;
+        if (live_elements_of_node_[un] == 0) {
+          mesh_.mass[un] = 0;
+          mesh_.velocity[un].setZero();
+          mesh_.internal_force[un].setZero();
+        }
+      }
+    }
+    rebuild_surface();
+  }
+
+  /// Nodes of a boundary condition and, for dashpots, their boundary faces.
+  void apply_boundary_config(const MeshSource<D>& source, const io::FemBoundaryConfig& b,
+                             const io::Config& config) {
+    const NodeSet<D> set = b.face ? face_node_set(mesh_, *b.face) : source.group(b.group);
+    switch (b.type) {
+      case io::FemBoundaryType::Fixed:
+        for (Index n : set.nodes) {
+          constrained_[at(n)] = (1u << D) - 1;
+          imposed_velocity_[at(n)].setZero();
+        }
+        break;
+      case io::FemBoundaryType::Symmetry: {
+        const int axis = set.normal_axis;
+        if (axis < 0)
+          throw std::runtime_error(
+              fmt::format("part '{}': a symmetry boundary needs a plane normal to an axis", name_));
+        for (Index n : set.nodes) {
+          constrained_[at(n)] |= 1u << axis;
+          imposed_velocity_[at(n)][axis] = 0;
+        }
+        break;
+      }
+      case io::FemBoundaryType::Velocity:
+        for (Index n : set.nodes)
+          for (int k = 0; k < D; ++k)
+            if (b.components[at(k)]) {
+              constrained_[at(n)] |= 1u << k;
+              imposed_velocity_[at(n)][k] = b.velocity_m_s[at(k)];
+            }
+        break;
+      case io::FemBoundaryType::NonReflecting:
+        add_dashpots(set, config);
+        break;
+    }
+  }
+
+  /// Lysmer-Kuhlemeyer dashpots on the boundary faces of `set` (reference configuration).
+  void add_dashpots(const NodeSet<D>& set, const io::Config& /*config*/) {
+    const materials::ElasticParams& el = materials::elastic_of(material_.strength);
+    const Real rho = material_.density_kg_m3;
+    const Real cp = std::sqrt(materials::p_wave_modulus(el) / rho);
+    const Real cs = std::sqrt(materials::shear_modulus(el) / rho);
+    for (const auto& face : set.faces) {
+      const Vec<D> n = face.unit_normal;
+      const MatD<D> nn = n * n.transpose();
+      const MatD<D> c = (face.area / Real(face.nodes.size())) *
+                        (rho * cp * nn + rho * cs * (MatD<D>::Identity() - nn));
+      for (Index node : face.nodes) {
+        Index& d = dashpot_of_node_[at(node)];
+        if (d < 0) {
+          d = static_cast<Index>(dashpot_matrix_.size());
+          dashpot_matrix_.push_back(MatD<D>::Zero());
+        }
+        dashpot_matrix_[at(d)] += c;
+      }
+    }
+  }
+
+  std::string name_;
+  SolidMaterial material_;
+  ExplicitMesh<D> mesh_;
+  Vec<D> gravity_ = Vec<D>::Zero();
+  Real initial_mass_ = 0;
+
+  // Boundary conditions, per node: bit k of constrained_ = component k imposed.
+  std::vector<std::uint8_t> constrained_;
+  std::vector<Vec<D>> imposed_velocity_;
+  std::vector<Index> dashpot_of_node_;  // index into dashpot_matrix_, or -1
+  std::vector<MatD<D>> dashpot_matrix_;
+
+  // State between stages.
+  std::vector<Vec<D>> acceleration_;
+  std::vector<Vec<D>> external_force_;  // gravity + reactions at the last force evaluation
+  std::vector<Vec<D>> dashpot_force_;
+  std::vector<Index> live_elements_of_node_;
+  std::vector<std::uint8_t> element_accounted_;
+  std::vector<Vec<D>> contact_force_;  // from the contacts at the last force evaluation
+  bool contact_pending_ = false;       // the nodes moved since the contact forces were set
+
+  // Contact surface (solver::ContactSurface).
+  std::vector<std::array<Index, solver::kFaceNodes<D>>> surface_faces_;
+  std::vector<Index> surface_element_;
+  std::vector<Real> surface_stiffness_;
+  std::uint64_t surface_revision_ = 0;
+  ForceReport last_;
+  Real dt_pending_ = 0;  // the step the nodes moved by since the last force evaluation
+  bool stale_ = true;    // the nodes moved since then
+
+  // Accounts [J], [kg].
+  Real external_work_ = 0;
+  Real dissipated_ = 0;
+  Real contact_work_ = 0;  // work of the contact forces on the part
+  Real eroded_energy_ = 0;
+  Real eroded_mass_ = 0;
+  Index eroded_count_ = 0;
+
+  // Output scratch.
+  mutable std::vector<Vec<D>> displacement_;
+  mutable std::vector<Real> von_mises_, pressure_, density_;
+  mutable std::vector<std::int64_t> eroded_flag_;
+};
+
+}  // namespace
+
+template <int D>
+std::unique_ptr<solver::Part<D>> make_fem_part(const io::Config& config,
+                                               const io::PartConfig& part) {
+  return std::make_unique<FemPart<D>>(config, part);
+}
+
+template std::unique_ptr<solver::Part<2>> make_fem_part<2>(const io::Config&,
+                                                           const io::PartConfig&);
+template std::unique_ptr<solver::Part<3>> make_fem_part<3>(const io::Config&,
+                                                           const io::PartConfig&);
+
+}  // namespace crater::fem

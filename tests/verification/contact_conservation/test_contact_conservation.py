@@ -1,0 +1,321 @@
+"""Contacts between parts (issue 5/6 of coupling): conservation through the whole code path.
+
+- An SPH gas blob hitting a free steel plate at 200 m/s (2D): the total momentum of both parts
+  (read from the VTU frames with VTK's reader: SPH mass x velocity, FEM node mass x velocity)
+  stays at its initial value to 1e-10 relative (the contact forces are equal and opposite);
+  the energy balance closes to 1 %.
+- A gas column at pressure p (ideal gas, 1000 kg/m^3, 100 MPa) held by free-slip SPH walls on
+  three sides and an FEM plate below: the force the contact transmits to the plate, averaged
+  over the second half of the run (history.csv, force_gas-plate_y), is p x width within 5 %
+  (momentum balance of the gas at rest: the plate carries what the opposite wall pushes).
+"""
+import csv
+import sys
+import unittest
+
+import numpy as np
+
+from crater_test import read_vtu, run_scenario, scratch
+
+BLOB = """[scenario]
+name = "sph-fem"
+description = "gas blob hits a free plate"
+dimension = 2
+end_time_s = 2e-4
+[output]
+interval_s = 5e-5
+history_every = 10
+[domain]
+min_m = [-0.2, -0.1]
+max_m = [0.2, 0.3]
+[[materials]]
+name = "steel"
+model = "elastic"
+rho0_kg_m3 = 7850
+youngs_modulus_pa = 200e9
+poisson_ratio = 0.3
+[[materials]]
+name = "gas"
+model = "ideal_gas"
+rho0_kg_m3 = 100
+gamma = 1.4
+[[parts]]
+name = "plate"
+method = "fem"
+material = "steel"
+spacing_m = 0.005
+region = { type = "box", min_m = [-0.1, 0.0], max_m = [0.1, 0.01] }
+[[parts]]
+name = "blob"
+method = "sph"
+material = "gas"
+spacing_m = 0.004
+region = { type = "box", min_m = [-0.03, 0.012], max_m = [0.03, 0.05] }
+initial = { pressure_pa = 1e5, velocity_m_s = [0, -200.0] }
+[[contacts]]
+parts = ["blob", "plate"]
+penalty_scale = 0.1
+"""
+
+COLUMN = """[scenario]
+name = "gas-column"
+description = "a gas column at pressure p on a plate"
+dimension = 2
+end_time_s = 2e-3
+[output]
+interval_s = 5e-4
+history_every = 20
+[domain]
+min_m = [0, -0.01]
+max_m = [0.05, 0.05]
+[[materials]]
+name = "steel"
+model = "elastic"
+rho0_kg_m3 = 7850
+youngs_modulus_pa = 200e9
+poisson_ratio = 0.3
+[[materials]]
+name = "gas"
+model = "ideal_gas"
+rho0_kg_m3 = 1000
+gamma = 1.4
+[[parts]]
+name = "plate"
+method = "fem"
+material = "steel"
+spacing_m = 0.0025
+region = { type = "box", min_m = [0, -0.01], max_m = [0.05, 0.0] }
+[[parts.fem.boundary]]
+type = "fixed"
+face = "bottom"
+[[parts]]
+name = "gas"
+method = "sph"
+material = "gas"
+spacing_m = 0.0025
+region = { type = "box", min_m = [0, 0], max_m = [0.05, 0.05] }
+initial = { pressure_pa = 1e8 }
+[parts.sph]
+walls = ["left", "right", "top"]
+[[contacts]]
+parts = ["gas", "plate"]
+penalty_scale = 0.1
+"""
+
+
+def momentum(out, parts, frame):
+    total = np.zeros(3)
+    for part, mass in parts:
+        _, a, _, _ = read_vtu(out / f"{part}_{frame:06d}.vtu")
+        total += (a["velocity"] * a[mass][:, None]).sum(axis=0)
+    return total
+
+
+def momentum_drift(out, parts, frames):
+    p0 = momentum(out, parts, 0)
+    worst = max(np.abs(momentum(out, parts, k) - p0).max() for k in range(1, frames))
+    return worst / np.linalg.norm(p0), p0
+
+
+class SphFem(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("contact_sph_fem")
+        (cls.work / "blob.toml").write_text(BLOB)
+        (cls.work / "column.toml").write_text(COLUMN)
+
+    def test_blob_on_free_plate_conserves_momentum(self):
+        out = self.work / "blob"
+        s = run_scenario(self.work / "blob.toml", out)
+        drift, p0 = momentum_drift(out, (("plate", "node_mass"), ("blob", "mass")), 5)
+        _, a, _, _ = read_vtu(out / "plate_000004.vtu")
+        plate = (a["velocity"] * a["node_mass"][:, None]).sum(axis=0)
+        print(f"momentum drift {drift:.1e} of |p0| = {np.linalg.norm(p0):.2f} kg m/s; the plate "
+              f"took {plate[1]:.2f} kg m/s; energy balance {s['energy']['balance_error']:.2e}")
+        self.assertGreater(abs(plate[1]), 0.5 * np.linalg.norm(p0))  # the blob did hit the plate
+        self.assertLess(drift, 1e-10)
+        self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
+
+    def test_gas_column_transmits_pressure(self):
+        out = self.work / "column"
+        run_scenario(self.work / "column.toml", out)
+        with open(out / "history.csv") as f:
+            rows = list(csv.DictReader(f))
+        t = np.array([float(r["time_s"]) for r in rows])
+        fy = np.array([float(r["force_gas-plate_y"]) for r in rows])
+        late = t >= 1e-3
+        ratio = fy[late].mean() / (-1e8 * 0.05)
+        print(f"plate force / (p A) = {ratio:.4f} (mean over 1-2 ms), range "
+              f"{fy[late].min() / -5e6:.4f} .. {fy[late].max() / -5e6:.4f}")
+        self.assertLess(abs(ratio - 1), 0.05)
+
+
+
+GRAIN = """
+[scenario]
+name = "dem-fem-{tag}"
+description = "grains on a steel plate"
+dimension = {dim}
+end_time_s = {end}
+[output]
+interval_s = {frame}
+history_every = 10
+[domain]
+gravity_m_s2 = [0, {g}{z0}]
+min_m = [-0.05, -0.01{zlo}]
+max_m = [0.05, 0.05{zhi}]
+[[materials]]
+name = "steel"
+model = "elastic"
+rho0_kg_m3 = 7850
+youngs_modulus_pa = 200e9
+poisson_ratio = 0.3
+[[materials]]
+name = "sand"
+model = "granular"
+rho0_kg_m3 = 1920
+shear_modulus_pa = 29e9
+poisson_ratio = 0.2
+friction = 0.84
+restitution = 0.5
+[[parts]]
+name = "plate"
+method = "fem"
+material = "steel"
+spacing_m = 0.0025
+region = {{ type = "box", min_m = [-0.01, -0.005{zplo}], max_m = [0.01, 0.0{zphi}] }}
+{plate_bc}
+[[parts]]
+name = "grains"
+method = "dem"
+material = "sand"
+spacing_m = 0.005
+region = {{ type = "box", min_m = [-0.02, 0.001{zlo}], max_m = [0.02, 0.04{zhi}] }}
+[[parts.particles]]
+center_m = [0, {y0}{z0}]
+radius_m = 0.0025
+velocity_m_s = [{vx}, {vy}{z0}]
+[[contacts]]
+parts = ["grains", "plate"]
+friction = 0.4
+"""
+
+
+def grain_case(work, tag, dim=2, end=2e-4, frame=5e-5, g=0.0, y0=0.0026, vx=0.0, vy=-5.0,
+               fixed=False):
+    z = dim == 3
+    text = GRAIN.format(
+        tag=tag, dim=dim, end=end, frame=frame, g=g, y0=y0, vx=vx, vy=vy,
+        z0=", 0" if z else "", zlo=", -0.02" if z else "", zhi=", 0.02" if z else "",
+        zplo=", -0.01" if z else "", zphi=", 0.01" if z else "",
+        plate_bc='[[parts.fem.boundary]]\ntype = "fixed"\nface = "bottom"' if fixed else "")
+    path = work / f"{tag}.toml"
+    path.write_text(text)
+    return path
+
+
+class DemFem(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("contact_dem_fem")
+
+    def check_momentum(self, dim):
+        out = self.work / f"oblique{dim}d"
+        s = run_scenario(grain_case(self.work, f"oblique{dim}d", dim=dim, vx=2.0), out)
+        drift, p0 = momentum_drift(out, (("plate", "node_mass"), ("grains", "mass")), 5)
+        _, a, _, _ = read_vtu(out / "grains_000004.vtu")
+        print(f"{dim}D grain on a free plate: momentum drift {drift:.1e}; rebound v = "
+              f"{a['velocity'][0][:2]}, spin {a['angular_velocity'][0]}; energy balance "
+              f"{s['energy']['balance_error']:.2e}")
+        self.assertGreater(a["velocity"][0][1], 0)  # it bounced
+        self.assertLess(drift, 1e-10)
+        self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
+
+    def test_grain_on_free_plate_conserves_momentum_2d(self):
+        self.check_momentum(2)
+
+    def test_grain_on_free_plate_conserves_momentum_3d(self):
+        self.check_momentum(3)
+
+    def test_grain_resting_on_plate_carries_its_weight(self):
+        out = self.work / "resting"
+        s = run_scenario(grain_case(self.work, "resting", end=2e-3, frame=1e-3, g=-9.81,
+                                    y0=0.0025, vy=0.0, fixed=True), out)
+        with open(out / "history.csv") as f:
+            last = list(csv.DictReader(f))[-1]
+        weight = 1920 * np.pi * 0.0025**2 * 9.81
+        ratio = -float(last["force_grains-plate_y"]) / weight
+        print(f"plate force / m g = {ratio:.5f}; overlap {s['contacts']['contact_grains-plate_max_overlap_m']:.2e} m")
+        self.assertLess(abs(ratio - 1), 0.01)
+
+    def test_fast_grain_does_not_pass_through(self):
+        for v in (100.0, 1000.0):
+            out = self.work / f"fast{int(v)}"
+            run_scenario(grain_case(self.work, f"fast{int(v)}", end=5e-5, frame=2.5e-5,
+                                    y0=0.0026 + v * 1e-6, vy=-v, fixed=True), out)
+            p, a, _, _ = read_vtu(out / "grains_000002.vtu")
+            print(f"{v:.0f} m/s: grain at y = {p[0][1] * 1e3:.3f} mm, v_y = {a['velocity'][0][1]:.1f} m/s")
+            self.assertGreater(p[0][1], 0.0)
+            self.assertGreater(a["velocity"][0][1], 0.0)
+
+
+SPH_DEM = """
+[scenario]
+name = "sph-dem"
+description = "a gas blob hits a few grains"
+dimension = 2
+end_time_s = 2e-4
+[output]
+interval_s = 5e-5
+[domain]
+min_m = [-0.1, -0.1]
+max_m = [0.1, 0.2]
+[[materials]]
+name = "gas"
+model = "ideal_gas"
+rho0_kg_m3 = 100
+gamma = 1.4
+[[materials]]
+name = "sand"
+model = "granular"
+rho0_kg_m3 = 1920
+shear_modulus_pa = 29e9
+poisson_ratio = 0.2
+friction = 0.84
+restitution = 0.5
+[[parts]]
+name = "blob"
+method = "sph"
+material = "gas"
+spacing_m = 0.004
+region = { type = "box", min_m = [-0.03, 0.012], max_m = [0.03, 0.05] }
+initial = { pressure_pa = 1e5, velocity_m_s = [0, -100.0] }
+[[parts]]
+name = "grains"
+method = "dem"
+material = "sand"
+spacing_m = 0.006
+region = { type = "box", min_m = [-0.03, -0.01], max_m = [0.03, 0.01] }
+[[contacts]]
+parts = ["blob", "grains"]
+"""
+
+
+class SphDem(unittest.TestCase):
+    def test_blob_on_grains_conserves_momentum(self):
+        work = scratch("contact_sph_dem")
+        (work / "case.toml").write_text(SPH_DEM)
+        out = work / "out"
+        s = run_scenario(work / "case.toml", out)
+        drift, p0 = momentum_drift(out, (("blob", "mass"), ("grains", "mass")), 5)
+        _, a, _, _ = read_vtu(out / "grains_000004.vtu")
+        grains = (a["velocity"] * a["mass"][:, None]).sum(axis=0)
+        print(f"momentum drift {drift:.1e}; grains took {grains[1]:.3f} of {p0[1]:.3f} kg m/s; "
+              f"energy balance {s['energy']['balance_error']:.2e}")
+        self.assertLess(grains[1], 0.1 * p0[1])  # the grains were pushed down
+        self.assertLess(drift, 1e-10)
+        self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0], "-v"])

@@ -1,0 +1,51 @@
+"""Angle of repose of a poured heap of spheres for mu = 0.84 (the paper's sand friction,
+tan 40 degrees) against the DEM correlation of Zhou, Xu, Yu & Zulli 2002 (Powder Technol. 125,
+45-54, Eq. 5; setup, reference and conversion of the rolling friction in repose_case.py).
+
+Reference: Zhou's Eq. 5 for mu_s,pp = 0.84, mu_s,pw = 0.6, mu_r = 0.02 (0.0475 / 0.095 mm),
+d = 9.5 mm: 23.4 degrees. Tolerance: +-4 degrees, twice the 2-degree standard deviation of
+Zhou's fit.
+
+EXPECTED FAILURE (the gap): crater's poured heap stands at 18.5 degrees (17.5 with another
+seed), 5 degrees below the correlation. Its trend with mu is right and about parallel to
+Zhou's (9.8 / 14.2 / 18.5 degrees at mu = 0.2 / 0.5 / 0.84 against 15.9 / 20.4 / 23.4;
+test_angle_of_repose_sweep.py). Not settled: how much of the gap is the heap's formation
+(batches poured onto an open floor, where spheres roll away, rather than Zhou's heap left on
+a plate the bed drained from, an angle of the drained kind that usually stands higher), the
+cone rather than Zhou's plane heap, or the rolling model (model C's rolling spring against
+Zhou's constant torque; a ten times stiffer spring, k_n = 2e4 N/m, gave 17.0 degrees, so not
+its softness). The range check runs and is expected to fail (unittest.expectedFailure): if it
+starts passing, the unexpected success fails the test and this note must go.
+"""
+import sys
+import unittest
+
+from repose_case import pour, zhou_angle
+
+MU = 0.84
+TOLERANCE_DEG = 4.0
+
+
+class AngleOfRepose(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.angle, cls.apex, cls.rings, cls.grains, cls.kinetic = pour(MU)
+        cls.reference = zhou_angle(MU)
+        print(f"mu = {MU}: poured heap {cls.angle:.1f} deg ({cls.rings} rings fitted, apex "
+              f"{cls.apex * 100:.1f} cm, {cls.grains} spheres, kinetic energy at the end "
+              f"{cls.kinetic:.1e} J); Zhou et al. 2002 Eq. 5: {cls.reference:.1f} +- "
+              f"{TOLERANCE_DEG} deg", file=sys.stderr)
+
+    def test_heap_formed(self):
+        self.assertEqual(self.grains, 2400)
+        self.assertGreaterEqual(self.rings, 6)
+        self.assertGreater(self.angle, 10.0)
+
+    # The gap (module docstring): crater's heap is about 5 degrees below Zhou's correlation.
+    @unittest.expectedFailure
+    def test_in_published_range(self):
+        self.assertLess(abs(self.angle - self.reference), TOLERANCE_DEG)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -1,0 +1,116 @@
+"""Single Hex8 element of the paper's steel pulled in uniaxial tension to Johnson-Cook failure,
+through the whole FEM code path (scenario -> FEM part -> time loop -> VTU / summary.json).
+
+Reference (Johnson & Cook 1985, Eng. Fract. Mech. 21, 31-48, eq. 2): at constant stress
+triaxiality sigma* = p / sigma_eq ... here sigma* = sigma_m / sigma_eq = 1/3 (uniaxial stress),
+with the rate and temperature terms off (D4 = D5 = 0), damage D = sum d(eps_p) / eps_f reaches 1
+when the equivalent plastic strain equals
+
+    eps_f = D1 + D2 exp(D3 sigma*)
+
+Constants: the paper's Table 3 (D1 = 0.05, D2 = 3.44, D3 = -2.12; A, B, n, C, m of the same
+table), E = 200 GPa, nu = 0.3, rho = 7850 kg/m^3. The element (10 mm cube) has symmetry
+(roller) conditions on its three lower faces and its top face pulled at 2 m/s (strain rate
+200/s falling to 35/s, loading time 25 ms >> the 2 us wave transit: quasi-static), so the
+stress is uniaxial.
+
+Acceptance (issue 4/6 of FEM): the element erodes at eps_f within 1 %; its mass (rho V_0) and
+energy leave the part and are reported: eroded_mass_kg = rho V_0 (1e-9), the part's mass is 0
+afterwards, the work done on it is in eroded_j, and the energy balance closes to 1e-3.
+"""
+import json
+import math
+import sys
+import unittest
+
+from crater_test import read_vtu_cells, run_scenario, scratch
+
+D1, D2, D3 = 0.05, 3.44, -2.12
+EPS_F = D1 + D2 * math.exp(D3 / 3.0)
+RHO, SIZE = 7850.0, 0.01
+
+SCENARIO = f"""
+[scenario]
+name = "fem-erosion"
+description = "single element to Johnson-Cook failure"
+dimension = 3
+end_time_s = 0.03
+[output]
+interval_s = 0.005
+history_every = 100
+[domain]
+min_m = [0, 0, 0]
+max_m = [{SIZE}, {SIZE}, {SIZE}]
+[[materials]]
+name = "steel"
+model = "johnson_cook"
+rho0_kg_m3 = {RHO}
+youngs_modulus_pa = 200e9
+poisson_ratio = 0.3
+a_pa = 50.103e6
+b_pa = 176.091e6
+n = 0.5176
+c = 0.095
+m = 0.6622
+damage = {{ d1 = {D1}, d2 = {D2}, d3 = {D3}, d4 = 0, d5 = 0 }}
+[[parts]]
+name = "cube"
+method = "fem"
+material = "steel"
+spacing_m = {SIZE}
+region = {{ type = "box", min_m = [0, 0, 0], max_m = [{SIZE}, {SIZE}, {SIZE}] }}
+[[parts.fem.boundary]]
+type = "symmetry"
+face = "left"
+[[parts.fem.boundary]]
+type = "symmetry"
+face = "bottom"
+[[parts.fem.boundary]]
+type = "symmetry"
+face = "back"
+[[parts.fem.boundary]]
+type = "velocity"
+face = "top"
+velocity_m_s = [0, 2.0, 0]
+components = ["y"]
+"""
+
+
+class SingleElementErosion(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("fem_erosion")
+        path = cls.work / "cube.toml"
+        path.write_text(SCENARIO)
+        cls.summary = run_scenario(path, cls.work / "out")
+        cls.out = cls.work / "out"
+
+    def test_erodes_at_the_failure_strain(self):
+        before = read_vtu_cells(self.out / "cube_000004.vtu")  # t = 20 ms: strain 1.39, intact
+        self.assertEqual(int(before["eroded"][0]), 0)
+        self.assertLess(before["damage"][0], 1.0)
+        after = read_vtu_cells(self.out / "cube_000006.vtu")
+        self.assertEqual(int(after["eroded"][0]), 1)
+        eps = float(after["plastic_strain"][0])
+        err = eps / EPS_F - 1
+        print(f"plastic strain at erosion {eps:.5f}, Johnson-Cook eps_f {EPS_F:.5f} "
+              f"({100 * err:+.3f} %)")
+        self.assertLess(abs(err), 0.01)
+
+    def test_mass_and_energy_are_accounted(self):
+        part = self.summary["parts"][0]
+        diag = part["diagnostics"]
+        self.assertEqual(diag["eroded_elements"], 1)
+        self.assertAlmostEqual(diag["eroded_mass_kg"] / (RHO * SIZE**3), 1.0, delta=1e-9)
+        self.assertEqual(part["mass_kg"], 0.0)
+        final = self.summary["energy"]["final"]
+        print(f"eroded energy {final['eroded_j']:.4f} J, external work "
+              f"{final['external_work_j']:.4f} J, balance error "
+              f"{self.summary['energy']['balance_error']:.2e}")
+        self.assertEqual(final["internal_j"], 0.0)
+        self.assertGreater(final["eroded_j"], 0.5 * final["external_work_j"])
+        self.assertLess(abs(self.summary["energy"]["balance_error"]), 1e-3)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0], "-v"])
