@@ -210,6 +210,20 @@ class DemPart final : public solver::Part<D> {
         vel.push_back(to_vec<D>(pc.initial.velocity_m_s));
       }
     }
+    if (!pc.carve.empty()) {
+      // Leave the carved parts' regions empty (a charge, a plate inside the soil box).
+      std::size_t kept = 0;
+      for (std::size_t k = 0; k < pts.size(); ++k) {
+        if (io::carved<D>(c, pc.carve, pts[k], radii[k])) continue;
+        pts[kept] = pts[k];
+        radii[kept] = radii[k];
+        vel[kept] = vel[k];
+        ++kept;
+      }
+      pts.resize(kept);
+      radii.resize(kept);
+      vel.resize(kept);
+    }
     if (pc.packing.agitation_m_s > 0 && !local_damping) {  // not while settling
       // Random agitation, uniform in +-a per component, drawn in grain order (seeded).
       std::mt19937_64 jitter(pc.dem.seed ^ 0x5deece66dULL);

@@ -159,7 +159,8 @@ class SphPart final : public solver::Part<D> {
       return k;
     };
     for (const auto& x : io::region_lattice<D>(pc.region, spacing_))
-      if (owner(x) < 0) pts.push_back(x), pitch.push_back(spacing_);
+      if (owner(x) < 0 && !io::carved<D>(c, pc.carve, x, 0.5 * spacing_))
+        pts.push_back(x), pitch.push_back(spacing_);
     for (std::size_t z = 0; z < pc.zones.size(); ++z) {
       if (!pc.zones[z].spacing_m) continue;
       for (const auto& x : io::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))

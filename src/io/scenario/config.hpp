@@ -217,6 +217,7 @@ struct PartConfig {
   RegionConfig region;
   InitialConfig initial;
   std::vector<ZoneConfig> zones;
+  std::vector<std::size_t> carve;  // parts whose regions this part's particles leave empty
   SphConfig sph;
   DemConfig dem;
   PackingConfig packing;

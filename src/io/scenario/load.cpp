@@ -543,10 +543,43 @@ class Builder {
       c.parts.push_back(std::move(p));
     }
 
+    // Carving: a part may leave the regions of named other parts empty.
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      const auto& t = *arr.get(i)->as_table();
+      const toml::node* cn = t.get("carve");
+      if (!cn || i >= c.parts.size()) continue;
+      const SourceLocation cw = loc(t, "carve", where_of(t, top));
+      PartConfig& p = c.parts[i];
+      if (p.method == "fem")
+        error(cw, fmt::format("parts[{}].carve", i),
+              "only sph and dem parts are carved; an fem part's mesh is its shape");
+      if (p.packing.settle)
+        error(cw, fmt::format("parts[{}].carve", i),
+              "a carved part cannot be settled yet (the hole would fill while it settles); set "
+              "packing.settle = false");
+      const auto& names = *cn->as_array();
+      for (std::size_t j = 0; j < names.size(); ++j) {
+        const std::string name = names.get(j)->as_string()->get();
+        const auto it = std::find_if(c.parts.begin(), c.parts.end(),
+                                     [&](const PartConfig& q) { return q.name == name; });
+        if (it == c.parts.end() || it->name == p.name) {
+          error(cw, fmt::format("parts[{}].carve[{}]", i, j),
+                it == c.parts.end() ? fmt::format("no part named '{}'", name)
+                                    : std::string("a part cannot carve itself"));
+          continue;
+        }
+        p.carve.push_back(static_cast<std::size_t>(it - c.parts.begin()));
+      }
+    }
+    auto carves = [&](std::size_t a, std::size_t b) {
+      const auto& k = c.parts[a].carve;
+      return std::find(k.begin(), k.end(), b) != k.end();
+    };
+
     // Bodies must not overlap (e.g. the plate "at 0.5 m depth" read as its top face).
     for (std::size_t a = 0; a < c.parts.size(); ++a)
       for (std::size_t b = a + 1; b < c.parts.size(); ++b)
-        if (overlap(c.parts[a].region, c.parts[b].region, dim))
+        if (!carves(a, b) && !carves(b, a) && overlap(c.parts[a].region, c.parts[b].region, dim))
           error(c.parts[b].region.where, fmt::format("parts[{}].region", b),
                 fmt::format("bodies overlap: part '{}' intersects part '{}' (line {})",
                             c.parts[b].name, c.parts[a].name, c.parts[a].region.where.line));

@@ -32,6 +32,31 @@ bool region_contains(const RegionConfig& r, const Vec<D>& x) {
   return (x - to_vec<D>(r.center_m)).norm() <= r.radius_m;
 }
 
+/// Distance from x to the region (0 inside) [m].
+template <int D>
+Real region_distance(const RegionConfig& r, const Vec<D>& x) {
+  if (r.type == RegionType::Box) {
+    Real s = 0;
+    for (int d = 0; d < D; ++d) {
+      const Real e = std::max({r.min_m[static_cast<std::size_t>(d)] - x[d], Real(0),
+                               x[d] - r.max_m[static_cast<std::size_t>(d)]});
+      s += e * e;
+    }
+    return std::sqrt(s);
+  }
+  return std::max(Real(0), (x - to_vec<D>(r.center_m)).norm() - r.radius_m);
+}
+
+/// Whether a particle of radius `radius` at x reaches into one of `carve` (indices into
+/// config.parts): such particles are not laid.
+template <int D>
+bool carved(const Config& config, const std::vector<std::size_t>& carve, const Vec<D>& x,
+            Real radius) {
+  for (std::size_t k : carve)
+    if (region_distance<D>(config.parts[k].region, x) < radius) return true;
+  return false;
+}
+
 /// Centres of a square/cubic lattice of pitch s over the region's bounding box, centred in
 /// it, kept when inside the region. Each point stands for a cell of volume s^D.
 template <int D>

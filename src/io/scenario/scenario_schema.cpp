@@ -764,6 +764,11 @@ TableSchema make_part() {
       sub("initial", KeyType::Table, initial_schema(), "Initial state."),
       sub("zones", KeyType::TableArray, zone_schema(),
           "Zones with their own initial state, inside the part's region."),
+      of_type(text("carve",
+                   "Parts whose regions this part's particles leave empty (sph and dem parts): a "
+                   "particle is not laid where its disk or sphere would reach into them. Lets "
+                   "a soil box hold a charge and a plate. Those parts may overlap this one."),
+              KeyType::StringArray),
   };
   t.variants["dem"] = {
       sub("dem", KeyType::Table, dem_schema(), "DEM numerics."),
