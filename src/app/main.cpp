@@ -46,10 +46,13 @@ int cmd_check(const std::string& scenario, const std::vector<std::string>& sets)
   for (const auto& r : reports) {
     fmt::print("{:<16} {:<6} {:>12} {:>14.6g} {:>13.4e}  entity {} ({})\n", r.name, r.method,
                r.count, r.mass_kg, r.stable.dt_s, r.stable.entity_id, r.stable.reason);
-    if (r.stable.dt_s < dt_min) dt_min = r.stable.dt_s, limiting = r.name;
+    if (r.stable.dt_s < dt_min) {
+      dt_min = r.stable.dt_s;
+      limiting = r.method == "contact" ? std::string("the contacts") : "part '" + r.name + "'";
+    }
   }
   if (c.dimension == 2) fmt::print("(2D: masses per metre of depth)\n");
-  fmt::print("global step: {:.4e} s = {} x {:.4e} s (part '{}')", c.time.safety_factor * dt_min,
+  fmt::print("global step: {:.4e} s = {} x {:.4e} s ({})", c.time.safety_factor * dt_min,
              c.time.safety_factor, dt_min, limiting);
   if (c.time.fixed_dt_s) fmt::print("; fixed step {:.4e} s in use", *c.time.fixed_dt_s);
   fmt::print("\n");

@@ -437,6 +437,45 @@ class DemPart final : public solver::Part<D> {
     if (gravity_.squaredNorm() > 0)
       external_work_ += dt * parallel::deterministic_sum<Real>(
                                  f_.size(), [&](Index i) { return m_[i] * gravity_.dot(v_[i]); });
+    if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty()) reflect_at_walls();
+  }
+
+  // Safeguard: a grain driven through a wall (its centre beyond the face: an overlap of more
+  // than its radius, which a blast can force against a Hertz wall) is put back, mirrored in the
+  // face, with its normal velocity reversed and scaled by the wall's restitution; the kinetic
+  // energy lost is booked as contact dissipation. Counted in wall_reflections.
+  void reflect_at_walls() {
+    struct Tally {
+      Real count = 0, lost = 0;
+      Tally& operator+=(const Tally& o) {
+        count += o.count;
+        lost += o.lost;
+        return *this;
+      }
+    };
+    std::vector<Tally> t(static_cast<std::size_t>(f_.size()));
+    parallel::for_each(f_.size(), [&](Index i) {
+      for (const auto* faces : {&cfg_.walls, &cfg_.absorbing_walls})
+        for (const io::Face face : *faces) {
+          const int axis = static_cast<int>(face) / 2;
+          const bool upper = static_cast<int>(face) % 2 == 1;
+          const Real plane = upper ? domain_hi_[axis] : domain_lo_[axis];
+          const Real beyond = upper ? x_[i][axis] - plane : plane - x_[i][axis];
+          if (!(beyond > 0)) continue;
+          x_[i][axis] = upper ? plane - beyond : plane + beyond;
+          const Real vn = v_[i][axis];
+          if ((upper && vn > 0) || (!upper && vn < 0)) {
+            v_[i][axis] = -cfg_.wall_restitution * vn;
+            t[static_cast<std::size_t>(i)].lost +=
+                0.5 * m_[i] * (1 - cfg_.wall_restitution * cfg_.wall_restitution) * vn * vn;
+          }
+          t[static_cast<std::size_t>(i)].count += 1;
+        }
+    });
+    const Tally sum = parallel::deterministic_sum<Tally>(
+        f_.size(), [&](Index i) { return t[static_cast<std::size_t>(i)]; });
+    wall_reflections_ += sum.count;
+    contact_dissipated_ += sum.lost;
   }
 
   void finish_step(Real dt) override {
@@ -480,6 +519,8 @@ class DemPart final : public solver::Part<D> {
 
   std::vector<solver::Diagnostic> diagnostics() const override {
     std::vector<solver::Diagnostic> d = diagnostics_;
+    if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty())
+      d.push_back({"wall_reflections", wall_reflections_});
     if (cfg_.bonds.enabled) {
       d.push_back({"bonds_initial", static_cast<Real>(bonds_initial_)});
       d.push_back({"bonds_broken", bonds_broken_});
@@ -947,6 +988,7 @@ class DemPart final : public solver::Part<D> {
     w.value(local_dissipated_);
     w.value(contact_work_);
     w.value(contact_pending_);
+    w.value(wall_reflections_);
     skin_.save(w);
   }
   void load_state(io::StateReader& r) override {
@@ -966,6 +1008,7 @@ class DemPart final : public solver::Part<D> {
     r.value(local_dissipated_);
     r.value(contact_work_);
     r.value(contact_pending_);
+    r.value(wall_reflections_);
     skin_.load(r);
     if (skin_.radius() > 0) build_lists();
   }
@@ -1023,6 +1066,7 @@ class DemPart final : public solver::Part<D> {
   std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
   std::vector<AngularVec<D>>& contact_torque_;
   Real contact_work_ = 0;         // work of those forces on the grains [J]
+  Real wall_reflections_ = 0;     // grains put back from beyond a wall (reflect_at_walls)
   bool contact_pending_ = false;  // moved since they were set
   AbsorbingWallParams absorbing_;
 
