@@ -64,7 +64,13 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
     const NodeArray<D> v = mesh.element_velocities(e);
     const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
     if (!(g.volume > 0)) {
-      out.inverted[ue] = 1;
+      if (material.erode_inverted) {
+        mesh.eroded[ue] = 1;
+        out.eroded_now[ue] = 1;
+        mesh.stress[ue].setZero();
+      } else {
+        out.inverted[ue] = 1;
+      }
       return;
     }
     const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
@@ -89,7 +95,8 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
       }
       mesh.plastic_strain[ue] += d_eps;
       mesh.temperature_k[ue] += up.temperature_increment_k;
-      if (material.damage && materials::johnson_cook_failed(mesh.damage[ue])) {
+      if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
+          mesh.plastic_strain[ue] >= material.erosion_plastic_strain) {
         mesh.eroded[ue] = 1;
         out.eroded_now[ue] = 1;
         mesh.stress[ue].setZero();

@@ -13,6 +13,7 @@
 // - q V \Delta t tr d (trapezoidal in the stress); hourglass energy \Delta t \sum Q g.
 #pragma once
 
+#include <limits>
 #include <optional>
 
 #include "core/types.hpp"
@@ -32,6 +33,9 @@ struct SolidMaterial {
   Real initial_temperature_k = 293.15;
   HourglassParams hourglass;
   BulkViscosityParams bulk_viscosity;
+  // Erosion besides Johnson-Cook damage (as LS-DYNA's *MAT_ADD_EROSION / ERODE options):
+  Real erosion_plastic_strain = std::numeric_limits<Real>::infinity();  // erode at this eps_p
+  bool erode_inverted = false;  // an element turned inside out erodes instead of failing
 };
 
 /// What one force evaluation reports (sums in a fixed order: bit-identical for any thread count).

@@ -43,6 +43,8 @@ SolidMaterial solid_material(const io::Config& config, const io::PartConfig& pc)
   s.hourglass.coefficient = pc.fem.hourglass_coefficient;
   s.bulk_viscosity.quadratic = pc.fem.bulk_viscosity_quadratic;
   s.bulk_viscosity.linear = pc.fem.bulk_viscosity_linear;
+  if (pc.fem.erosion_plastic_strain) s.erosion_plastic_strain = *pc.fem.erosion_plastic_strain;
+  s.erode_inverted = pc.fem.erode_inverted;
   return s;
 }
 

@@ -198,6 +198,8 @@ struct FemConfig {
   Real bulk_viscosity_quadratic = 1.5;
   Real bulk_viscosity_linear = 0.06;
   Real initial_temperature_k = 293.15;
+  std::optional<Real> erosion_plastic_strain;  // erode elements at this plastic strain
+  bool erode_inverted = false;                 // inverted elements erode (else: exit 3)
   std::vector<FemBoundaryConfig> boundaries;
   std::string mesh_file;                 // Gmsh .msh 4.1; empty: structured mesh of the region box
   std::string mesh_group;                // physical group of the elements in mesh_file; empty: all

@@ -736,6 +736,8 @@ class Builder {
     f.bulk_viscosity_quadratic = num(ft, "bulk_viscosity_quadratic");
     f.bulk_viscosity_linear = num(ft, "bulk_viscosity_linear");
     f.initial_temperature_k = num(ft, "initial_temperature_k");
+    f.erosion_plastic_strain = opt_num(ft, "erosion_plastic_strain");
+    f.erode_inverted = ft.get("erode_inverted")->as_boolean()->get();
     // A solid starts unstressed at its reference density; only velocities can be set.
     const auto& it_init = table(t, "initial");
     for (const char* k : {"density_kg_m3", "pressure_pa"})

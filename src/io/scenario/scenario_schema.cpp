@@ -727,6 +727,14 @@ TableSchema make_fem() {
                             0),
                    "0.06"),
       with_default(positive(real("initial_temperature_k", "K", "Initial temperature.")), "293.15"),
+      positive(real("erosion_plastic_strain", "1",
+                    "Elements erode when their effective plastic strain reaches this (as "
+                    "LS-DYNA's *MAT_ADD_EROSION). Unset: only Johnson-Cook damage erodes.")),
+      with_default(of_type(real("erode_inverted", "",
+                                "An element turned inside out (volume <= 0) erodes, and the run "
+                                "goes on; false: the run stops (exit 3) naming it."),
+                           KeyType::Bool),
+                   "false"),
       text("mesh_file",
            "A Gmsh mesh (.msh format 4.1, ASCII), relative to the scenario file: 4-node "
            "quadrangles (2D) or 8-node hexahedra (3D). Unset: a structured mesh of the part's "

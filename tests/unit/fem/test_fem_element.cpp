@@ -337,3 +337,39 @@ TEST(FemMesh, InternalForcesAreBitIdenticalForAnyThreadCount) {
 
 }  // namespace
 }  // namespace crater::fem
+
+namespace crater::fem {
+namespace {
+
+/// One Q4 whose node 2 is pulled across the opposite diagonal: volume <= 0. With
+/// erode_inverted the element erodes (zero stress, no forces); without, the force evaluation
+/// reports it (the part stops the run, exit 3, naming it).
+ForceReport evaluate_inverted_q4(bool erode_inverted, ExplicitMesh<2>& mesh) {
+  StructuredMeshSpec<2> spec;
+  spec.cells = {1, 1};
+  mesh = structured_mesh<2>(spec);
+  SolidMaterial material;
+  material.strength = materials::steel_elastic();
+  material.density_kg_m3 = 7850;
+  material.erode_inverted = erode_inverted;
+  initialise<2>(mesh, material);
+  mesh.position[3] = Vec<2>(-0.5, -0.5);  // node (1, 1) pulled past node (0, 0)
+  return compute_internal_forces<2>(mesh, material, 1e-7);
+}
+
+TEST(FemErosion, InvertedElementErodesOnlyWhenAsked) {
+  ExplicitMesh<2> mesh;
+  const ForceReport off = evaluate_inverted_q4(false, mesh);
+  EXPECT_EQ(off.inverted_element, 0);
+  EXPECT_EQ(off.newly_eroded, 0);
+  EXPECT_EQ(mesh.eroded[0], 0);
+  const ForceReport on = evaluate_inverted_q4(true, mesh);
+  EXPECT_EQ(on.inverted_element, -1);
+  EXPECT_EQ(on.newly_eroded, 1);
+  EXPECT_EQ(mesh.eroded[0], 1);
+  for (const Vec<2>& f : mesh.internal_force)
+    EXPECT_EQ(f.squaredNorm(), 0.0);
+}
+
+}  // namespace
+}  // namespace crater::fem

@@ -112,5 +112,29 @@ class SingleElementErosion(unittest.TestCase):
         self.assertLess(abs(self.summary["energy"]["balance_error"]), 1e-3)
 
 
+
+class ErosionOptions(unittest.TestCase):
+    """[parts.fem] erosion_plastic_strain (as LS-DYNA's *MAT_ADD_EROSION): the same cube erodes
+    at a plastic-strain limit, with its energy accounted. (erode_inverted is tested on one
+    element in tests/unit/fem: a crushed cube flattens towards zero volume without inverting.)"""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("fem_erosion_options")
+        cls.path = cls.work / "cube.toml"
+        cls.path.write_text(SCENARIO)
+
+    def test_plastic_strain_limit(self):
+        s = run_scenario(self.path, self.work / "limit",
+                         sets=["parts.0.fem.erosion_plastic_strain=0.5"])
+        after = read_vtu_cells(self.work / "limit" / "cube_000002.vtu")  # 10 ms: strain ~0.7
+        eps = float(after["plastic_strain"][0])
+        print(f"eroded at plastic strain {eps:.5f} (limit 0.5)")
+        self.assertEqual(int(after["eroded"][0]), 1)
+        self.assertGreaterEqual(eps, 0.5)
+        self.assertLess(eps, 0.5 * 1.001)
+        self.assertLess(abs(s["energy"]["balance_error"]), 1e-3)
+
+
 if __name__ == "__main__":
     unittest.main(argv=[sys.argv[0], "-v"])
