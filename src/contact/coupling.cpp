@@ -253,7 +253,7 @@ solver::StableStep Coupling<D>::stable_step(
 }
 
 template <int D>
-void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts) {
+void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts, Real dt_s) {
   if (pairings_.empty()) return;
   // Forces per part in any contact: per particle, or per node of a surface.
   std::vector<std::vector<Vec<D>>> force(parts.size());
@@ -272,7 +272,7 @@ void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& par
     const auto pts = parts[p.points]->contact_points();
     if (p.kind == Kind::ParticleSurface) {
       const auto surf = parts[p.other]->contact_surface();
-      particle_surface(p, *pts, *surf, force[p.points], torque[p.points], force[p.other]);
+      particle_surface(p, dt_s, *pts, *surf, force[p.points], torque[p.points], force[p.other]);
     } else {
       const auto grains = parts[p.other]->contact_points();
       particle_particle(p, *pts, *grains, force[p.points], force[p.other], torque[p.other]);
@@ -283,7 +283,7 @@ void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& par
 }
 
 template <int D>
-void Coupling<D>::particle_surface(Pairing& p, const solver::ContactPoints<D>& pts,
+void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoints<D>& pts,
                                    const solver::ContactSurface<D>& surf,
                                    std::vector<Vec<D>>& f_points,
                                    std::vector<AxialVec<D>>& t_points,
@@ -353,7 +353,9 @@ void Coupling<D>::particle_surface(Pairing& p, const solver::ContactPoints<D>& p
         best.n = n;
       }
     }
+    Real* offset = pts.surface_offset ? &(*pts.surface_offset)[at(i)] : nullptr;
     if (best.face < 0) {
+      if (offset) *offset = -1;
       hits[at(i)] = best;
       return;
     }
@@ -368,9 +370,17 @@ void Coupling<D>::particle_surface(Pairing& p, const solver::ContactPoints<D>& p
     const Vec<D> arm = -r * best.n;
     if (pts.angular_velocity) v += spin_velocity<D>((*pts.angular_velocity)[at(i)], arm);
     const Real k = p.config.penalty_scale * (*surf.face_stiffness)[at(best.face)];
-    best.force = penalty_force<D>(k, best.overlap, best.n, v - v_face,
-                                  reduced_mass((*pts.mass)[at(i)], m_face), p.config.damping_ratio,
-                                  p.config.friction, best.normal);
+    Real pushed = best.overlap;
+    if (offset) {
+      if (*offset < 0)  // first touch: what the approach over the step cannot explain is ignored
+        *offset = std::max(Real(0), best.overlap - std::abs((v - v_face).dot(best.n)) * dt);
+      else
+        *offset = std::min(*offset, best.overlap);
+      pushed = best.overlap - *offset;
+    }
+    best.force =
+        penalty_force<D>(k, pushed, best.n, v - v_face, reduced_mass((*pts.mass)[at(i)], m_face),
+                         p.config.damping_ratio, p.config.friction, best.normal);
     hits[at(i)] = best;
   });
 

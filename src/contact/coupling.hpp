@@ -9,6 +9,13 @@
 //     delta = r - s. Each particle takes the face of largest overlap (ties: the lowest face).
 //     Stiffness k = s_p K A^2 / V of the face's element (LS-DYNA's segment stiffness; K bulk
 //     modulus, A face area, V element volume; s_p = penalty_scale).
+//     Penetration found at first touch is not pushed out: a particle that starts touching with
+//     an overlap deeper than its approach over the step, |v_n| dt, (one laid overlapping at
+//     t = 0; one a face appears around when the element beside it erodes) keeps the excess as
+//     an offset, the force acts on delta - offset, and the offset shrinks to delta as the
+//     particle backs out (LS-DYNA's treatment of initial penetrations in eroding contacts).
+//     Without it the penalty spring releases energy it never stored. One offset per particle
+//     (solver::ContactPoints::surface_offset): a particle meets one solid's surface at a time.
 //   particle-particle (sph-dem): an SPH particle (radius = half its spacing) against every
 //     grain it overlaps, delta = r_1 + r_2 - d, k = s_p E r_2 (3D) or s_p E (2D, per metre),
 //     E the grain's Young's modulus.
@@ -54,8 +61,9 @@ class Coupling {
   /// Smallest stable step over the contacts, with the contact named in `reason`.
   solver::StableStep stable_step(const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const;
 
-  /// Forces of the current state, handed to every part in a contact (after compute_forces).
-  void apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts);
+  /// Forces of the current state, handed to every part in a contact (after compute_forces);
+  /// dt_s is the step just taken (0 for the initial state).
+  void apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts, Real dt_s);
 
   /// Per contact: pairs in contact, deepest overlap and total normal force at the last apply().
   std::vector<solver::Diagnostic> diagnostics() const;
@@ -81,7 +89,7 @@ class Coupling {
     Vec<D> force_on_other = Vec<D>::Zero();
   };
 
-  void particle_surface(Pairing& p, const solver::ContactPoints<D>& pts,
+  void particle_surface(Pairing& p, Real dt, const solver::ContactPoints<D>& pts,
                         const solver::ContactSurface<D>& surf, std::vector<Vec<D>>& f_points,
                         std::vector<AxialVec<D>>& t_points, std::vector<Vec<D>>& f_nodes) const;
   void particle_particle(Pairing& p, const solver::ContactPoints<D>& a,

@@ -146,7 +146,8 @@ class DemPart final : public solver::Part<D> {
         static_reaction_(f_.add_vector("absorbing_wall_reaction", "N", kRestart)),
         static_power_(f_.add_scalar("absorbing_wall_static_power", "W", kNone)),
         contact_force_(f_.add_vector("coupling_force", "N", kRestart)),
-        contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)) {
+        contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)),
+        surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)) {
     const auto& mat = c.materials[pc.material];
     rho_ = mat.rho0_kg_m3;
     const ElasticMaterial grain{
@@ -235,6 +236,7 @@ class DemPart final : public solver::Part<D> {
     }
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
+    std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
     r_min_ = std::numeric_limits<Real>::infinity();
     for (Index i = 0; i < n; ++i) {
       const Real r = radii[static_cast<std::size_t>(i)];
@@ -399,6 +401,7 @@ class DemPart final : public solver::Part<D> {
     p.mass = &m_;
     p.radius = &r_;
     p.angular_velocity = &w_;
+    p.surface_offset = &surface_offset_;
     return p;
   }
 
@@ -1065,9 +1068,10 @@ class DemPart final : public solver::Part<D> {
   std::vector<Real>& static_power_;
   std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
   std::vector<AngularVec<D>>& contact_torque_;
-  Real contact_work_ = 0;         // work of those forces on the grains [J]
-  Real wall_reflections_ = 0;     // grains put back from beyond a wall (reflect_at_walls)
-  bool contact_pending_ = false;  // moved since they were set
+  std::vector<Real>& surface_offset_;  // solver::ContactPoints::surface_offset
+  Real contact_work_ = 0;              // work of those forces on the grains [J]
+  Real wall_reflections_ = 0;          // grains put back from beyond a wall (reflect_at_walls)
+  bool contact_pending_ = false;       // moved since they were set
   AbsorbingWallParams absorbing_;
 
   // Contact history: kMaxContacts slots per grain (partner id, tangential spring), last step's

@@ -77,6 +77,9 @@ struct ContactPoints {
   const std::vector<Real>* mass = nullptr;                     // [kg] (per metre of depth in 2D)
   const std::vector<Real>* radius = nullptr;                   // contact radius [m]
   const std::vector<AxialVec<D>>* angular_velocity = nullptr;  // rotating particles (DEM) only
+  // Per particle, kept by the part for the contacts (src/contact/coupling.hpp): the overlap
+  // with a surface that is ignored (found at first touch), or -1 when not touching one.
+  std::vector<Real>* surface_offset = nullptr;
 };
 
 /// Nodes of a surface face: 2 (a segment, 2D) or 4 (a quadrilateral, 3D).

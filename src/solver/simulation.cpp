@@ -435,7 +435,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   } else {
     for (auto& p : parts)
       p->compute_forces(st.t);  // rates and sound speeds of the initial state
-    coupling.apply(parts);
+    coupling.apply(parts, 0);
     check_fixed_step(c, smallest_stable_step(parts, &coupling));
     prepare_out_dir(opt.out_dir, opt.force);
     outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, coupling.history_columns());
@@ -503,7 +503,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       st.steps = r.steps;
       for (auto& p : parts)
         p->compute_forces(t);
-      coupling.apply(parts);
+      coupling.apply(parts, dt);
       for (auto& p : parts)
         if (auto fault = p->check())
           throw NumericalError(p->name(), fault->entity_id, t, fault->what);

@@ -144,7 +144,8 @@ class SphPart final : public solver::Part<D> {
         rhoh_(f_.add_scalar("density_half", "kg/m^3", kNone)),
         eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
         dt_cv_(f_.add_scalar("dt_signal", "s", kNone)),
-        fc_(f_.add_vector("contact_force", "N", kRestart)) {
+        fc_(f_.add_vector("contact_force", "N", kRestart)),
+        surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)) {
     const auto& mat = c.materials[pc.material];
     // Particles: the part's lattice, except where a zone with its own spacing lays its own
     // (equal-mass particles across a density jump, as a shock tube wants); each particle
@@ -169,6 +170,7 @@ class SphPart final : public solver::Part<D> {
     }
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
+    std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
     cell_volume_ = std::pow(spacing_, D);
     h0_ = cfg_.h_factor * spacing_;
     if (const auto* jwl = std::get_if<materials::JwlParams>(&eos_)) {
@@ -333,6 +335,7 @@ class SphPart final : public solver::Part<D> {
     p.velocity = &v_;
     p.mass = &m_;
     p.radius = &contact_radius_;
+    p.surface_offset = &surface_offset_;
     return p;
   }
 
@@ -778,7 +781,8 @@ class SphPart final : public solver::Part<D> {
   std::vector<Real>& rhoh_;
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
-  std::vector<Vec<D>>& fc_;  // force of the contacts with other parts (in a_ too)
+  std::vector<Vec<D>>& fc_;            // force of the contacts with other parts (in a_ too)
+  std::vector<Real>& surface_offset_;  // solver::ContactPoints::surface_offset
   mutable std::vector<Real> contact_radius_;
   Real contact_work_ = 0;  // work of the contact forces on the part [J]
   Real last_dt_ = 0;

@@ -248,6 +248,20 @@ class DemFem(unittest.TestCase):
         print(f"plate force / m g = {ratio:.5f}; overlap {s['contacts']['contact_grains-plate_max_overlap_m']:.2e} m")
         self.assertLess(abs(ratio - 1), 0.01)
 
+    def test_initial_penetration_is_not_pushed_out(self):
+        # A grain laid 1 mm (0.4 r) into the plate at t = 0: the penalty spring holds no energy
+        # for that overlap, so the grain must not be shot out (LS-DYNA ignores initial
+        # penetrations the same way); it stays, at rest, and the energy balance holds.
+        out = self.work / "initial"
+        s = run_scenario(grain_case(self.work, "initial", end=1e-4, frame=5e-5, y0=0.0015,
+                                    vy=0.0, fixed=True), out)
+        p, a, _, _ = read_vtu(out / "grains_000002.vtu")
+        speed = np.linalg.norm(a["velocity"][0])
+        print(f"grain laid 1 mm deep: after 0.1 ms at y = {p[0][1] * 1e3:.4f} mm, |v| = "
+              f"{speed:.2e} m/s; energy balance {s['energy']['balance_error']:.1e}")
+        self.assertLess(speed, 1e-3)
+        self.assertAlmostEqual(p[0][1], 0.0015, delta=1e-7)
+
     def test_fast_grain_does_not_pass_through(self):
         for v in (100.0, 1000.0):
             out = self.work / f"fast{int(v)}"
