@@ -253,12 +253,12 @@ class DemPart final : public solver::Part<D> {
     }
     partner_.assign(static_cast<std::size_t>(n) * kMaxContacts, kNoContact);
     xi_.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
-    partner_new_ = partner_;
-    xi_new_ = xi_;
-    if (rolling_.friction > 0) {
+    if (rolling_.friction > 0)
       roll_.assign(static_cast<std::size_t>(n) * kMaxContacts, angular_zero<D>());
-      roll_new_ = roll_;
-    }
+    const std::size_t wall_slots = static_cast<std::size_t>(n) * cfg_.walls.size();
+    wall_xi_.assign(wall_slots, Vec<D>::Zero());
+    wall_live_.assign(wall_slots, 0);
+    if (rolling_.friction > 0) wall_roll_.assign(wall_slots, angular_zero<D>());
     // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
     // the run, between the settled grains.
     if (cfg_.bonds.enabled && !local_damping) make_bonds();
@@ -338,10 +338,7 @@ class DemPart final : public solver::Part<D> {
           parallel::for_each(n, [&](Index i) { grain_pass<Law>(i, dt, laws); });
         },
         laws_);
-    // Contact histories and bonds of this step become last step's.
-    partner_.swap(partner_new_);
-    xi_.swap(xi_new_);
-    roll_.swap(roll_new_);
+    // Bonds of this step become last step's (contact histories are updated in place).
     bond_partner_.swap(bond_partner_new_);
     bond_.swap(bond_new_);
     // Energy taken out over the last step by contacts and local damping (rates times dt), and
@@ -609,7 +606,7 @@ class DemPart final : public solver::Part<D> {
     return force_[i].allFinite() && angular_finite<D>(torque_[i]) && in_domain(i);
   }
 
-  // Slot of `partner` in grain i's history (last step's buffer), or -1.
+  // Slot of `partner` in grain i's packed history (partner_), or -1.
   int find_slot(Index owner, std::int64_t partner) const {
     const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
     // Slots are filled from the first, the rest hold kNoContact: stop at the first empty one.
@@ -620,20 +617,78 @@ class DemPart final : public solver::Part<D> {
     }
     return -1;
   }
-  // The contact's stored tangential spring and rolling moment (zero for a new contact).
-  struct History {
-    Vec<D> xi = Vec<D>::Zero();
-    AngularVec<D> roll = angular_zero<D>();
-  };
-  History history(Index owner, std::int64_t partner) const {
-    History h;
-    const int k = find_slot(owner, partner);
-    if (k < 0) return h;
-    const std::size_t at =
-        static_cast<std::size_t>(owner) * kMaxContacts + static_cast<std::size_t>(k);
-    h.xi = xi_[at];
-    if (!roll_.empty()) h.roll = roll_[at];
-    return h;
+
+  // Contact histories live with the contacts while the list stands: per owned pair (pair_xi_,
+  // pair_roll_) and per grain and wall (wall_xi_, wall_roll_), updated in place by the one
+  // thread that evaluates the contact, as LAMMPS keeps its history with the neighbour list. At
+  // a rebuild (and in a restart file) they are packed into kMaxContacts slots per grain keyed
+  // by the partner's id (partner_, xi_, roll_; walls: -1 - face), which survive the re-sort,
+  // and unpacked into the new list. A contact that is not touching holds a zero history.
+  //
+  // pack_history: live contacts of grain i in the order pair_pass and grain_pass meet them
+  // (owned pairs in list order, then walls).
+  void pack_history(std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
+                    std::vector<AngularVec<D>>& roll) const {
+    const Index n = f_.size();
+    partner.assign(static_cast<std::size_t>(n) * kMaxContacts, kNoContact);
+    xi.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
+    if (rolling_.friction > 0)
+      roll.assign(static_cast<std::size_t>(n) * kMaxContacts, angular_zero<D>());
+    else
+      roll.clear();
+    const bool pairs = static_cast<Index>(pair_begin_.size()) == n + 1;
+    const std::size_t walls = cfg_.walls.size();
+    parallel::for_each(n, [&](Index i) {
+      const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+      std::size_t k = 0;
+      auto put = [&](std::int64_t key, const Vec<D>& h, const AngularVec<D>& r) {
+        if (k == kMaxContacts) return;  // only after an overflow fault (check())
+        partner[base + k] = key;
+        xi[base + k] = h;
+        if (!roll.empty()) roll[base + k] = r;
+        ++k;
+      };
+      if (pairs)
+        for (Index p = pair_begin_[static_cast<std::size_t>(i)];
+             p < pair_begin_[static_cast<std::size_t>(i) + 1]; ++p) {
+          const auto q = static_cast<std::size_t>(p);
+          if (!(cache_.contact[q].flags & kContactOn)) continue;
+          put(id_[pair_j_[q]], pair_xi_[q],
+              pair_roll_.empty() ? angular_zero<D>() : pair_roll_[q]);
+        }
+      for (std::size_t w = 0; w < walls; ++w) {
+        const std::size_t at = static_cast<std::size_t>(i) * walls + w;
+        if (!wall_live_[at]) continue;
+        put(-1 - static_cast<std::int64_t>(cfg_.walls[w]), wall_xi_[at],
+            wall_roll_.empty() ? angular_zero<D>() : wall_roll_[at]);
+      }
+    });
+  }
+  // The histories of partner_, xi_, roll_ into the pairs of the current list and the walls.
+  void unpack_history() {
+    const Index n = f_.size();
+    const std::size_t walls = cfg_.walls.size();
+    parallel::for_each(n, [&](Index i) {
+      const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+      for (Index p = pair_begin_[static_cast<std::size_t>(i)];
+           p < pair_begin_[static_cast<std::size_t>(i) + 1]; ++p) {
+        const auto q = static_cast<std::size_t>(p);
+        const int k = find_slot(i, id_[pair_j_[q]]);
+        // Live: the flag pack_history reads, until pair_pass sets it again.
+        cache_.contact[q].flags = k < 0 ? 0 : kContactOn;
+        pair_xi_[q] = k < 0 ? Vec<D>::Zero() : xi_[base + static_cast<std::size_t>(k)];
+        if (!pair_roll_.empty())
+          pair_roll_[q] = k < 0 ? angular_zero<D>() : roll_[base + static_cast<std::size_t>(k)];
+      }
+      for (std::size_t w = 0; w < walls; ++w) {
+        const std::size_t at = static_cast<std::size_t>(i) * walls + w;
+        const int k = find_slot(i, -1 - static_cast<std::int64_t>(cfg_.walls[w]));
+        wall_live_[at] = k >= 0;
+        wall_xi_[at] = k < 0 ? Vec<D>::Zero() : xi_[base + static_cast<std::size_t>(k)];
+        if (!wall_roll_.empty())
+          wall_roll_[at] = k < 0 ? angular_zero<D>() : roll_[base + static_cast<std::size_t>(k)];
+      }
+    });
   }
   // Slot of the bond between `owner` and `partner` (last step's buffer), or -1.
   int find_bond(Index owner, std::int64_t partner) const {
@@ -661,13 +716,15 @@ class DemPart final : public solver::Part<D> {
   // The pair loop runs in two passes, so that each contact is evaluated once, by its body 1
   // (the grain of lower id), and the numbers are exactly those of evaluating it from both
   // sides:
-  //   pair_pass (per grain i): every entry (i, j) of i's list with id_i < id_j: bond and
-  //     contact laws, i's history slots and energies; the results go to the entry's cache;
+  //   pair_pass (per grain i): its owned pairs (i, j), id_i < id_j, in list order: bond and
+  //     contact laws, the pair's history and i's energies; the results go to the pair's cache;
   //   grain_pass (per grain i): sums its forces over its list in list order, reading the
-  //     entries it owns directly and the others through their mirror entry (j, i); then walls
+  //     pairs it owns directly and the others through the pair (j, i) of the entry; then walls
   //     and damping. The sums run in the same order as one gather pass would: results are
   //     bit-identical to it, and to any thread count.
-  // One entry's contact results together (the gather pass reads them at once).
+  // Most list entries are not in contact (the list reaches (1 + kSkin) x the contact
+  // distance): a squared-distance test with a margin rejects them before any law work.
+  // One pair's contact results together (the gather pass reads them at once).
   struct ContactResult {
     Vec<D> f1;               // force on body 1
     AngularVec<D> t1, t2;    // torques on bodies 1 and 2 (contact + rolling)
@@ -687,6 +744,9 @@ class DemPart final : public solver::Part<D> {
     }
   };
   static constexpr std::uint8_t kBondOn = 1, kContactOn = 2;
+  // |d|^2 > (r_1 + r_2)^2 x kTouchMargin: certainly apart (the exact test, overlap =
+  // r_1 + r_2 - |d| > 0, follows for the rest; the margin covers the rounding of both sides).
+  static constexpr Real kTouchMargin = 1 + 1e-12;
 
   // What pair_pass leaves for grain_pass, per grain.
   struct PairTally {
@@ -694,19 +754,13 @@ class DemPart final : public solver::Part<D> {
     int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
   };
 
-  // Stores a contact's history in the next free slot of grain i (this step's buffer).
-  void keep_history(Index i, PairTally& tally, std::int64_t partner, const Vec<D>& xi,
-                    const AngularVec<D>& roll) {
+  // Counts a live contact of grain i (kMaxContacts at most: the packed history's capacity).
+  void count_contact(Index i, PairTally& tally) {
     if (tally.slots == kMaxContacts) {
 #pragma omp critical(crater_dem_overflow)
       overflow_ = std::min(overflow_, i);
       return;
     }
-    const std::size_t at =
-        static_cast<std::size_t>(i) * kMaxContacts + static_cast<std::size_t>(tally.slots);
-    partner_new_[at] = partner;
-    xi_new_[at] = xi;
-    if (!roll_new_.empty()) roll_new_[at] = roll;
     ++tally.slots;
   }
 
@@ -715,21 +769,26 @@ class DemPart final : public solver::Part<D> {
     PairTally tally;
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     const bool rolling = rolling_.friction > 0;
-    auto keep = [&](std::int64_t partner, const Vec<D>& xi, const AngularVec<D>& roll) {
-      keep_history(i, tally, partner, xi, roll);
-    };
-    const auto entries = list_.of(i);
-    const std::size_t first_entry =
-        static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
-    for (std::size_t e = 0; e < entries.size(); ++e) {
-      const Index j = entries[e];
-      if (id_[i] > id_[j]) continue;  // evaluated by j
-      const std::size_t k = first_entry + e;
+    const bool bonds = !bond_partner_.empty();
+    const Vec<D> x_i = x_[i];
+    const Real r_i = r_[i];
+    const Index end = pair_begin_[static_cast<std::size_t>(i) + 1];
+    for (Index pi = pair_begin_[static_cast<std::size_t>(i)]; pi < end; ++pi) {
+      const auto k = static_cast<std::size_t>(pi);
+      const Index j = pair_j_[k];
+      ContactResult& c = cache_.contact[k];
+      const int bond = bonds ? find_bond(i, id_[j]) : -1;
+      if (bond < 0) {
+        const Real reach = r_i + r_[j];
+        if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
+          if (c.flags) clear_pair(k, c);
+          continue;
+        }
+      }
       std::uint8_t flags = 0;
-      const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
-      const int bond = find_bond(i, id_[j]);
+      const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_i, r_i, x_[j], r_[j]);
       if (!g.touching() && bond < 0) {
-        cache_.contact[k].flags = 0;
+        if (c.flags) clear_pair(k, c);
         continue;
       }
       const RelativeVelocity<D> rel =
@@ -759,10 +818,9 @@ class DemPart final : public solver::Part<D> {
         }
       }
       if (g.touching()) {
-        const History h = history(i, id_[j]);
         const ContactForce<D> cf =
             Law::template evaluate<D>(at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g,
-                                      rel, effective_mass(m_[i], m_[j]), h.xi, dt);
+                                      rel, effective_mass(m_[i], m_[j]), pair_xi_[k], dt);
         RollingTorque<D> rt;
         if (rolling)
           rt = rolling_resistance<D>(rolling_, g, rel,
@@ -771,19 +829,31 @@ class DemPart final : public solver::Part<D> {
                                                  .inertia_eff = rolling_inertia_eff(
                                                      RollingBody{inertia_[i], m_[i], r_[i]},
                                                      RollingBody{inertia_[j], m_[j], r_[j]})},
-                                     h.roll, dt);
+                                     pair_roll_[k], dt);
         flags |= kContactOn;
-        ContactResult& c = cache_.contact[k];
         c.f1 = cf.force_on_1;
         c.t1 = cf.torque_on_1 + rt.torque_on_1;
         c.t2 = cf.torque_on_2 - rt.torque_on_1;
-        keep(id_[j], cf.shear_history, rt.history);
+        pair_xi_[k] = cf.shear_history;
+        if (rolling) pair_roll_[k] = rt.history;
+        count_contact(i, tally);
         tally.elastic += cf.elastic_energy + rt.elastic_energy;
         tally.dissipated += cf.dissipated_power + rt.dissipated_power;
+      } else if (c.flags & kContactOn) {
+        pair_xi_[k] = Vec<D>::Zero();
+        if (rolling) pair_roll_[k] = angular_zero<D>();
       }
-      cache_.contact[k].flags = flags;
+      c.flags = flags;
     }
     tally_[static_cast<std::size_t>(i)] = tally;
+  }
+  // A pair that was evaluated last step and is apart now: no force, no history.
+  void clear_pair(std::size_t k, ContactResult& c) {
+    if (c.flags & kContactOn) {
+      pair_xi_[k] = Vec<D>::Zero();
+      if (!pair_roll_.empty()) pair_roll_[k] = angular_zero<D>();
+    }
+    c.flags = 0;
   }
 
   template <class Law>
@@ -794,12 +864,12 @@ class DemPart final : public solver::Part<D> {
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     const bool rolling = rolling_.friction > 0;
     int bonds = tally.bonds;
-    const auto entries = list_.of(i);
-    const std::size_t first_entry =
-        static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
-    for (std::size_t e = 0; e < entries.size(); ++e) {
-      const std::size_t k = first_entry + e;
-      if (id_[i] < id_[entries[e]]) {
+    const auto first = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
+    const auto last = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i) + 1]);
+    for (std::size_t e = first; e < last; ++e) {
+      const Index ref = pair_of_entry_[e];
+      if (ref >= 0) {
+        const auto k = static_cast<std::size_t>(ref);
         const ContactResult& c = cache_.contact[k];
         if (c.flags & kBondOn) {
           force += cache_.bond_f1[k];
@@ -810,7 +880,7 @@ class DemPart final : public solver::Part<D> {
           torque += c.t1;
         }
       } else {
-        const std::size_t m = static_cast<std::size_t>(mirror_[k]);
+        const auto m = static_cast<std::size_t>(~ref);
         const ContactResult& c = cache_.contact[m];
         if (c.flags & kBondOn) {
           ++bonds;
@@ -823,24 +893,32 @@ class DemPart final : public solver::Part<D> {
         }
       }
     }
-    auto keep = [&](std::int64_t partner, const Vec<D>& xi, const AngularVec<D>& roll) {
-      keep_history(i, tally, partner, xi, roll);
-    };
     Real elastic = tally.elastic, dissipated = tally.dissipated;
 
-    for (const io::Face face : cfg_.walls) {
+    const std::size_t walls = cfg_.walls.size();
+    for (std::size_t w = 0; w < walls; ++w) {
+      const io::Face face = cfg_.walls[w];
       const int axis = static_cast<int>(face) / 2;
       const bool low = static_cast<int>(face) % 2 == 0;
+      const Real plane = low ? domain_lo_[axis] : domain_hi_[axis];
+      const std::size_t at = static_cast<std::size_t>(i) * walls + w;
+      // The distance to the plane is |x_axis - plane|: grains clearly apart skip the geometry.
+      if (std::abs(x_[i][axis] - plane) > r_[i] * kTouchMargin) {
+        if (wall_live_[at]) clear_wall(at);
+        continue;
+      }
       Vec<D> foot = x_[i];
-      foot[axis] = low ? domain_lo_[axis] : domain_hi_[axis];
+      foot[axis] = plane;
       const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
-      if (!g.touching()) continue;
-      const std::int64_t key = -1 - static_cast<std::int64_t>(face);
+      if (!g.touching()) {
+        if (wall_live_[at]) clear_wall(at);
+        continue;
+      }
       const RelativeVelocity<D> rel =
           relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
-      const History h = history(i, key);
-      const ContactForce<D> cf = Law::template evaluate<D>(
-          at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g, rel, m_[i], h.xi, dt);
+      const ContactForce<D> cf =
+          Law::template evaluate<D>(at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g,
+                                    rel, m_[i], wall_xi_[at], dt);
       RollingTorque<D> rt;
       if (rolling)
         rt = rolling_resistance<D>(rolling_, g, rel,
@@ -848,10 +926,13 @@ class DemPart final : public solver::Part<D> {
                                                .normal_stiffness = cf.normal_stiffness,
                                                .inertia_eff = rolling_inertia_eff_wall(
                                                    RollingBody{inertia_[i], m_[i], r_[i]})},
-                                   h.roll, dt);
+                                   wall_roll_[at], dt);
       force += cf.force_on_1;
       torque += cf.torque_on_1 + rt.torque_on_1;
-      keep(key, cf.shear_history, rt.history);
+      wall_xi_[at] = cf.shear_history;
+      if (rolling) wall_roll_[at] = rt.history;
+      wall_live_[at] = 1;
+      count_contact(i, tally);
       elastic += cf.elastic_energy + rt.elastic_energy;
       dissipated += cf.dissipated_power + rt.dissipated_power;
     }
@@ -870,8 +951,6 @@ class DemPart final : public solver::Part<D> {
       absorbed += aw.dissipated_power;
       static_power += aw.static_power;
     }
-    for (int k = tally.slots; k < kMaxContacts; ++k)
-      partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
     if (!bond_partner_new_.empty()) {
       for (int k = tally.bond_slots; k < kMaxContacts; ++k)
         bond_partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
@@ -906,6 +985,11 @@ class DemPart final : public solver::Part<D> {
     bonds_[i] = bonds;
     bond_breaks_[i] = tally.breaks;
     bond_released_[i] = tally.released;
+  }
+  void clear_wall(std::size_t at) {
+    wall_live_[at] = 0;
+    wall_xi_[at] = Vec<D>::Zero();
+    if (!wall_roll_.empty()) wall_roll_[at] = angular_zero<D>();
   }
 
   // Parallel bonds at t = 0 between the grains whose surface gap is at most gap_fraction x the
@@ -944,6 +1028,8 @@ class DemPart final : public solver::Part<D> {
   void update_neighbors() {
     const Real need = 2 * r_max_ * (cfg_.bonds.enabled ? 1 + kBondReach : 1);
     if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
+    if (!packed_) pack_history(partner_, xi_, roll_);
+    packed_ = true;
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
     f_.permute(order);
@@ -953,33 +1039,74 @@ class DemPart final : public solver::Part<D> {
   }
 
   // The list for the positions of the last rebuild (after a restart: the saved ones, which
-  // gives the very list the interrupted run used).
+  // gives the very list the interrupted run used), its owned pairs, and the packed histories
+  // unpacked into them.
   void build_lists() {
     neighbors::build_neighbor_list<D>(skin_.positions(), skin_.radius(), neighbors::Pairs::Full,
                                       list_);
-    // mirror_[k]: the entry (j, i) of entry k = (i, j) (lists are ascending: binary search).
     const Index n = list_.size();
-    mirror_.resize(list_.indices.size());
+    // Owned pairs: the entries (i, j) with id_i < id_j, per grain in list order.
+    pair_begin_.assign(static_cast<std::size_t>(n) + 1, 0);
+    parallel::for_each(n, [&](Index i) {
+      Index owned = 0;
+      for (const Index j : list_.of(i))
+        owned += id_[i] < id_[j];
+      pair_begin_[static_cast<std::size_t>(i) + 1] = owned;
+    });
+    for (Index i = 0; i < n; ++i)
+      pair_begin_[static_cast<std::size_t>(i) + 1] += pair_begin_[static_cast<std::size_t>(i)];
+    pair_j_.resize(static_cast<std::size_t>(pair_begin_.back()));
+    pair_of_entry_.resize(list_.indices.size());
+    parallel::for_each(n, [&](Index i) {
+      Index p = pair_begin_[static_cast<std::size_t>(i)];
+      const auto from = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
+      const auto row = list_.of(i);
+      for (std::size_t e = 0; e < row.size(); ++e)
+        if (id_[i] < id_[row[e]]) {
+          pair_j_[static_cast<std::size_t>(p)] = row[e];
+          pair_of_entry_[from + e] = p++;
+        }
+    });
+    // Entries (i, j) owned by j: the pair (j, i) (pairs are ascending in j's row: binary
+    // search).
     parallel::for_each(n, [&](Index i) {
       const auto from = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
       const auto row = list_.of(i);
       for (std::size_t e = 0; e < row.size(); ++e) {
-        const auto other = list_.of(row[e]);
-        const auto it = std::lower_bound(other.begin(), other.end(), i);
-        mirror_[from + e] = list_.offsets[static_cast<std::size_t>(row[e])] + (it - other.begin());
+        const Index j = row[e];
+        if (id_[i] < id_[j]) continue;
+        const auto b = pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j)];
+        const auto it =
+            std::lower_bound(b, pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j) + 1], i);
+        pair_of_entry_[from + e] = ~static_cast<Index>(it - pair_j_.begin());
       }
     });
-    cache_.resize(list_.indices.size(), !bond_partner_.empty());
+    const auto pairs = pair_j_.size();
+    cache_.resize(pairs, !bond_partner_.empty());
+    pair_xi_.resize(pairs);
+    pair_roll_.resize(rolling_.friction > 0 ? pairs : 0);
     tally_.resize(static_cast<std::size_t>(n));
+    unpack_history();
+    packed_ = false;
   }
 
  public:
   void save_state(io::StateWriter& w) const override {
     w.tag("dem");
     f_.save(w);
-    w.vector(partner_);
-    w.vector(xi_);
-    w.vector(roll_);
+    if (packed_) {
+      w.vector(partner_);
+      w.vector(xi_);
+      w.vector(roll_);
+    } else {
+      std::vector<std::int64_t> partner;
+      std::vector<Vec<D>> xi;
+      std::vector<AngularVec<D>> roll;
+      pack_history(partner, xi, roll);
+      w.vector(partner);
+      w.vector(xi);
+      w.vector(roll);
+    }
     w.vector(bond_partner_);
     w.vector(bond_);
     w.value(last_dt_);
@@ -1000,6 +1127,7 @@ class DemPart final : public solver::Part<D> {
     r.vector(partner_);
     r.vector(xi_);
     r.vector(roll_);
+    packed_ = true;
     r.vector(bond_partner_);
     r.vector(bond_);
     r.value(last_dt_);
@@ -1074,18 +1202,25 @@ class DemPart final : public solver::Part<D> {
   bool contact_pending_ = false;       // moved since they were set
   AbsorbingWallParams absorbing_;
 
-  // Contact history: kMaxContacts slots per grain (partner id, tangential spring), last step's
-  // and this step's.
-  std::vector<std::int64_t> partner_, partner_new_;
-  std::vector<Vec<D>> xi_, xi_new_;
-  std::vector<AngularVec<D>> roll_, roll_new_;  // rolling moments (empty when mu_r = 0)
+  // Contact history packed at rebuilds: kMaxContacts slots per grain (partner id, tangential
+  // spring, rolling moment; pack_history), authoritative while packed_.
+  std::vector<std::int64_t> partner_;
+  std::vector<Vec<D>> xi_;
+  std::vector<AngularVec<D>> roll_;  // rolling moments (empty when mu_r = 0)
+  bool packed_ = true;
+  // ... and while the list stands: per owned pair and per grain and wall (cfg_.walls order).
+  std::vector<Vec<D>> pair_xi_, wall_xi_;
+  std::vector<AngularVec<D>> pair_roll_, wall_roll_;  // empty when mu_r = 0
+  std::vector<std::uint8_t> wall_live_;
   // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.
   std::vector<std::int64_t> bond_partner_, bond_partner_new_;
   std::vector<ParallelBondState<D>> bond_, bond_new_;
 
   neighbors::NeighborList list_;
-  std::vector<Index> mirror_;  // per list entry (i, j): the index of the entry (j, i)
-  PairCache cache_;            // per list entry: the contact's results (pair_pass)
+  // Owned pairs (i, j), id_i < id_j: grain i's at pair_begin_[i] .. pair_begin_[i + 1], j in
+  // pair_j_; per list entry, its pair: p if the row's grain owns it, else ~p.
+  std::vector<Index> pair_begin_, pair_j_, pair_of_entry_;
+  PairCache cache_;  // per owned pair: the contact's results (pair_pass)
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;
