@@ -18,6 +18,7 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -255,9 +256,26 @@ class DemPart final : public solver::Part<D> {
     xi_.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
     if (rolling_.friction > 0)
       roll_.assign(static_cast<std::size_t>(n) * kMaxContacts, angular_zero<D>());
+    for (const io::Face face : cfg_.walls)
+      wall_planes_.push_back(wall_plane(face));
+    guard_planes_ = wall_planes_;
+    for (const io::Face face : cfg_.absorbing_walls)
+      guard_planes_.push_back(wall_plane(face));
+    clear_lo_ = Vec<D>::Constant(-std::numeric_limits<Real>::infinity());
+    clear_hi_ = Vec<D>::Constant(std::numeric_limits<Real>::infinity());
+    for (const WallPlane& w : wall_planes_)
+      (w.upper ? clear_hi_ : clear_lo_)[w.axis] = w.plane;
+    guard_lo_ = clear_lo_;
+    guard_hi_ = clear_hi_;
+    for (const WallPlane& w : guard_planes_)
+      if (w.upper)
+        guard_hi_[w.axis] = std::min(guard_hi_[w.axis], w.plane);
+      else
+        guard_lo_[w.axis] = std::max(guard_lo_[w.axis], w.plane);
     const std::size_t wall_slots = static_cast<std::size_t>(n) * cfg_.walls.size();
     wall_xi_.assign(wall_slots, Vec<D>::Zero());
-    wall_live_.assign(wall_slots, 0);
+    if (cfg_.walls.size() > 32) throw std::logic_error("dem: more than 32 walls");
+    wall_live_.assign(static_cast<std::size_t>(n), 0);
     if (rolling_.friction > 0) wall_roll_.assign(wall_slots, angular_zero<D>());
     // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
     // the run, between the settled grains.
@@ -354,7 +372,11 @@ class DemPart final : public solver::Part<D> {
         return *this;
       }
     };
+    const bool bonded = !bond_partner_.empty();
+    const bool damped = cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty();
     const Sums s = parallel::deterministic_sum<Sums>(n, [&](Index i) {
+      // The models that are off leave their fields at zero (grain_pass): not read.
+      if (!bonded && !damped) return Sums{dissipated_[i]};
       return Sums{dissipated_[i], local_power_[i], bond_released_[i], bond_breaks_[i],
                   static_power_[i]};
     });
@@ -429,14 +451,15 @@ class DemPart final : public solver::Part<D> {
     const Real half = 0.5 * dt;
     last_dt_ = dt;
     contact_pending_ = true;
-    parallel::for_each(f_.size(), [&](Index i) {
+    // Kick, drift, and the power of gravity at the new velocities, in one pass.
+    const bool gravity = gravity_.squaredNorm() > 0;
+    const Real power = parallel::deterministic_sum<Real>(f_.size(), [&](Index i) {
       v_[i] += (half / m_[i]) * force_[i];
       w_[i] += (half / inertia_[i]) * torque_[i];
       x_[i] += dt * v_[i];
+      return gravity ? m_[i] * gravity_.dot(v_[i]) : Real(0);
     });
-    if (gravity_.squaredNorm() > 0)
-      external_work_ += dt * parallel::deterministic_sum<Real>(
-                                 f_.size(), [&](Index i) { return m_[i] * gravity_.dot(v_[i]); });
+    if (gravity) external_work_ += dt * power;
     if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty()) reflect_at_walls();
   }
 
@@ -453,27 +476,29 @@ class DemPart final : public solver::Part<D> {
         return *this;
       }
     };
-    std::vector<Tally> t(static_cast<std::size_t>(f_.size()));
-    parallel::for_each(f_.size(), [&](Index i) {
-      for (const auto* faces : {&cfg_.walls, &cfg_.absorbing_walls})
-        for (const io::Face face : *faces) {
-          const int axis = static_cast<int>(face) / 2;
-          const bool upper = static_cast<int>(face) % 2 == 1;
-          const Real plane = upper ? domain_hi_[axis] : domain_lo_[axis];
-          const Real beyond = upper ? x_[i][axis] - plane : plane - x_[i][axis];
-          if (!(beyond > 0)) continue;
-          x_[i][axis] = upper ? plane - beyond : plane + beyond;
-          const Real vn = v_[i][axis];
-          if ((upper && vn > 0) || (!upper && vn < 0)) {
-            v_[i][axis] = -cfg_.wall_restitution * vn;
-            t[static_cast<std::size_t>(i)].lost +=
-                0.5 * m_[i] * (1 - cfg_.wall_restitution * cfg_.wall_restitution) * vn * vn;
-          }
-          t[static_cast<std::size_t>(i)].count += 1;
+    const Tally sum = parallel::deterministic_sum<Tally>(f_.size(), [&](Index i) {
+      Tally t;
+      // Inside every face (x <= an upper plane, x >= a lower one): nothing to do.
+      bool inside = true;
+      for (int d = 0; d < D; ++d)
+        inside &= x_[i][d] >= guard_lo_[d] && x_[i][d] <= guard_hi_[d];
+      if (inside) return t;
+      for (const WallPlane& w : guard_planes_) {
+        const int axis = w.axis;
+        const bool upper = w.upper;
+        const Real plane = w.plane;
+        const Real beyond = upper ? x_[i][axis] - plane : plane - x_[i][axis];
+        if (!(beyond > 0)) continue;
+        x_[i][axis] = upper ? plane - beyond : plane + beyond;
+        const Real vn = v_[i][axis];
+        if ((upper && vn > 0) || (!upper && vn < 0)) {
+          v_[i][axis] = -cfg_.wall_restitution * vn;
+          t.lost += 0.5 * m_[i] * (1 - cfg_.wall_restitution * cfg_.wall_restitution) * vn * vn;
         }
+        t.count += 1;
+      }
+      return t;
     });
-    const Tally sum = parallel::deterministic_sum<Tally>(
-        f_.size(), [&](Index i) { return t[static_cast<std::size_t>(i)]; });
     wall_reflections_ += sum.count;
     contact_dissipated_ += sum.lost;
   }
@@ -606,6 +631,20 @@ class DemPart final : public solver::Part<D> {
     return force_[i].allFinite() && angular_finite<D>(torque_[i]) && in_domain(i);
   }
 
+  // A rigid face of the domain box as the loops use it.
+  struct WallPlane {
+    int axis = 0;
+    bool upper = false;  // the face at domain_hi_ (else domain_lo_)
+    Real plane = 0;      // its coordinate on the axis [m]
+  };
+  WallPlane wall_plane(io::Face face) const {
+    WallPlane w;
+    w.axis = static_cast<int>(face) / 2;
+    w.upper = static_cast<int>(face) % 2 == 1;
+    w.plane = w.upper ? domain_hi_[w.axis] : domain_lo_[w.axis];
+    return w;
+  }
+
   // Slot of `partner` in grain i's packed history (partner_), or -1.
   int find_slot(Index owner, std::int64_t partner) const {
     const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
@@ -652,13 +691,12 @@ class DemPart final : public solver::Part<D> {
         for (Index p = pair_begin_[static_cast<std::size_t>(i)];
              p < pair_begin_[static_cast<std::size_t>(i) + 1]; ++p) {
           const auto q = static_cast<std::size_t>(p);
-          if (!(cache_.contact[q].flags & kContactOn)) continue;
-          put(id_[pair_j_[q]], pair_xi_[q],
-              pair_roll_.empty() ? angular_zero<D>() : pair_roll_[q]);
+          if (!(cache_.flags[q] & kContactOn)) continue;
+          put(id_[pair_j_[q]], pair_xi_[q], pair_roll_.empty() ? angular_zero<D>() : pair_roll_[q]);
         }
       for (std::size_t w = 0; w < walls; ++w) {
         const std::size_t at = static_cast<std::size_t>(i) * walls + w;
-        if (!wall_live_[at]) continue;
+        if (!(wall_live_[static_cast<std::size_t>(i)] >> w & 1u)) continue;
         put(-1 - static_cast<std::int64_t>(cfg_.walls[w]), wall_xi_[at],
             wall_roll_.empty() ? angular_zero<D>() : wall_roll_[at]);
       }
@@ -675,15 +713,16 @@ class DemPart final : public solver::Part<D> {
         const auto q = static_cast<std::size_t>(p);
         const int k = find_slot(i, id_[pair_j_[q]]);
         // Live: the flag pack_history reads, until pair_pass sets it again.
-        cache_.contact[q].flags = k < 0 ? 0 : kContactOn;
+        cache_.flags[q] = k < 0 ? 0 : kContactOn;
         pair_xi_[q] = k < 0 ? Vec<D>::Zero() : xi_[base + static_cast<std::size_t>(k)];
         if (!pair_roll_.empty())
           pair_roll_[q] = k < 0 ? angular_zero<D>() : roll_[base + static_cast<std::size_t>(k)];
       }
+      wall_live_[static_cast<std::size_t>(i)] = 0;
       for (std::size_t w = 0; w < walls; ++w) {
         const std::size_t at = static_cast<std::size_t>(i) * walls + w;
         const int k = find_slot(i, -1 - static_cast<std::int64_t>(cfg_.walls[w]));
-        wall_live_[at] = k >= 0;
+        if (k >= 0) wall_live_[static_cast<std::size_t>(i)] |= 1u << w;
         wall_xi_[at] = k < 0 ? Vec<D>::Zero() : xi_[base + static_cast<std::size_t>(k)];
         if (!wall_roll_.empty())
           wall_roll_[at] = k < 0 ? angular_zero<D>() : roll_[base + static_cast<std::size_t>(k)];
@@ -724,17 +763,20 @@ class DemPart final : public solver::Part<D> {
   //     bit-identical to it, and to any thread count.
   // Most list entries are not in contact (the list reaches (1 + kSkin) x the contact
   // distance): a squared-distance test with a margin rejects them before any law work.
-  // One pair's contact results together (the gather pass reads them at once).
+  // One pair's contact results together (the gather pass reads them at once); which of them
+  // hold anything, in a dense array of flags.
+  // Zero while the pair is not in contact, so that the gather may add it regardless.
   struct ContactResult {
-    Vec<D> f1;               // force on body 1
-    AngularVec<D> t1, t2;    // torques on bodies 1 and 2 (contact + rolling)
-    std::uint8_t flags = 0;  // kBondOn, kContactOn
+    Vec<D> f1 = Vec<D>::Zero();                                            // force on body 1
+    std::array<AngularVec<D>, 2> t{angular_zero<D>(), angular_zero<D>()};  // torques on 1, 2
   };
   struct PairCache {
+    std::vector<std::uint8_t> flags;  // kBondOn, kContactOn
     std::vector<ContactResult> contact;
     std::vector<Vec<D>> bond_f1;
     std::vector<AngularVec<D>> bond_t1, bond_t2;
     void resize(std::size_t n, bool bonds) {
+      flags.assign(n, 0);
       contact.assign(n, ContactResult{});
       if (bonds) {
         bond_f1.resize(n);
@@ -776,19 +818,19 @@ class DemPart final : public solver::Part<D> {
     for (Index pi = pair_begin_[static_cast<std::size_t>(i)]; pi < end; ++pi) {
       const auto k = static_cast<std::size_t>(pi);
       const Index j = pair_j_[k];
-      ContactResult& c = cache_.contact[k];
+      std::uint8_t& last_flags = cache_.flags[k];
       const int bond = bonds ? find_bond(i, id_[j]) : -1;
       if (bond < 0) {
         const Real reach = r_i + r_[j];
         if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
-          if (c.flags) clear_pair(k, c);
+          if (last_flags) clear_pair(k, last_flags);
           continue;
         }
       }
       std::uint8_t flags = 0;
       const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_i, r_i, x_[j], r_[j]);
       if (!g.touching() && bond < 0) {
-        if (c.flags) clear_pair(k, c);
+        if (last_flags) clear_pair(k, last_flags);
         continue;
       }
       const RelativeVelocity<D> rel =
@@ -831,29 +873,32 @@ class DemPart final : public solver::Part<D> {
                                                      RollingBody{inertia_[j], m_[j], r_[j]})},
                                      pair_roll_[k], dt);
         flags |= kContactOn;
+        ContactResult& c = cache_.contact[k];
         c.f1 = cf.force_on_1;
-        c.t1 = cf.torque_on_1 + rt.torque_on_1;
-        c.t2 = cf.torque_on_2 - rt.torque_on_1;
+        c.t[0] = cf.torque_on_1 + rt.torque_on_1;
+        c.t[1] = cf.torque_on_2 - rt.torque_on_1;
         pair_xi_[k] = cf.shear_history;
         if (rolling) pair_roll_[k] = rt.history;
         count_contact(i, tally);
         tally.elastic += cf.elastic_energy + rt.elastic_energy;
         tally.dissipated += cf.dissipated_power + rt.dissipated_power;
-      } else if (c.flags & kContactOn) {
+      } else if (last_flags & kContactOn) {
+        cache_.contact[k] = ContactResult{};
         pair_xi_[k] = Vec<D>::Zero();
         if (rolling) pair_roll_[k] = angular_zero<D>();
       }
-      c.flags = flags;
+      last_flags = flags;
     }
     tally_[static_cast<std::size_t>(i)] = tally;
   }
   // A pair that was evaluated last step and is apart now: no force, no history.
-  void clear_pair(std::size_t k, ContactResult& c) {
-    if (c.flags & kContactOn) {
+  void clear_pair(std::size_t k, std::uint8_t& flags) {
+    if (flags & kContactOn) {
+      cache_.contact[k] = ContactResult{};
       pair_xi_[k] = Vec<D>::Zero();
       if (!pair_roll_.empty()) pair_roll_[k] = angular_zero<D>();
     }
-    c.flags = 0;
+    flags = 0;
   }
 
   template <class Law>
@@ -866,52 +911,72 @@ class DemPart final : public solver::Part<D> {
     int bonds = tally.bonds;
     const auto first = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
     const auto last = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i) + 1]);
-    for (std::size_t e = first; e < last; ++e) {
-      const Index ref = pair_of_entry_[e];
-      if (ref >= 0) {
-        const auto k = static_cast<std::size_t>(ref);
+    if (cache_.bond_f1.empty()) {
+      // No bonds: every entry adds its pair's results, zero when not in contact, with no
+      // branch. A sum that starts at +0 or a non-zero value never becomes -0, so adding +-0
+      // leaves it as skipping would; force + (-1 x f) is force - f exactly.
+      static constexpr std::array<Real, 2> kSign{1, -1};
+      for (std::size_t e = first; e < last; ++e) {
+        const auto ref = static_cast<std::size_t>(pair_of_entry_[e]);
+        const std::size_t side = ref & 1;
+        const ContactResult& c = cache_.contact[ref >> 1];
+        force += kSign[side] * c.f1;
+        torque += c.t[side];
+      }
+    } else {
+      for (std::size_t e = first; e < last; ++e) {
+        const auto ref = static_cast<std::size_t>(pair_of_entry_[e]);
+        const std::size_t k = ref >> 1;
+        const std::uint8_t flags = cache_.flags[k];
         const ContactResult& c = cache_.contact[k];
-        if (c.flags & kBondOn) {
-          force += cache_.bond_f1[k];
-          torque += cache_.bond_t1[k];
-        }
-        if (c.flags & kContactOn) {
-          force += c.f1;
-          torque += c.t1;
-        }
-      } else {
-        const auto m = static_cast<std::size_t>(~ref);
-        const ContactResult& c = cache_.contact[m];
-        if (c.flags & kBondOn) {
-          ++bonds;
-          force -= cache_.bond_f1[m];
-          torque += cache_.bond_t2[m];
-        }
-        if (c.flags & kContactOn) {
-          force -= c.f1;
-          torque += c.t2;
+        if (!(ref & 1)) {
+          if (flags & kBondOn) {
+            force += cache_.bond_f1[k];
+            torque += cache_.bond_t1[k];
+          }
+          if (flags & kContactOn) {
+            force += c.f1;
+            torque += c.t[0];
+          }
+        } else {
+          if (flags & kBondOn) {
+            ++bonds;
+            force -= cache_.bond_f1[k];
+            torque += cache_.bond_t2[k];
+          }
+          if (flags & kContactOn) {
+            force -= c.f1;
+            torque += c.t[1];
+          }
         }
       }
     }
     Real elastic = tally.elastic, dissipated = tally.dissipated;
 
-    const std::size_t walls = cfg_.walls.size();
-    for (std::size_t w = 0; w < walls; ++w) {
-      const io::Face face = cfg_.walls[w];
-      const int axis = static_cast<int>(face) / 2;
-      const bool low = static_cast<int>(face) % 2 == 0;
-      const Real plane = low ? domain_lo_[axis] : domain_hi_[axis];
+    const std::size_t walls = wall_planes_.size();
+    // Grains in the interior (further than r_max from every wall) skip the walls.
+    bool near_wall = false;
+    const Real reach = r_max_ * kTouchMargin;
+    for (int d = 0; d < D; ++d)
+      near_wall |= !(x_[i][d] - clear_lo_[d] > reach && clear_hi_[d] - x_[i][d] > reach);
+    std::uint32_t& live = wall_live_[static_cast<std::size_t>(i)];
+    if (!near_wall && live)  // a wall contact left behind in one step (never in practice) ends
+      for (std::size_t w = 0; w < walls; ++w)
+        clear_wall(live, w, static_cast<std::size_t>(i) * walls + w);
+    for (std::size_t w = 0; near_wall && w < walls; ++w) {
+      const int axis = wall_planes_[w].axis;
+      const Real plane = wall_planes_[w].plane;
       const std::size_t at = static_cast<std::size_t>(i) * walls + w;
       // The distance to the plane is |x_axis - plane|: grains clearly apart skip the geometry.
       if (std::abs(x_[i][axis] - plane) > r_[i] * kTouchMargin) {
-        if (wall_live_[at]) clear_wall(at);
+        clear_wall(live, w, at);
         continue;
       }
       Vec<D> foot = x_[i];
       foot[axis] = plane;
       const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
       if (!g.touching()) {
-        if (wall_live_[at]) clear_wall(at);
+        clear_wall(live, w, at);
         continue;
       }
       const RelativeVelocity<D> rel =
@@ -931,7 +996,7 @@ class DemPart final : public solver::Part<D> {
       torque += cf.torque_on_1 + rt.torque_on_1;
       wall_xi_[at] = cf.shear_history;
       if (rolling) wall_roll_[at] = rt.history;
-      wall_live_[at] = 1;
+      live |= 1u << w;
       count_contact(i, tally);
       elastic += cf.elastic_energy + rt.elastic_energy;
       dissipated += cf.dissipated_power + rt.dissipated_power;
@@ -980,14 +1045,21 @@ class DemPart final : public solver::Part<D> {
     contacts_[i] = tally.slots;
     elastic_[i] = elastic;
     dissipated_[i] = dissipated;
-    local_power_[i] = local_power;
-    static_power_[i] = static_power;
-    bonds_[i] = bonds;
-    bond_breaks_[i] = tally.breaks;
-    bond_released_[i] = tally.released;
+    // Fields of models that are off stay zero, unwritten (compute_forces does not read them).
+    if (cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty()) {
+      local_power_[i] = local_power;
+      static_power_[i] = static_power;
+    }
+    if (!bond_partner_.empty()) {
+      bonds_[i] = bonds;
+      bond_breaks_[i] = tally.breaks;
+      bond_released_[i] = tally.released;
+    }
   }
-  void clear_wall(std::size_t at) {
-    wall_live_[at] = 0;
+  // Wall w of a grain with live-contact bits `live` (history slot at): no contact, no history.
+  void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at) {
+    if (!(live >> w & 1u)) return;
+    live &= ~(1u << w);
     wall_xi_[at] = Vec<D>::Zero();
     if (!wall_roll_.empty()) wall_roll_[at] = angular_zero<D>();
   }
@@ -1064,7 +1136,7 @@ class DemPart final : public solver::Part<D> {
       for (std::size_t e = 0; e < row.size(); ++e)
         if (id_[i] < id_[row[e]]) {
           pair_j_[static_cast<std::size_t>(p)] = row[e];
-          pair_of_entry_[from + e] = p++;
+          pair_of_entry_[from + e] = 2 * p++;
         }
     });
     // Entries (i, j) owned by j: the pair (j, i) (pairs are ascending in j's row: binary
@@ -1078,7 +1150,7 @@ class DemPart final : public solver::Part<D> {
         const auto b = pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j)];
         const auto it =
             std::lower_bound(b, pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j) + 1], i);
-        pair_of_entry_[from + e] = ~static_cast<Index>(it - pair_j_.begin());
+        pair_of_entry_[from + e] = 2 * static_cast<Index>(it - pair_j_.begin()) + 1;
       }
     });
     const auto pairs = pair_j_.size();
@@ -1211,14 +1283,19 @@ class DemPart final : public solver::Part<D> {
   // ... and while the list stands: per owned pair and per grain and wall (cfg_.walls order).
   std::vector<Vec<D>> pair_xi_, wall_xi_;
   std::vector<AngularVec<D>> pair_roll_, wall_roll_;  // empty when mu_r = 0
-  std::vector<std::uint8_t> wall_live_;
+  std::vector<std::uint32_t> wall_live_;  // per grain: bit w, a live contact with wall w
+  // The faces of cfg_.walls; with cfg_.absorbing_walls (reflect_at_walls); the box beyond whose
+  // planes (r_max away) a grain touches no face of cfg_.walls (+-inf where there is none).
+  std::vector<WallPlane> wall_planes_, guard_planes_;
+  Vec<D> clear_lo_, clear_hi_;
+  Vec<D> guard_lo_, guard_hi_;  // inside these bounds a grain is beyond no face (reflect_at_walls)
   // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.
   std::vector<std::int64_t> bond_partner_, bond_partner_new_;
   std::vector<ParallelBondState<D>> bond_, bond_new_;
 
   neighbors::NeighborList list_;
   // Owned pairs (i, j), id_i < id_j: grain i's at pair_begin_[i] .. pair_begin_[i + 1], j in
-  // pair_j_; per list entry, its pair: p if the row's grain owns it, else ~p.
+  // pair_j_; per list entry, its pair: 2 p if the row's grain owns it, else 2 p + 1.
   std::vector<Index> pair_begin_, pair_j_, pair_of_entry_;
   PairCache cache_;  // per owned pair: the contact's results (pair_pass)
   std::vector<PairTally> tally_;

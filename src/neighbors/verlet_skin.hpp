@@ -4,6 +4,7 @@
 // built().
 #pragma once
 
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -21,9 +22,13 @@ class VerletSkin {
   /// radius the owner needs now).
   bool stale(std::span<const Vec<D>> x, Real need) const {
     if (radius_ <= 0 || x.size() != built_.size()) return true;
-    const Real moved = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
-      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).norm();
-    });
+    // The largest squared displacement, then one root (the same number: sqrt is monotonic and
+    // correctly rounded).
+    const Real moved =
+        std::sqrt(parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
+          return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)])
+              .squaredNorm();
+        }));
     return 2 * moved + need > radius_;
   }
 

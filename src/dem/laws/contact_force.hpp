@@ -46,15 +46,18 @@ struct ContactForce {
 
 /// Combine the normal and tangential parts at the contact point of g.
 template <int D>
-inline ContactForce<D> combine_contact_force(const ContactGeometry<D>& g, const NormalForce& n,
-                                             const TangentialForce<D>& t) {
+[[gnu::always_inline]] inline ContactForce<D> combine_contact_force(const ContactGeometry<D>& g,
+                                                                    const NormalForce& n,
+                                                                    const TangentialForce<D>& t) {
   ContactForce<D> out;
   out.normal_force = n.force;
   out.tangential_force = t.force;
   out.force_on_1 = n.force * g.normal + t.force;
   // The normal part acts along the line of centres and has no moment about either centre.
-  out.torque_on_1 = moment_of<D>(-g.arm1 * g.normal, t.force);
-  out.torque_on_2 = moment_of<D>(g.arm2 * g.normal, Vec<D>(-t.force));
+  // (-a_1 n) \times F_t = -a_1 (n \times F_t) and (a_2 n) \times (-F_t) = -a_2 (n \times F_t).
+  const AngularVec<D> turn = moment_of<D>(g.normal, t.force);
+  out.torque_on_1 = -g.arm1 * turn;
+  out.torque_on_2 = -g.arm2 * turn;
   out.shear_history = t.history;
   out.normal_stiffness = n.stiffness;
   out.elastic_energy = n.elastic_energy + t.elastic_energy;

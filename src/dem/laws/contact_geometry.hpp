@@ -94,13 +94,39 @@ inline AngularVec<D> moment_of(const Vec<D>& r, const Vec<D>& f) {
 /// (LIGGGHTS tangential_model_history.h) would shrink the spring by 1 - cos(turn) every step.
 /// Returns zero when v is parallel to n (then there is no direction to keep).
 template <class V>
-inline V rotate_into_tangent_plane(const V& v, const V& n) {
-  const V projected = v - v.dot(n) * n;
-  const Real projected_norm = projected.norm();
-  if (!(projected_norm > Real(0))) {
+[[gnu::always_inline]] inline V rotate_into_tangent_plane(const V& v, const V& n) {
+  // v - (v.n) n, component by component (the same arithmetic as the Eigen expression, which a
+  // large pair loop may leave as an out-of-line call).
+  const Real along = v.dot(n);
+  V projected;
+  for (Eigen::Index k = 0; k < v.size(); ++k) {
+    projected[k] = v[k] - along * n[k];
+  }
+  const Real projected_sq = projected.squaredNorm();
+  if (!(projected_sq > Real(0))) {
     return V::Zero();
   }
-  return (v.norm() / projected_norm) * projected;
+  return std::sqrt(v.squaredNorm() / projected_sq) * projected;
+}
+
+/// Whether \sqrt{norm_sq} > limit for limit >= 0, exactly as `std::sqrt(norm_sq) > limit`
+/// decides it, with the root taken only when norm_sq is within 1e-14 of limit^2 (there the
+/// rounding of the squares could decide otherwise). A friction law tests |F| against its
+/// Coulomb bound this way and needs the root only when it has to scale F back.
+inline bool root_exceeds(Real norm_sq, Real limit) {
+  if (limit == Real(0)) {
+    return norm_sq > Real(0);
+  }
+  const Real limit_sq = limit * limit;
+  if (limit_sq > Real(1e-280)) {  // else limit^2 has lost digits to underflow
+    if (norm_sq > limit_sq * Real(1 + 1e-14)) {
+      return true;
+    }
+    if (norm_sq < limit_sq * Real(1 - 1e-14)) {
+      return false;
+    }
+  }
+  return std::sqrt(norm_sq) > limit;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -228,11 +254,14 @@ struct RelativeVelocity {
 
 /// v_rel = v_1 - v_2 + \omega_1 \times (-a_1 n) - \omega_2 \times (a_2 n) and its parts.
 template <int D>
-inline RelativeVelocity<D> relative_velocity(const ContactGeometry<D>& g, const BodyMotion<D>& b1,
-                                             const BodyMotion<D>& b2) {
+[[gnu::always_inline]] inline RelativeVelocity<D> relative_velocity(const ContactGeometry<D>& g,
+                                                                    const BodyMotion<D>& b1,
+                                                                    const BodyMotion<D>& b2) {
   RelativeVelocity<D> r;
-  r.at_contact = b1.velocity - b2.velocity - spin_cross<D>(b1.angular_velocity, g.arm1 * g.normal) -
-                 spin_cross<D>(b2.angular_velocity, g.arm2 * g.normal);
+  // \omega_1 \times (a_1 n) + \omega_2 \times (a_2 n) = (a_1 \omega_1 + a_2 \omega_2) \times n: one
+  // cross product.
+  const AngularVec<D> spin_arm = g.arm1 * b1.angular_velocity + g.arm2 * b2.angular_velocity;
+  r.at_contact = b1.velocity - b2.velocity - spin_cross<D>(spin_arm, g.normal);
   r.normal = r.at_contact.dot(g.normal);
   r.tangential = r.at_contact - r.normal * g.normal;
   r.spin = b1.angular_velocity - b2.angular_velocity;

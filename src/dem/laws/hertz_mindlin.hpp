@@ -88,9 +88,11 @@ inline NormalForce hertz_normal_spring(Real youngs_modulus_eff, Real radius_eff,
 /// Hertz-Mindlin force on a touching pair (see the file comment). mass_eff m* [kg],
 /// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
 template <int D>
-inline ContactForce<D> hertz_mindlin(const HertzMindlinParams& p, const ContactGeometry<D>& g,
-                                     const RelativeVelocity<D>& v, Real mass_eff,
-                                     const Vec<D>& shear_history, Real dt) {
+[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin(const HertzMindlinParams& p,
+                                                            const ContactGeometry<D>& g,
+                                                            const RelativeVelocity<D>& v,
+                                                            Real mass_eff,
+                                                            const Vec<D>& shear_history, Real dt) {
   const NormalForce spring = hertz_normal_spring(p.youngs_modulus_eff_pa, g.radius_eff, g.overlap);
   const Real gamma_n = tsuji_dashpot_coefficient(p.damping_ratio, spring.stiffness, mass_eff);
   const NormalForce normal =
@@ -110,9 +112,11 @@ inline ContactForce<D> hertz_mindlin(const HertzMindlinParams& p, const ContactG
 struct HertzMindlin {
   using Params = HertzMindlinParams;
   template <int D>
-  static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g,
-                                  const RelativeVelocity<D>& v, Real mass_eff,
-                                  const Vec<D>& shear_history, Real dt) {
+  [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,
+                                                         const ContactGeometry<D>& g,
+                                                         const RelativeVelocity<D>& v,
+                                                         Real mass_eff, const Vec<D>& shear_history,
+                                                         Real dt) {
     return hertz_mindlin<D>(p, g, v, mass_eff, shear_history, dt);
   }
 };

@@ -85,9 +85,11 @@ inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactG
 struct LinearSpring {
   using Params = LinearSpringParams;
   template <int D>
-  static ContactForce<D> evaluate(const Params& p, const ContactGeometry<D>& g,
-                                  const RelativeVelocity<D>& v, Real mass_eff,
-                                  const Vec<D>& shear_history, Real dt) {
+  [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,
+                                                         const ContactGeometry<D>& g,
+                                                         const RelativeVelocity<D>& v,
+                                                         Real mass_eff, const Vec<D>& shear_history,
+                                                         Real dt) {
     return linear_spring<D>(p, g, v, mass_eff, shear_history, dt);
   }
 };

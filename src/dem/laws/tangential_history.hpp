@@ -66,10 +66,9 @@ struct TangentialForce {
 ///   history             \xi of the previous step [m] (zero for a new contact)
 ///   dt                  \Delta t [s]
 template <int D>
-inline TangentialForce<D> history_tangential_force(const TangentialSpring& spring,
-                                                   Real normal_force, const Vec<D>& normal,
-                                                   const Vec<D>& tangential_velocity,
-                                                   const Vec<D>& history, Real dt) {
+[[gnu::always_inline]] inline TangentialForce<D> history_tangential_force(
+    const TangentialSpring& spring, Real normal_force, const Vec<D>& normal,
+    const Vec<D>& tangential_velocity, const Vec<D>& history, Real dt) {
   TangentialForce<D> out;
   const Vec<D> trial = rotate_into_tangent_plane(history, normal) + tangential_velocity * dt;
   // Friction only while the grains press together: the dashpot can make F_n pull at the end
@@ -77,10 +76,10 @@ inline TangentialForce<D> history_tangential_force(const TangentialSpring& sprin
   // contact transmits (+6 % spin in the oblique-impact test with |F_n|, as LIGGGHTS has it).
   const Real limit = spring.friction * std::max(normal_force, Real(0));
   const Vec<D> spring_force = -spring.stiffness * trial;
-  const Real spring_norm = spring_force.norm();
-  if (spring_norm > limit) {
+  const Real spring_sq = spring_force.squaredNorm();
+  if (root_exceeds(spring_sq, limit)) {
     // Sliding: keep the direction, cut the spring back to the limit; no dashpot.
-    const Real scale = limit / spring_norm;
+    const Real scale = limit / std::sqrt(spring_sq);
     out.history = scale * trial;
     out.force = scale * spring_force;
     out.sliding = true;
@@ -89,8 +88,9 @@ inline TangentialForce<D> history_tangential_force(const TangentialSpring& sprin
   } else {
     out.history = trial;
     const Vec<D> total = spring_force - spring.damping * tangential_velocity;
-    const Real total_norm = total.norm();
-    out.force = total_norm > limit ? Vec<D>((limit / total_norm) * total) : total;
+    const Real total_sq = total.squaredNorm();
+    out.force =
+        root_exceeds(total_sq, limit) ? Vec<D>((limit / std::sqrt(total_sq)) * total) : total;
     out.dissipated_power = -(out.force - spring_force).dot(tangential_velocity);
   }
   out.elastic_energy = Real(0.5) * spring.stiffness * out.history.squaredNorm();
