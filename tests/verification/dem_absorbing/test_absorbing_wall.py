@@ -33,9 +33,12 @@ Verlet, same step, the wall as crater defines it): within 0.005.
 
 Two more cases: the chain model with a Kelvin-Voigt end (the wall's spring k in parallel with
 the matched dashpot), the design crater rejects, reflects almost everything (R < -0.9); and a
-2D bed settled under gravity on an absorbing floor rests on the held reactions (the floor
-grains sink less than 0.25 r on average, then stop: end speed < 5 % of the W / (n eta) they
-would sink at without the reactions). The absorbing chain runs bit-identically on 1 and 2
+2D bed settled under gravity on an absorbing floor rests on the held reactions: without them
+the floor grains would sink at W / (n eta); with them, over the second half of the run (after
+the readjustment of the restart), they sink on average at less than 10 % of that, for each of
+three packings (seeds 1-3; measured 0.7-6 %). The floor has no static stiffness, so as the bed
+above rearranges, a floor grain loaded beyond its held reaction creeps: the bed does not come
+wholly to rest (docs/validation.md). The absorbing chain runs bit-identically on 1 and 2
 threads.
 """
 import csv
@@ -266,34 +269,41 @@ class AbsorbingWall(unittest.TestCase):
         # A bed settled under gravity with an absorbing floor (rigid while settling) rests on
         # the held reactions. The run starts from the saved packing without tangential
         # springs, so the bed readjusts (with a rigid floor too: 0.05 r on average) and the
-        # floor, having no stiffness, follows it: the floor grains sink about 0.1 r and come
-        # to rest. Without the held reactions they would sink at W / (n eta), about 40 mm/s
-        # here.
-        d = scratch("dem_absorbing_bed")
-        (d / "case.toml").write_text(bed_scenario(d / "cache"))
-        summary = run_scenario(d / "case.toml", d / "out", threads=1)
-        self.assertEqual(summary["status"], "completed")
-        frames = read_pvd(d / "out" / "bed.pvd")
-        p0, a0, _, _ = read_vtu(d / "out" / frames[0][1])
-        p1, a1, _, _ = read_vtu(d / "out" / frames[-1][1])
-        o0, o1 = np.argsort(a0["id"]), np.argsort(a1["id"])
-        r = a0["radius"][o0]
-        floor = p0[o0, 1] - r < 1e-3 * r  # grains touching the floor at t = 0
-        sink = -(p1[o1, 1] - p0[o0, 1])[floor]
-        speed = np.abs(a1["velocity"][o1][floor, 1])
-        weight = summary["parts"][0]["mass_kg"] * 9.81
-        eta = RHO * math.pi / 4 * wave_speed(2) * A  # the default bed impedance, roughly
-        free = weight / (floor.sum() * eta)
-        print(f"bed on an absorbing floor: {floor.sum()} floor grains sink {sink.mean() / R:.3f} r "
-              f"on average (at most {sink.max() / R:.3f} r) in {frames[-1][0]:.2g} s, end speed "
-              f"at most {speed.max():.1e} m/s; without held reactions about {free:.1e} m/s",
-              file=sys.stderr)
-        self.assertGreater(floor.sum(), 10)
-        self.assertLess(sink.mean(), 0.25 * R)
-        self.assertLess(speed.max(), 0.05 * free)
+        # floor, having no stiffness, follows it. Without the held reactions the floor grains
+        # would sink at W / (n eta), about 40 mm/s here; the test measures their mean sinking
+        # rate over the second half of the run. A single end-of-run speed is not a robust
+        # measure: one grain of the creeping floor may be caught moving (up to 40 % of the
+        # free rate in a frame, depending on the packing).
+        for seed in (1, 2, 3):
+            with self.subTest(seed=seed):
+                d = scratch(f"dem_absorbing_bed_{seed}")
+                (d / "case.toml").write_text(bed_scenario(d / "cache", seed))
+                summary = run_scenario(d / "case.toml", d / "out", threads=1)
+                self.assertEqual(summary["status"], "completed")
+                frames = read_pvd(d / "out" / "bed.pvd")
+                self.assertEqual([round(t, 6) for t, _ in frames], [0.0, 0.2, 0.4])
+                heights = []
+                for _, name in frames:
+                    p, a, _, _ = read_vtu(d / "out" / name)
+                    order = np.argsort(a["id"])
+                    heights.append(p[order, 1])
+                    if not heights[1:]:
+                        r = a["radius"][order]
+                floor = heights[0] - r < 1e-3 * r  # grains touching the floor at t = 0
+                rate = (heights[1] - heights[2])[floor].mean() / (frames[2][0] - frames[1][0])
+                weight = summary["parts"][0]["mass_kg"] * 9.81
+                eta = RHO * math.pi / 4 * wave_speed(2) * A  # the default bed impedance, roughly
+                free = weight / (floor.sum() * eta)
+                print(f"bed on an absorbing floor (seed {seed}): {floor.sum()} floor grains sink "
+                      f"{(heights[0] - heights[2])[floor].mean() / R:.3f} r on average in "
+                      f"{frames[-1][0]:.2g} s, in the second half at {rate:.1e} m/s = "
+                      f"{rate / free:.3f} x W / (n eta) = {free:.1e} m/s",
+                      file=sys.stderr)
+                self.assertGreater(floor.sum(), 10)
+                self.assertLess(rate, 0.10 * free)
 
 
-def bed_scenario(cache):
+def bed_scenario(cache, seed):
     return f"""
 [scenario]
 name = "absorbing-bed"
@@ -325,6 +335,7 @@ porosity = 0.2
 settle = true
 cache_dir = "{cache}"
 [parts.dem]
+seed = {seed}
 contact = "linear_spring"
 normal_stiffness_n_m = {KN}
 radius_min_m = {0.8 * R}
