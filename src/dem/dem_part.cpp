@@ -235,6 +235,10 @@ class DemPart final : public solver::Part<D> {
         for (int d = 0; d < D; ++d)
           v[d] += draw(jitter);
     }
+    if (pts.empty())
+      throw InputError(pc.where, fmt::format("parts[{}].region", pc.name),
+                       "the part holds no grains: its region, less what `carve` removes, has "
+                       "no lattice point or room for a grain");
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
     std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching

@@ -76,6 +76,12 @@ std::vector<Real> draw_radii(const io::PackingConfig& packing, Real r_min, Real 
     for (std::size_t k = 1; k < d.size(); ++k)
       fill(0.5 * d[k - 1], 0.5 * d[k], (f[k] - f[k - 1]) * solid_volume);
   }
+  if (radii.empty())
+    throw InputError(where, key,
+                     fmt::format("no grain to place: the region's solid volume ({:.4g} m^{}) "
+                                 "is less than half a grain of the sizes asked for (radius "
+                                 "up to {:.4g} m); enlarge the region or shrink the grains",
+                                 solid_volume, D, d.empty() ? r_max : 0.5 * d.back()));
   return radii;
 }
 

@@ -33,6 +33,24 @@ class Cli(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("no bundled scenario", p.stderr)
 
+    def test_dem_part_without_grains_exits_2(self):
+        # Fuzzing found it: a random packing whose first grain outweighs the region's solid
+        # volume placed none, and the empty part failed in the cell grid (exit 1).
+        scenario = scratch("cli_empty_dem") / "empty.toml"
+        scenario.write_text(EMPTY_DEM)
+        p = crater("check", scenario, check=False)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("key 'parts[soil].packing': no grain to place", p.stderr)
+        # A lattice part whose every grain is carved away by another part's region.
+        lattice = EMPTY_DEM.replace('[parts.packing]\nmethod = "random"\nporosity = 0.5\n', "")
+        lattice = lattice.replace("radius_max_m = 1.0", "radius_max_m = 0.004")
+        lattice = lattice.replace("max_m = [0.1, 0.1] }\n", 'max_m = [0.1, 0.1] }\ncarve = ["block"]\n')
+        lattice += CARVER
+        scenario.write_text(lattice)
+        p = crater("check", scenario, check=False)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("holds no grains", p.stderr)
+
     def test_run_directory_is_not_overwritten_without_force(self):
         out = scratch("cli_force")
         crater("run", "demo", "--out", out, "--quiet", "--set", "scenario.end_time_s=2e-6")
@@ -71,6 +89,50 @@ class Cli(unittest.TestCase):
                                    r"[0-9.e+-]+ s: the fixed time step 4.7e-07 s exceeds")
         self.assertTrue((out / "charge_failure.vtu").exists())
 
+
+
+EMPTY_DEM = """
+[scenario]
+name = "empty"
+dimension = 2
+end_time_s = 1e-4
+[domain]
+min_m = [0.0, 0.0]
+max_m = [1.0, 1.0]
+[[materials]]
+name = "sand"
+model = "granular"
+rho0_kg_m3 = 1920
+shear_modulus_pa = 5e8
+poisson_ratio = 0.2
+friction = 0.5
+restitution = 0.5
+[[parts]]
+name = "soil"
+method = "dem"
+material = "sand"
+spacing_m = 0.01
+region = { type = "box", min_m = [0.0, 0.0], max_m = [0.1, 0.1] }
+[parts.dem]
+radius_min_m = 0.003
+radius_max_m = 1.0
+[parts.packing]
+method = "random"
+porosity = 0.5
+"""
+
+CARVER = """[[materials]]
+name = "gas"
+model = "ideal_gas"
+rho0_kg_m3 = 1.0
+gamma = 1.4
+[[parts]]
+name = "block"
+method = "sph"
+material = "gas"
+spacing_m = 0.01
+region = { type = "box", min_m = [0.0, 0.0], max_m = [0.12, 0.12] }
+"""
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)
