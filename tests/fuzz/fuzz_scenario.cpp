@@ -219,7 +219,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (g_build && e.buildable && e.laid + e.walls + e.packed <= kMaxBuildEntities) {
       ++g_built;
       const auto reports = crater::solver::check_scenario(c);
-      if (reports.size() != c.parts.size()) finding("check_scenario: a report per part expected");
+      // One row per part, and one more for the contacts when there are any.
+      const std::size_t rows = c.parts.size() + (c.contacts.empty() ? 0 : 1);
+      if (reports.size() != rows)
+        finding("check_scenario: a report per part (+ contacts) expected");
     }
   } catch (const crater::InputError&) {
     ++g_rejected;  // expected: a bad file (exit 2)
