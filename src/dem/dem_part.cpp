@@ -25,6 +25,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <type_traits>
 #include <variant>
 
 #include "dem/laws/absorbing_wall.hpp"
@@ -65,6 +66,32 @@ struct LawPair {
   typename Law::Params grain, wall;
 };
 using ContactLaws = std::variant<LawPair<HertzMindlin>, LawPair<LinearSpring>>;
+
+// 2D grains are disks per metre of depth (masses, forces and energies per metre, as the SPH and
+// FE parts they touch), while Hertz-Mindlin is a law between spheres. Applied as it is to the
+// disk's mass (hertz_2d = "single_sphere", LAMMPS' and LIGGGHTS' 2D) the contact is about
+// 1/(2r) times too soft for grains per metre of depth: a 2D blast drove grains through one
+// another. With hertz_2d = "row_of_spheres" a disk stands for a row of spheres of its radius
+// along the depth, 1/p of them per metre with pitch p = r_1 + r_2 (a pair) or 2r (against a
+// wall): per metre, the force of one sphere contact carrying the mass m* p, divided by p
+// (docs/theory.md §3); restitution, friction and the contact's duration are that sphere
+// contact's. pitch = 0: the law as it is (3D, the linear spring, single_sphere).
+template <int D, class Law>
+[[gnu::always_inline]] inline ContactForce<D> evaluate_contact(
+    const typename Law::Params& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& rel,
+    Real mass_eff, Real pitch, const Vec<D>& shear_history, Real dt) {
+  if (!(pitch > 0)) return Law::template evaluate<D>(p, g, rel, mass_eff, shear_history, dt);
+  ContactForce<D> cf = Law::template evaluate<D>(p, g, rel, mass_eff * pitch, shear_history, dt);
+  cf.force_on_1 /= pitch;
+  cf.torque_on_1 /= pitch;
+  cf.torque_on_2 /= pitch;
+  cf.normal_force /= pitch;
+  cf.tangential_force /= pitch;
+  cf.normal_stiffness /= pitch;
+  cf.elastic_energy /= pitch;
+  cf.dissipated_power /= pitch;
+  return cf;
+}
 
 BondRadiusRule bond_rule(io::BondRadius r) {
   switch (r) {
@@ -239,6 +266,7 @@ class DemPart final : public solver::Part<D> {
       throw InputError(pc.where, fmt::format("parts[{}].region", pc.name),
                        "the part holds no grains: its region, less what `carve` removes, has "
                        "no lattice point or room for a grain");
+    rows_ = D == 2 && cfg_.contact == io::DemContact::HertzMindlin && cfg_.hertz_row_of_spheres;
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
     std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
@@ -618,8 +646,9 @@ class DemPart final : public solver::Part<D> {
               foot[axis] = static_cast<int>(face) % 2 == 0 ? domain_lo_[axis] : domain_hi_[axis];
               const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
               if (!g.touching()) continue;
-              const ContactForce<D> cf = Law::template evaluate<D>(
-                  laws.wall, g, RelativeVelocity<D>{}, m_[i], Vec<D>::Zero(), Real(0));
+              const ContactForce<D> cf =
+                  evaluate_contact<D, Law>(laws.wall, g, RelativeVelocity<D>{}, m_[i],
+                                           rows_ ? 2 * r_[i] : Real(0), Vec<D>::Zero(), Real(0));
               static_reaction_[i][axis] = std::max(cf.normal_force, Real(0));
             }
         },
@@ -864,9 +893,9 @@ class DemPart final : public solver::Part<D> {
         }
       }
       if (g.touching()) {
-        const ContactForce<D> cf =
-            Law::template evaluate<D>(at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g,
-                                      rel, effective_mass(m_[i], m_[j]), pair_xi_[k], dt);
+        const ContactForce<D> cf = evaluate_contact<D, Law>(
+            at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel,
+            effective_mass(m_[i], m_[j]), rows_ ? r_i + r_[j] : Real(0), pair_xi_[k], dt);
         RollingTorque<D> rt;
         if (rolling)
           rt = rolling_resistance<D>(rolling_, g, rel,
@@ -986,8 +1015,8 @@ class DemPart final : public solver::Part<D> {
       const RelativeVelocity<D> rel =
           relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
       const ContactForce<D> cf =
-          Law::template evaluate<D>(at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g,
-                                    rel, m_[i], wall_xi_[at], dt);
+          evaluate_contact<D, Law>(at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g,
+                                   rel, m_[i], rows_ ? 2 * r_[i] : Real(0), wall_xi_[at], dt);
       RollingTorque<D> rt;
       if (rolling)
         rt = rolling_resistance<D>(rolling_, g, rel,
@@ -1305,6 +1334,8 @@ class DemPart final : public solver::Part<D> {
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;
+  // 2D hertz_mindlin with hertz_2d = "row_of_spheres" (evaluate_contact).
+  bool rows_ = false;
   Index overflow_ = 0, bond_lost_ = 0;
   Index bonds_initial_ = 0;
   Real bonds_broken_ = 0;
@@ -1342,6 +1373,7 @@ std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
                    d.normal_stiffness_n_m, d.shear_stiffness_n_m, d.stiffness_step_fraction,
                    d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,
                    d.friction_rate_beta, d.friction_reference_strain_rate);
+  if (d.hertz_row_of_spheres) s += "|hertz_2d=row_of_spheres";
   const auto& k = pc.packing;
   s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.random, k.porosity,
                    k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,

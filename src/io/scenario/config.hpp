@@ -139,6 +139,7 @@ struct DemBondConfig {
 
 struct DemConfig {
   DemContact contact = DemContact::HertzMindlin;
+  bool hertz_row_of_spheres = false;    // 2D hertz_mindlin: disks as rows of spheres (hertz_2d)
   Real normal_stiffness_n_m = 0;        // linear_spring: k_n [N/m] (per metre of depth in 2D)
   Real shear_stiffness_n_m = 0;         // linear_spring: k_s [N/m]
   Real stiffness_step_fraction = 0.17;  // stable step = this x sqrt(m_min / k_max)

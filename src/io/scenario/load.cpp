@@ -982,6 +982,7 @@ class Builder {
     p.dem.contact =
         str(dt, "contact") == "linear_spring" ? DemContact::LinearSpring : DemContact::HertzMindlin;
     p.dem.stiffness_step_fraction = num(dt, "stiffness_step_fraction");
+    p.dem.hertz_row_of_spheres = str(dt, "hertz_2d") == "row_of_spheres";
     if (p.dem.contact == DemContact::LinearSpring) {
       if (const auto kn = opt_num(dt, "normal_stiffness_n_m")) {
         p.dem.normal_stiffness_n_m = *kn;

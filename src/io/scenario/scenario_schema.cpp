@@ -460,6 +460,15 @@ TableSchema make_dem() {
                           "(paper eqs. 2-16) with dashpots from the restitution and the same "
                           "history and Coulomb limit; needs normal_stiffness_n_m."),
                    "\"hertz_mindlin\""),
+      with_default(choice("hertz_2d", {"single_sphere", "row_of_spheres"},
+                          "2D with hertz_mindlin: how a disk (mass per metre of depth) meets the "
+                          "sphere law. single_sphere: the law as it is, on the disk's mass "
+                          "(LAMMPS' and LIGGGHTS' 2D), a contact about 1/(2r) times too soft "
+                          "for grains per metre of depth. row_of_spheres: the disk is a row of "
+                          "spheres along the depth, pitch p = r1 + r2 (2r at a wall): force per "
+                          "metre = one sphere contact's / p, with mass m* p; use it when the "
+                          "grains meet SPH or FE parts (docs/theory.md, DEM)."),
+                   "\"single_sphere\""),
       positive(real("normal_stiffness_n_m", "N/m",
                     "linear_spring: normal stiffness k_n of grain-grain and grain-wall "
                     "contacts (2D: per metre of depth). Required with linear_spring.")),

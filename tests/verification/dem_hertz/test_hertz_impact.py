@@ -7,8 +7,12 @@ Contact Mechanics, section 11.4):
 
 with v the approach speed, m* = m/2, R* = R/2, E* = E / (2 (1 - nu^2)), E = 2 G (1 + nu).
 Grains: the paper's sand (R = 2.5 mm, rho = 1920 kg/m^3, G = 29 GPa, nu = 0.2), v = 1 m/s.
-Spheres in 3D; disks in 2D (mass per metre of depth, the Hertz law as LIGGGHTS and LAMMPS
-apply it in 2D, so the same closed form holds with the disk's mass).
+Spheres in 3D; disks in 2D (mass per metre of depth). With hertz_2d = "single_sphere" (the
+default; the law as LIGGGHTS and LAMMPS apply it in 2D) the same closed form holds with the
+disk's mass. With hertz_2d = "row_of_spheres" the disk is a row of spheres along the depth,
+pitch p = r_1 + r_2 = 2R, the force per metre the sphere contact's divided by p for a sphere
+carrying m* p (docs/theory.md, DEM): the closed form with m* p in place of m* (delta_max and t_c
+(2R)^(2/5) = 0.12 times the single_sphere values).
 
 Tolerance 2 % (issue 3/6 of DEM): the contact duration is read from history.csv rows written
 every step (dt = 0.02 x the Rayleigh step, 0.3 % of t_c); the overlap from VTU frames every
@@ -31,8 +35,8 @@ R, RHO, G, NU, V = 0.0025, 1920.0, 29.0e9, 0.2, 1.0
 GAP = 1.0e-5  # initial gap between the surfaces [m]
 
 
-def scenario(dim, restitution, frame_interval):
-    end = GAP / V + 2.5 * hertz(dim)[1]
+def scenario(dim, restitution, frame_interval, rows=False):
+    end = GAP / V + 2.5 * hertz(dim, rows)[1]
     z = ", 0.0" if dim == 3 else ""
     zb = ", -0.005" if dim == 3 else ""
     zt = ", 0.005" if dim == 3 else ""
@@ -62,7 +66,7 @@ method = "dem"
 material = "sand"
 spacing_m = 0.005
 region = {{ type = "box", min_m = [-0.01, -0.005{zb}], max_m = [0.01, 0.005{zt}] }}
-dem = {{ rayleigh_fraction = 0.02 }}
+dem = {{ rayleigh_fraction = 0.02{', hertz_2d = "row_of_spheres"' if rows else ''} }}
 [[parts.particles]]
 center_m = [{-c}, 0.0{z}]
 radius_m = {R}
@@ -74,19 +78,21 @@ velocity_m_s = [{-V / 2}, 0.0{z}]
 """
 
 
-def hertz(dim):
+def hertz(dim, rows=False):
     m = RHO * (math.pi * R**2 if dim == 2 else 4.0 / 3.0 * math.pi * R**3)
     ms, rs = m / 2, R / 2
+    if rows:
+        ms *= 2 * R  # one sphere of the row: the pitch r_1 + r_2 times the disks' m*
     es = 2 * G * (1 + NU) / (2 * (1 - NU**2))
     dmax = (15 * ms * V**2 / (16 * es * math.sqrt(rs))) ** 0.4
     tc = 2.87 * (ms**2 / (rs * es**2 * V)) ** 0.2
     return dmax, tc
 
 
-def run(dim, restitution, frame_interval, tag):
+def run(dim, restitution, frame_interval, tag, rows=False):
     d = scratch(f"dem_hertz_{tag}")
     path = d / "case.toml"
-    path.write_text(scenario(dim, restitution, frame_interval))
+    path.write_text(scenario(dim, restitution, frame_interval, rows))
     summary = run_scenario(path, d / "out", threads=1)
     with open(d / "out" / "history.csv") as f:
         rows = list(csv.DictReader(f))
@@ -94,9 +100,10 @@ def run(dim, restitution, frame_interval, tag):
 
 
 class HertzImpact(unittest.TestCase):
-    def check(self, dim):
-        dmax_ref, tc_ref = hertz(dim)
-        out, summary, rows = run(dim, 1.0, tc_ref / 100, f"{dim}d")
+    def check(self, dim, row_of_spheres=False):
+        dmax_ref, tc_ref = hertz(dim, row_of_spheres)
+        tag = f"{dim}d" + ("_rows" if row_of_spheres else "")
+        out, summary, rows = run(dim, 1.0, tc_ref / 100, tag, row_of_spheres)
         self.assertEqual(summary["status"], "completed")
         # Contact duration: rows where the springs hold energy.
         t = np.array([float(r["time_s"]) for r in rows])
@@ -111,7 +118,7 @@ class HertzImpact(unittest.TestCase):
             pts, arrays, _, _ = read_vtu(out / f)
             dist = np.linalg.norm(pts[0] - pts[1])
             overlap = max(overlap, arrays["radius"].sum() - dist)
-        print(f"{dim}D: t_c = {tc:.4e} s (Hertz {tc_ref:.4e}, {100 * (tc / tc_ref - 1):+.2f} %), "
+        print(f"{tag}: t_c = {tc:.4e} s (Hertz {tc_ref:.4e}, {100 * (tc / tc_ref - 1):+.2f} %), "
               f"delta_max = {overlap:.4e} m (Hertz {dmax_ref:.4e}, "
               f"{100 * (overlap / dmax_ref - 1):+.2f} %)", file=sys.stderr)
         self.assertLessEqual(abs(tc / tc_ref - 1), 0.02)
@@ -124,6 +131,9 @@ class HertzImpact(unittest.TestCase):
 
     def test_disks_2d(self):
         self.check(2)
+
+    def test_disks_2d_row_of_spheres(self):
+        self.check(2, row_of_spheres=True)
 
     def test_restitution(self):
         for e in (0.3, 0.5, 0.9):
