@@ -85,7 +85,7 @@ class Outputs {
  public:
   // A new run writes history.csv's header; a resumed one keeps the file's first
   // `resume_history` bytes (what it held at the checkpoint) and goes on from there.
-  // `extra_columns` follow the energy columns (the contacts' forces).
+  // `extra_columns` follow the energy columns (history_columns: contact forces, part totals).
   Outputs(const io::Config& c, const fs::path& dir,
           const std::vector<std::unique_ptr<Part<D>>>& parts,
           const std::vector<std::string>& extra_columns, std::string history_prefix = {})
@@ -232,6 +232,28 @@ Energies sum_energies(const std::vector<std::unique_ptr<Part<D>>>& parts) {
   for (const auto& p : parts)
     e += p->energies();
   return e;
+}
+
+// history.csv's columns after the energies: the contacts' forces, then (runs of several parts)
+// each part's own total energy, energy_<part>_j, so that a drift can be traced to a part. The
+// parts' totals add up to total_j.
+template <int D>
+std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                         const contact::Coupling<D>& coupling) {
+  std::vector<std::string> columns = coupling.history_columns();
+  if (parts.size() > 1)
+    for (const auto& p : parts)
+      columns.push_back("energy_" + p->name() + "_j");
+  return columns;
+}
+template <int D>
+std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                 const contact::Coupling<D>& coupling) {
+  std::vector<Real> values = coupling.history_values();
+  if (parts.size() > 1)
+    for (const auto& p : parts)
+      values.push_back(total_energy(p->energies()));
+  return values;
 }
 
 template <int D>
@@ -428,7 +450,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
                                    "it has {} (resume into the directory the run wrote)",
                                    history_bytes, history.size()));
     history.resize(history_bytes);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, coupling.history_columns(),
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, history_columns(parts, coupling),
                                         std::move(history));
     outp->restore_pvd(std::move(pvd));
     spdlog::info("resumed from {} at step {}, t = {:.6g} s", opt.restart.string(), st.steps, st.t);
@@ -438,7 +460,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     coupling.apply(parts, 0);
     check_fixed_step(c, smallest_stable_step(parts, &coupling));
     prepare_out_dir(opt.out_dir, opt.force);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, coupling.history_columns());
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, history_columns(parts, coupling));
   }
   Outputs<D>& out = *outp;
   for (const auto& w : c.warnings)
@@ -456,7 +478,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     st.track = EnergyTrack{total_energy(st.e0), 0};
     st.err = st.track.error(st.e0);
     out.frame(parts, t, "000000");
-    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err, coupling.history_values());
+    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err, history_values(parts, coupling));
     st.next_frame_t = std::min(c.output.interval_s, c.end_time_s);
   }
   e = st.e0;
@@ -514,7 +536,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       if (r.steps % c.output.history_every == 0 || at_frame || last) {
         e = sum_energies(parts);
         st.err = st.track.error(e);
-        out.history(r.steps, t, dt, e, total_energy(e), st.err, coupling.history_values());
+        out.history(r.steps, t, dt, e, total_energy(e), st.err, history_values(parts, coupling));
       }
       if (at_frame) {
         out.frame(parts, t, fmt::format("{:06d}", st.frame));

@@ -148,6 +148,11 @@ class SphFem(unittest.TestCase):
         print(f"plate force / (p A) = {ratio:.4f} (mean over 1-2 ms), range "
               f"{fy[late].min() / -5e6:.4f} .. {fy[late].max() / -5e6:.4f}")
         self.assertLess(abs(ratio - 1), 0.05)
+        # Each part's own total energy (history.csv) adds up to the run's total.
+        for r in rows:
+            parts = float(r["energy_gas_j"]) + float(r["energy_plate_j"])
+            self.assertAlmostEqual(parts, float(r["total_j"]),
+                                   delta=1e-12 * abs(float(r["total_j"])))
 
 
 
