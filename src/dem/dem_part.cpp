@@ -641,15 +641,15 @@ class DemPart final : public solver::Part<D> {
           using Law = typename std::decay_t<decltype(laws)>::Type;
           for (Index i = 0; i < n; ++i)
             for (const io::Face face : cfg_.absorbing_walls) {
-              const int axis = static_cast<int>(face) / 2;
+              const WallPlane w = wall_plane(face);
               Vec<D> foot = x_[i];
-              foot[axis] = static_cast<int>(face) % 2 == 0 ? domain_lo_[axis] : domain_hi_[axis];
+              foot[w.axis] = w.plane;
               const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
               if (!g.touching()) continue;
               const ContactForce<D> cf =
                   evaluate_contact<D, Law>(laws.wall, g, RelativeVelocity<D>{}, m_[i],
-                                           rows_ ? 2 * r_[i] : Real(0), Vec<D>::Zero(), Real(0));
-              static_reaction_[i][axis] = std::max(cf.normal_force, Real(0));
+                                           row_pitch(r_[i], r_[i]), Vec<D>::Zero(), Real(0));
+              static_reaction_[i][w.axis] = std::max(cf.normal_force, Real(0));
             }
         },
         laws_);
@@ -676,6 +676,12 @@ class DemPart final : public solver::Part<D> {
     w.upper = static_cast<int>(face) % 2 == 1;
     w.plane = w.upper ? domain_hi_[w.axis] : domain_lo_[w.axis];
     return w;
+  }
+
+  // The pitch of evaluate_contact: r_1 + r_2 (a wall: r_1 = r_2 = r) with hertz_2d =
+  // "row_of_spheres", else 0 (the law as it is).
+  Real row_pitch(Real r1, Real r2) const {
+    return rows_ ? r1 + r2 : Real(0);
   }
 
   // Slot of `partner` in grain i's packed history (partner_), or -1.
@@ -895,7 +901,7 @@ class DemPart final : public solver::Part<D> {
       if (g.touching()) {
         const ContactForce<D> cf = evaluate_contact<D, Law>(
             at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel,
-            effective_mass(m_[i], m_[j]), rows_ ? r_i + r_[j] : Real(0), pair_xi_[k], dt);
+            effective_mass(m_[i], m_[j]), row_pitch(r_i, r_[j]), pair_xi_[k], dt);
         RollingTorque<D> rt;
         if (rolling)
           rt = rolling_resistance<D>(rolling_, g, rel,
@@ -1016,7 +1022,7 @@ class DemPart final : public solver::Part<D> {
           relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
       const ContactForce<D> cf =
           evaluate_contact<D, Law>(at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g,
-                                   rel, m_[i], rows_ ? 2 * r_[i] : Real(0), wall_xi_[at], dt);
+                                   rel, m_[i], row_pitch(r_[i], r_[i]), wall_xi_[at], dt);
       RollingTorque<D> rt;
       if (rolling)
         rt = rolling_resistance<D>(rolling_, g, rel,
@@ -1037,14 +1043,13 @@ class DemPart final : public solver::Part<D> {
     // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
     Real absorbed = 0, static_power = 0;
     for (const io::Face face : cfg_.absorbing_walls) {
-      const int axis = static_cast<int>(face) / 2;
-      const bool low = static_cast<int>(face) % 2 == 0;
+      const WallPlane w = wall_plane(face);
       Vec<D> foot = x_[i];
-      foot[axis] = low ? domain_lo_[axis] : domain_hi_[axis];
+      foot[w.axis] = w.plane;
       const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
       if (!g.touching()) continue;
       const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
-          absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][axis]);
+          absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][w.axis]);
       force += aw.force;
       absorbed += aw.dissipated_power;
       static_power += aw.static_power;

@@ -226,12 +226,24 @@ struct EnergyTrack {
   }
 };
 
+// Each part's energies, in part order, and their sum (the same additions in the same order).
+template <int D>
+std::vector<Energies> part_energies(const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  std::vector<Energies> per;
+  per.reserve(parts.size());
+  for (const auto& p : parts)
+    per.push_back(p->energies());
+  return per;
+}
+Energies sum_energies(const std::vector<Energies>& per) {
+  Energies e;
+  for (const Energies& x : per)
+    e += x;
+  return e;
+}
 template <int D>
 Energies sum_energies(const std::vector<std::unique_ptr<Part<D>>>& parts) {
-  Energies e;
-  for (const auto& p : parts)
-    e += p->energies();
-  return e;
+  return sum_energies(part_energies(parts));
 }
 
 // history.csv's columns after the energies: the contacts' forces, then (runs of several parts)
@@ -247,12 +259,12 @@ std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<
   return columns;
 }
 template <int D>
-std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts,
+std::vector<Real> history_values(const std::vector<Energies>& per,
                                  const contact::Coupling<D>& coupling) {
   std::vector<Real> values = coupling.history_values();
-  if (parts.size() > 1)
-    for (const auto& p : parts)
-      values.push_back(total_energy(p->energies()));
+  if (per.size() > 1)
+    for (const Energies& e : per)
+      values.push_back(total_energy(e));
   return values;
 }
 
@@ -474,11 +486,12 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   Real& t = st.t;
   Energies e;
   if (!resume) {
-    st.e0 = sum_energies(parts);
+    const std::vector<Energies> per = part_energies(parts);
+    st.e0 = sum_energies(per);
     st.track = EnergyTrack{total_energy(st.e0), 0};
     st.err = st.track.error(st.e0);
     out.frame(parts, t, "000000");
-    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err, history_values(parts, coupling));
+    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err, history_values(per, coupling));
     st.next_frame_t = std::min(c.output.interval_s, c.end_time_s);
   }
   e = st.e0;
@@ -534,9 +547,10 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
 
       const bool last = t >= c.end_time_s - t_eps;
       if (r.steps % c.output.history_every == 0 || at_frame || last) {
-        e = sum_energies(parts);
+        const std::vector<Energies> per = part_energies(parts);
+        e = sum_energies(per);
         st.err = st.track.error(e);
-        out.history(r.steps, t, dt, e, total_energy(e), st.err, history_values(parts, coupling));
+        out.history(r.steps, t, dt, e, total_energy(e), st.err, history_values(per, coupling));
       }
       if (at_frame) {
         out.frame(parts, t, fmt::format("{:06d}", st.frame));
