@@ -201,55 +201,189 @@ solver::StableStep Coupling<D>::stable_step(
     const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const {
   solver::StableStep best;
   best.dt_s = std::numeric_limits<Real>::infinity();
+  auto consider = [&](Real dt, Index entity, auto&& reason) {
+    if (dt < best.dt_s) {
+      best.dt_s = dt;
+      best.entity_id = entity;
+      best.reason = reason();
+    }
+  };
   for (const auto& p : pairings_) {
     const auto pts = parts[p.points]->contact_points();
     if (!pts || pts->mass->empty()) continue;
     const Real m_min = parallel::min_over(static_cast<Index>(pts->mass->size()),
                                           std::numeric_limits<Real>::infinity(),
                                           [&](Index i) { return (*pts->mass)[at(i)]; });
-    Real k_max = 0;
+    const std::vector<Real>* other_mass = nullptr;
     if (p.kind == Kind::ParticleSurface) {
       const auto surf = parts[p.other]->contact_surface();
       if (!surf || surf->face_stiffness->empty()) continue;
-      k_max = p.config.penalty_scale *
-              *std::max_element(surf->face_stiffness->begin(), surf->face_stiffness->end());
+      other_mass = surf->node_mass;
+      const Real k_max = p.config.penalty_scale * *std::max_element(surf->face_stiffness->begin(),
+                                                                    surf->face_stiffness->end());
       // The spring joins the particle to a face node, which may be the lighter of the two.
       Real node_min = std::numeric_limits<Real>::infinity();
       for (const auto& face : *surf->faces)
         for (Index n : face)
           if ((*surf->node_mass)[at(n)] > 0)
             node_min = std::min(node_min, (*surf->node_mass)[at(n)]);
-      const Real dt = spring_step(k_max, reduced_mass(m_min, node_min), p.config.damping_ratio);
-      if (dt < best.dt_s) {
-        best.dt_s = dt;
-        best.reason =
-            fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
-      }
-      continue;
+      consider(spring_step(k_max, reduced_mass(m_min, node_min), p.config.damping_ratio), -1, [&] {
+        return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
+      });
     } else {
       const auto grains = parts[p.other]->contact_points();
       if (!grains || grains->radius->empty()) continue;
+      other_mass = grains->mass;
       const Real r_max = *std::max_element(grains->radius->begin(), grains->radius->end());
-      k_max = p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? r_max : Real(1));
+      const Real k_max = p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? r_max : Real(1));
       const Real m_grain = parallel::min_over(static_cast<Index>(grains->mass->size()),
                                               std::numeric_limits<Real>::infinity(),
                                               [&](Index i) { return (*grains->mass)[at(i)]; });
-      const Real dt = spring_step(k_max, std::min(m_min, m_grain), p.config.damping_ratio);
-      if (dt < best.dt_s) {
-        best.dt_s = dt;
-        best.reason =
-            fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
+      consider(spring_step(k_max, std::min(m_min, m_grain), p.config.damping_ratio), -1, [&] {
+        return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
+      });
+    }
+    // Bodies pressed by several springs at once (found afresh when particles were removed
+    // since the last apply(): the cached sums are per particle index).
+    if (!p.load_known || p.load_points.size() != pts->mass->size() ||
+        p.load_other.size() != other_mass->size())
+      measure_load(p, parts);
+    auto summed = [&](const std::vector<Real>& load, const std::vector<Real>& mass,
+                      const char* what) {
+      for (std::size_t i = 0; i < load.size() && i < mass.size(); ++i) {
+        if (!(load[i] > 0) || !(mass[i] > 0)) continue;
+        consider(spring_step(load[i], mass[i], p.config.damping_ratio), static_cast<Index>(i), [&] {
+          return fmt::format(
+              "contact '{}': {} {} held by penalty springs summing to "
+              "{:.3g} N/m",
+              p.name, what, i, load[i]);
+        });
       }
-      continue;
-    }
-    const Real dt = spring_step(k_max, m_min, p.config.damping_ratio);
-    if (dt < best.dt_s) {
-      best.dt_s = dt;
-      best.reason =
-          fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name, k_max);
-    }
+    };
+    summed(p.load_points, *pts->mass, "particle");
+    summed(p.load_other, *other_mass,
+           p.kind == Kind::ParticleSurface ? "surface node" : "particle of the other part");
   }
   return best;
+}
+
+template <int D>
+struct Coupling<D>::SurfaceHit {
+  Index face = -1;
+  FacePoint<D> where;
+  Vec<D> n = Vec<D>::Zero();  // contact normal, from the surface to the particle
+  Real overlap = 0;
+};
+
+template <int D>
+std::vector<typename Coupling<D>::SurfaceHit> Coupling<D>::surface_hits(
+    const solver::ContactPoints<D>& pts, const solver::ContactSurface<D>& surf) const {
+  constexpr int kF = solver::kFaceNodes<D>;
+  const auto& xn = *surf.node_position;
+  const auto& faces = *surf.faces;
+  const Index nf = static_cast<Index>(faces.size());
+  const Index np = static_cast<Index>(pts.position->size());
+  std::vector<SurfaceHit> hits(at(np));
+  if (nf == 0 || np == 0) return hits;
+
+  // Candidates: faces whose centre is within r_max + the largest face half-size.
+  std::vector<Vec<D>> centre(at(nf));
+  Real half_size = 0;
+  for (Index f = 0; f < nf; ++f) {
+    Vec<D> c = Vec<D>::Zero();
+    for (Index n : faces[at(f)])
+      c += xn[at(n)] / Real(kF);
+    centre[at(f)] = c;
+    for (Index n : faces[at(f)])
+      half_size = std::max(half_size, (xn[at(n)] - c).norm());
+  }
+  const Real r_max = *std::max_element(pts.radius->begin(), pts.radius->end());
+  neighbors::NeighborList candidates;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*pts.position),
+                                 std::span<const Vec<D>>(centre), r_max + half_size, candidates);
+  parallel::for_each(np, [&](Index i) {
+    const Vec<D>& x = (*pts.position)[at(i)];
+    const Real r = (*pts.radius)[at(i)];
+    SurfaceHit best;
+    for (Index f : candidates.of(i)) {
+      std::array<Vec<D>, kF> fx;
+      for (int k = 0; k < kF; ++k)
+        fx[at(k)] = xn[at(faces[at(f)][at(k)])];
+      const FacePoint<D> fp = closest_on_face<D>(x, fx);
+      const Vec<D> nf_out = face_normal<D>(fx);
+      const Vec<D> d = x - fp.point;
+      const Real s = d.dot(nf_out);
+      Real overlap = 0;
+      Vec<D> n;
+      if (s >= 0) {
+        const Real dist = d.norm();
+        overlap = r - dist;
+        n = dist > 0 ? Vec<D>(d / dist) : nf_out;
+      } else {
+        if (s <= -r) continue;  // beyond the reach of this face (e.g. the other side of a plate)
+        overlap = r - s;
+        n = nf_out;
+      }
+      if (overlap > best.overlap) {
+        best.face = f;
+        best.overlap = overlap;
+        best.where = fp;
+        best.n = n;
+      }
+    }
+    hits[at(i)] = best;
+  });
+  return hits;
+}
+
+template <int D>
+std::vector<typename Coupling<D>::ParticlePair> Coupling<D>::particle_pairs(
+    const solver::ContactPoints<D>& a, const solver::ContactPoints<D>& b) const {
+  const Index na = static_cast<Index>(a.position->size());
+  const Index nb = static_cast<Index>(b.position->size());
+  if (na == 0 || nb == 0) return {};
+  const Real ra_max = *std::max_element(a.radius->begin(), a.radius->end());
+  const Real rb_max = *std::max_element(b.radius->begin(), b.radius->end());
+  neighbors::NeighborList list;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*a.position),
+                                 std::span<const Vec<D>>(*b.position), ra_max + rb_max, list);
+  std::vector<ParticlePair> all(list.indices.size());
+  parallel::for_each(na, [&](Index i) {
+    const Vec<D>& xi = (*a.position)[at(i)];
+    const Real ri = (*a.radius)[at(i)];
+    const auto row = list.of(i);
+    const auto base = at(list.offsets[at(i)]);
+    for (std::size_t q = 0; q < row.size(); ++q) {
+      const Index j = row[q];
+      const Vec<D> d = xi - (*b.position)[at(j)];
+      const Real dist = d.norm();
+      const Real overlap = ri + (*b.radius)[at(j)] - dist;
+      if (overlap <= 0 || !(dist > 0)) continue;
+      all[base + q] = {i, j, overlap, dist, d};
+    }
+  });
+  std::erase_if(all, [](const ParticlePair& pp) { return pp.a < 0; });
+  return all;
+}
+
+template <int D>
+void Coupling<D>::measure_load(const Pairing& p,
+                               const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const {
+  const auto pts = parts[p.points]->contact_points();
+  p.load_points.assign(pts->position->size(), 0);
+  if (p.kind == Kind::ParticleSurface) {
+    const auto surf = parts[p.other]->contact_surface();
+    p.load_other.assign(surf->node_position->size(), 0);
+    const auto hits = surface_hits(*pts, *surf);
+    for (std::size_t i = 0; i < hits.size(); ++i)
+      if (hits[i].face >= 0) add_surface_load(p, *surf, i, hits[i]);
+  } else {
+    const auto grains = parts[p.other]->contact_points();
+    p.load_other.assign(grains->position->size(), 0);
+    for (const ParticlePair& pp : particle_pairs(*pts, *grains))
+      add_particle_load(p, *grains, pp);
+  }
+  p.load_known = true;
 }
 
 template <int D>
@@ -283,123 +417,109 @@ void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& par
 }
 
 template <int D>
+Real Coupling<D>::surface_stiffness(const Pairing& p, const solver::ContactSurface<D>& surf,
+                                    Index face) const {
+  return p.config.penalty_scale * (*surf.face_stiffness)[at(face)];
+}
+
+template <int D>
+Real Coupling<D>::grain_stiffness(const Pairing& p, const solver::ContactPoints<D>& grains,
+                                  Index j) const {
+  return p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? (*grains.radius)[at(j)] : Real(1));
+}
+
+template <int D>
+void Coupling<D>::add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf,
+                                   std::size_t i, const SurfaceHit& h) const {
+  const Real k = surface_stiffness(p, surf, h.face);
+  p.load_points[i] += k;
+  const auto& face = (*surf.faces)[at(h.face)];
+  for (int q = 0; q < solver::kFaceNodes<D>; ++q)
+    p.load_other[at(face[at(q)])] += k * h.where.weight[at(q)];
+}
+
+template <int D>
+void Coupling<D>::add_particle_load(const Pairing& p, const solver::ContactPoints<D>& grains,
+                                    const ParticlePair& pp) const {
+  const Real k = grain_stiffness(p, grains, pp.b);
+  p.load_points[at(pp.a)] += k;
+  p.load_other[at(pp.b)] += k;
+}
+
+template <int D>
 void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoints<D>& pts,
                                    const solver::ContactSurface<D>& surf,
                                    std::vector<Vec<D>>& f_points,
                                    std::vector<AxialVec<D>>& t_points,
                                    std::vector<Vec<D>>& f_nodes) const {
   constexpr int kF = solver::kFaceNodes<D>;
-  const auto& xn = *surf.node_position;
   const auto& faces = *surf.faces;
-  const Index nf = static_cast<Index>(faces.size());
   const Index np = static_cast<Index>(pts.position->size());
   p.active = 0;
   p.max_overlap_m = 0;
   p.normal_force_n = 0;
   p.force_on_other.setZero();
-  if (nf == 0 || np == 0) return;
+  p.load_points.assign(at(np), 0);
+  p.load_other.assign(surf.node_position->size(), 0);
+  p.load_known = true;
+  if (faces.empty() || np == 0) return;
 
-  // Candidates: faces whose centre is within r_max + the largest face half-size.
-  std::vector<Vec<D>> centre(at(nf));
-  Real half_size = 0;
-  for (Index f = 0; f < nf; ++f) {
-    Vec<D> c = Vec<D>::Zero();
-    for (Index n : faces[at(f)])
-      c += xn[at(n)] / Real(kF);
-    centre[at(f)] = c;
-    for (Index n : faces[at(f)])
-      half_size = std::max(half_size, (xn[at(n)] - c).norm());
-  }
-  const Real r_max = *std::max_element(pts.radius->begin(), pts.radius->end());
-  neighbors::NeighborList candidates;
-  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*pts.position),
-                                 std::span<const Vec<D>>(centre), r_max + half_size, candidates);
-
-  struct Hit {
-    Index face = -1;
-    FacePoint<D> where;
-    Vec<D> n = Vec<D>::Zero();  // contact normal, from the surface to the particle
+  const std::vector<SurfaceHit> hits = surface_hits(pts, surf);
+  struct Push {
     Vec<D> force = Vec<D>::Zero();
-    Real overlap = 0, normal = 0;
+    Real normal = 0;
   };
-  std::vector<Hit> hits(at(np));
+  std::vector<Push> push(at(np));
   parallel::for_each(np, [&](Index i) {
-    const Vec<D>& x = (*pts.position)[at(i)];
-    const Real r = (*pts.radius)[at(i)];
-    Hit best;
-    for (Index f : candidates.of(i)) {
-      std::array<Vec<D>, kF> fx;
-      for (int k = 0; k < kF; ++k)
-        fx[at(k)] = xn[at(faces[at(f)][at(k)])];
-      const FacePoint<D> fp = closest_on_face<D>(x, fx);
-      const Vec<D> nf_out = face_normal<D>(fx);
-      const Vec<D> d = x - fp.point;
-      const Real s = d.dot(nf_out);
-      Real overlap = 0;
-      Vec<D> n;
-      if (s >= 0) {
-        const Real dist = d.norm();
-        overlap = r - dist;
-        n = dist > 0 ? Vec<D>(d / dist) : nf_out;
-      } else {
-        if (s <= -r) continue;  // beyond the reach of this face (e.g. the other side of a plate)
-        overlap = r - s;
-        n = nf_out;
-      }
-      if (overlap > best.overlap) {
-        best.face = f;
-        best.overlap = overlap;
-        best.where = fp;
-        best.n = n;
-      }
-    }
+    const SurfaceHit& h = hits[at(i)];
     Real* offset = pts.surface_offset ? &(*pts.surface_offset)[at(i)] : nullptr;
-    if (best.face < 0) {
+    if (h.face < 0) {
       if (offset) *offset = -1;
-      hits[at(i)] = best;
       return;
     }
-    const auto& face = faces[at(best.face)];
+    const auto& face = faces[at(h.face)];
     Real m_face = 0;
     Vec<D> v_face = Vec<D>::Zero();
     for (int k = 0; k < kF; ++k) {
-      m_face += best.where.weight[at(k)] * (*surf.node_mass)[at(face[at(k)])];
-      v_face += best.where.weight[at(k)] * (*surf.node_velocity)[at(face[at(k)])];
+      m_face += h.where.weight[at(k)] * (*surf.node_mass)[at(face[at(k)])];
+      v_face += h.where.weight[at(k)] * (*surf.node_velocity)[at(face[at(k)])];
     }
     Vec<D> v = (*pts.velocity)[at(i)];
-    const Vec<D> arm = -r * best.n;
+    const Real r = (*pts.radius)[at(i)];
+    const Vec<D> arm = -r * h.n;
     if (pts.angular_velocity) v += spin_velocity<D>((*pts.angular_velocity)[at(i)], arm);
-    const Real k = p.config.penalty_scale * (*surf.face_stiffness)[at(best.face)];
-    Real pushed = best.overlap;
+    Real pushed = h.overlap;
     if (offset) {
       if (*offset < 0)  // first touch: what the approach over the step cannot explain is ignored
-        *offset = std::max(Real(0), best.overlap - std::abs((v - v_face).dot(best.n)) * dt);
+        *offset = std::max(Real(0), h.overlap - std::abs((v - v_face).dot(h.n)) * dt);
       else
-        *offset = std::min(*offset, best.overlap);
-      pushed = best.overlap - *offset;
+        *offset = std::min(*offset, h.overlap);
+      pushed = h.overlap - *offset;
     }
-    best.force =
-        penalty_force<D>(k, pushed, best.n, v - v_face, reduced_mass((*pts.mass)[at(i)], m_face),
-                         p.config.damping_ratio, p.config.friction, best.normal);
-    hits[at(i)] = best;
+    Push& out = push[at(i)];
+    out.force = penalty_force<D>(surface_stiffness(p, surf, h.face), pushed, h.n, v - v_face,
+                                 reduced_mass((*pts.mass)[at(i)], m_face), p.config.damping_ratio,
+                                 p.config.friction, out.normal);
   });
 
   // Scatter in particle order: the same sums for any thread count.
   for (Index i = 0; i < np; ++i) {
-    const Hit& h = hits[at(i)];
+    const SurfaceHit& h = hits[at(i)];
     if (h.face < 0) continue;
+    const Push& f = push[at(i)];
     ++p.active;
     p.max_overlap_m = std::max(p.max_overlap_m, h.overlap);
-    p.normal_force_n += h.normal;
-    p.force_on_other -= h.force;
-    f_points[at(i)] += h.force;
+    p.normal_force_n += f.normal;
+    p.force_on_other -= f.force;
+    f_points[at(i)] += f.force;
     // The arm -r n from the centre to the contact point; only the tangential part of the
     // force has a moment about the centre.
     if (!t_points.empty())
-      t_points[at(i)] += moment<D>(Vec<D>(-(*pts.radius)[at(i)] * h.n), h.force);
+      t_points[at(i)] += moment<D>(Vec<D>(-(*pts.radius)[at(i)] * h.n), f.force);
     const auto& face = faces[at(h.face)];
     for (int k = 0; k < kF; ++k)
-      f_nodes[at(face[at(k)])] -= h.where.weight[at(k)] * h.force;
+      f_nodes[at(face[at(k)])] -= h.where.weight[at(k)] * f.force;
+    add_surface_load(p, surf, at(i), h);
   }
 }
 
@@ -407,64 +527,43 @@ template <int D>
 void Coupling<D>::particle_particle(Pairing& p, const solver::ContactPoints<D>& a,
                                     const solver::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
                                     std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const {
-  const Index na = static_cast<Index>(a.position->size());
-  const Index nb = static_cast<Index>(b.position->size());
   p.active = 0;
   p.max_overlap_m = 0;
   p.normal_force_n = 0;
   p.force_on_other.setZero();
-  if (na == 0 || nb == 0) return;
-  const Real ra_max = *std::max_element(a.radius->begin(), a.radius->end());
-  const Real rb_max = *std::max_element(b.radius->begin(), b.radius->end());
-  neighbors::NeighborList list;
-  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*a.position),
-                                 std::span<const Vec<D>>(*b.position), ra_max + rb_max, list);
+  p.load_points.assign(a.position->size(), 0);
+  p.load_other.assign(b.position->size(), 0);
+  p.load_known = true;
+  const std::vector<ParticlePair> pairs = particle_pairs(a, b);
   // Per pair results, in list order (a ascending, then b ascending).
   struct PairForce {
     Vec<D> force = Vec<D>::Zero();  // on a
     Vec<D> arm_b = Vec<D>::Zero();  // from b's centre to the contact point
-    Real overlap = 0, normal = 0;
+    Real normal = 0;
   };
-  std::vector<PairForce> out(list.indices.size());
-  parallel::for_each(na, [&](Index i) {
-    const Vec<D>& xi = (*a.position)[at(i)];
-    const Real ri = (*a.radius)[at(i)];
-    const auto row = list.of(i);
-    const auto base = at(list.offsets[at(i)]);
-    for (std::size_t q = 0; q < row.size(); ++q) {
-      const Index j = row[q];
-      PairForce& pf = out[base + q];
-      const Vec<D> d = xi - (*b.position)[at(j)];
-      const Real dist = d.norm();
-      const Real rj = (*b.radius)[at(j)];
-      const Real overlap = ri + rj - dist;
-      if (overlap <= 0 || !(dist > 0)) continue;
-      const Vec<D> n = d / dist;  // from b to a
-      pf.arm_b = rj * n;
-      Vec<D> v = (*a.velocity)[at(i)] - (*b.velocity)[at(j)];
-      if (b.angular_velocity) v -= spin_velocity<D>((*b.angular_velocity)[at(j)], pf.arm_b);
-      const Real k = p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? rj : Real(1));
-      pf.force =
-          penalty_force<D>(k, overlap, n, v, reduced_mass((*a.mass)[at(i)], (*b.mass)[at(j)]),
-                           p.config.damping_ratio, p.config.friction, pf.normal);
-      pf.overlap = overlap;
-    }
+  std::vector<PairForce> out(pairs.size());
+  parallel::for_each(static_cast<Index>(pairs.size()), [&](Index q) {
+    const ParticlePair& pp = pairs[at(q)];
+    PairForce& pf = out[at(q)];
+    const Vec<D> n = pp.d / pp.dist;  // from b to a
+    pf.arm_b = (*b.radius)[at(pp.b)] * n;
+    Vec<D> v = (*a.velocity)[at(pp.a)] - (*b.velocity)[at(pp.b)];
+    if (b.angular_velocity) v -= spin_velocity<D>((*b.angular_velocity)[at(pp.b)], pf.arm_b);
+    pf.force = penalty_force<D>(grain_stiffness(p, b, pp.b), pp.overlap, n, v,
+                                reduced_mass((*a.mass)[at(pp.a)], (*b.mass)[at(pp.b)]),
+                                p.config.damping_ratio, p.config.friction, pf.normal);
   });
-  for (Index i = 0; i < na; ++i) {
-    const auto row = list.of(i);
-    const auto base = at(list.offsets[at(i)]);
-    for (std::size_t q = 0; q < row.size(); ++q) {
-      const PairForce& pf = out[base + q];
-      if (pf.overlap <= 0) continue;
-      const Index j = row[q];
-      ++p.active;
-      p.max_overlap_m = std::max(p.max_overlap_m, pf.overlap);
-      p.normal_force_n += pf.normal;
-      p.force_on_other -= pf.force;
-      f_a[at(i)] += pf.force;
-      f_b[at(j)] -= pf.force;
-      if (!t_b.empty()) t_b[at(j)] += moment<D>(pf.arm_b, Vec<D>(-pf.force));
-    }
+  for (std::size_t q = 0; q < pairs.size(); ++q) {
+    const ParticlePair& pp = pairs[q];
+    const PairForce& pf = out[q];
+    ++p.active;
+    p.max_overlap_m = std::max(p.max_overlap_m, pp.overlap);
+    p.normal_force_n += pf.normal;
+    p.force_on_other -= pf.force;
+    f_a[at(pp.a)] += pf.force;
+    f_b[at(pp.b)] -= pf.force;
+    if (!t_b.empty()) t_b[at(pp.b)] += moment<D>(pf.arm_b, Vec<D>(-pf.force));
+    add_particle_load(p, b, pp);
   }
 }
 

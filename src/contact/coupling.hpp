@@ -38,7 +38,13 @@
 // over the contact's faces (grains) and m* the reduced mass of its lightest particle and its
 // lightest face node (grain); dt <= 1/(2 omega), a quarter of the
 // damped spring's stability limit, so that an impact spans a dozen steps and its energy is
-// booked to ~0.1 % (see spring_step in coupling.cpp).
+// booked to ~0.1 % (see spring_step in coupling.cpp). A body pressed by several springs at
+// once is stiffer than any one of them: per face node the springs of the pairs in contact are
+// summed with the node's weights in them (sum k w), per particle over its pairs (sum k), and
+// omega = sqrt(sum / m) of the body limits too (a face node left with a quarter of an
+// element's mass where its neighbour eroded may carry three grains). The sums come from the
+// last apply(), or from a search of the current state when there is none (the first step after
+// a resume, `crater check`, particles removed): the same numbers either way.
 #pragma once
 
 #include <memory>
@@ -87,7 +93,33 @@ class Coupling {
     Real max_overlap_m = 0;
     Real normal_force_n = 0;
     Vec<D> force_on_other = Vec<D>::Zero();
+    // The springs summed per body over the pairs in contact (sum k w per face node of the
+    // surface, sum k per particle) [N/m], from the last apply() (load_known) or found afresh.
+    mutable std::vector<Real> load_points, load_other;
+    mutable bool load_known = false;
   };
+
+  // A particle against a face (particle-surface): which face, where, the normal, the overlap.
+  struct SurfaceHit;
+  std::vector<SurfaceHit> surface_hits(const solver::ContactPoints<D>& pts,
+                                       const solver::ContactSurface<D>& surf) const;
+  // The pairs of overlapping particles (particle-particle), in list order.
+  struct ParticlePair {
+    Index a = -1, b = -1;
+    Real overlap = 0, dist = 0;
+    Vec<D> d = Vec<D>::Zero();  // from b's centre to a's
+  };
+  std::vector<ParticlePair> particle_pairs(const solver::ContactPoints<D>& a,
+                                           const solver::ContactPoints<D>& b) const;
+  Real surface_stiffness(const Pairing& p, const solver::ContactSurface<D>& surf, Index face) const;
+  Real grain_stiffness(const Pairing& p, const solver::ContactPoints<D>& grains, Index j) const;
+  void add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf, std::size_t i,
+                        const SurfaceHit& h) const;
+  void add_particle_load(const Pairing& p, const solver::ContactPoints<D>& grains,
+                         const ParticlePair& pp) const;
+  // Fills p.load_* from the current state (without changing it).
+  void measure_load(const Pairing& p,
+                    const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const;
 
   void particle_surface(Pairing& p, Real dt, const solver::ContactPoints<D>& pts,
                         const solver::ContactSurface<D>& surf, std::vector<Vec<D>>& f_points,
