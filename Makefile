@@ -4,7 +4,7 @@
 BUILD   := build/release
 JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 CRATER  := $(BUILD)/bin/crater
-DEMO    ?= demo
+DEMO    ?= paper-20cm
 OUT     ?= out
 
 .PHONY: all deps configure build run test test-slow bench format docs clean
@@ -20,8 +20,11 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
+# The paper's scene at its demo level (a minute or two on 2 cores), then its report
+# ($(OUT)/report/report.md and PNGs).
 run: build
 	$(CRATER) run $(DEMO) --out $(OUT) --force
+	$(CRATER) report $(OUT)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow

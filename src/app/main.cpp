@@ -1,9 +1,10 @@
-// crater command line: run, check, list, schema.
-//   crater run SCENARIO [--out DIR] [--threads N] [--set key=value]... [--force]
+// crater command line: run, check, list, schema, report.
+//   crater run SCENARIO [--level L] [--out DIR] [--threads N] [--set key=value]... [--force]
 //   crater run SCENARIO --resume DIR | --restart FILE   (continue from a checkpoint)
-//   crater check SCENARIO [--set key=value]...
+//   crater check SCENARIO [--level L] [--set key=value]...
 //   crater list
 //   crater schema --markdown
+//   crater report DIR [--out DIR] [--times T1,T2,...]   (figures and report.md of a run)
 // Exit codes: 0 done, 2 bad input (scenario, command line), 3 numerical failure, 1 other
 // errors (e.g. an unwritable disk).
 #include <fmt/format.h>
@@ -11,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "app/report.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint/checkpoint.hpp"
 #include "io/scenario/load.hpp"
@@ -33,10 +35,12 @@ void print_input_error(const InputError& e) {
   }
 }
 
-int cmd_check(const std::string& scenario, const std::vector<std::string>& sets) {
-  const io::Config c = io::load_scenario(scenario, sets);
-  fmt::print("scenario '{}' ({}), {}D, end time {:.6g} s, hash {}\n", c.name, c.file, c.dimension,
-             c.end_time_s, c.hash);
+int cmd_check(const std::string& scenario, const std::vector<std::string>& sets,
+              const std::string& level) {
+  const io::Config c = io::load_scenario(scenario, sets, level);
+  fmt::print("scenario '{}' ({}){}, {}D, end time {:.6g} s, hash {}\n", c.name, c.file,
+             c.level.empty() ? std::string() : ", level " + c.level, c.dimension, c.end_time_s,
+             c.hash);
   if (!c.description.empty()) fmt::print("  {}\n", c.description);
   const auto reports = solver::check_scenario(c);
   fmt::print("{:<16} {:<6} {:>12} {:>14} {:>13}  {}\n", "part", "method", "count", "mass [kg]",
@@ -63,8 +67,8 @@ int cmd_check(const std::string& scenario, const std::vector<std::string>& sets)
 }
 
 int cmd_run(const std::string& scenario, const std::vector<std::string>& sets,
-            const solver::RunOptions& opt) {
-  const io::Config c = io::load_scenario(scenario, sets);
+            const std::string& level, const solver::RunOptions& opt) {
+  const io::Config c = io::load_scenario(scenario, sets, level);
   spdlog::info("scenario '{}', {}D, end time {:.6g} s -> {}", c.name, c.dimension, c.end_time_s,
                opt.out_dir.string());
   const auto r = solver::run_scenario(c, opt);
@@ -83,6 +87,7 @@ int main(int argc, char** argv) {
 
   std::string scenario;
   std::vector<std::string> sets;
+  std::string level;
   solver::RunOptions opt;
   std::string out_dir = "out";
 
@@ -91,6 +96,9 @@ int main(int argc, char** argv) {
   run->add_option("--out,-o", out_dir, "Run directory (default: out)");
   run->add_option("--threads,-t", opt.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
+  run->add_option("--level,-l", level,
+                  "Resolution level of the scenario ([levels.<name>]: demo, coarse, medium, fine "
+                  "for the bundled paper scenarios); applied before --set");
   run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
   run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
   run->add_flag("--quiet,-q", opt.quiet, "No progress line");
@@ -105,12 +113,21 @@ int main(int argc, char** argv) {
 
   auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
   check->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
+  check->add_option("--level,-l", level, "Resolution level ([levels.<name>] of the scenario)");
   check->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
 
   app.add_subcommand("list", "List the bundled scenarios");
   auto* schema = app.add_subcommand("schema", "Print the scenario file reference");
   bool markdown = false;
   schema->add_flag("--markdown", markdown, "Markdown (docs/scenario-format.md)");
+
+  auto* report = app.add_subcommand("report", "Figures (PNG) and report.md for a run directory");
+  crater::app::ReportOptions report_opt;
+  report->add_option("dir", report_opt.run_dir, "Run directory written by crater run")->required();
+  report->add_option("--out,-o", report_opt.out_dir, "Where to write (default: DIR/report)");
+  report->add_option("--times", report_opt.times,
+                     "Snapshot times [s], comma-separated: the nearest output frames (default: "
+                     "up to 4 spread over the run, the last included)");
 
   try {
     app.parse(argc, argv);
@@ -128,13 +145,17 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("list")) {
       for (const auto& n : io::bundled_scenarios()) {
-        std::string desc;
+        std::string desc, levels;
         try {
-          desc = io::load_scenario(n, {}).description;
+          const io::Config c = io::load_scenario(n, {});
+          desc = c.description;
+          for (const auto& l : c.levels)
+            levels += (levels.empty() ? "" : ", ") + l.name;
         } catch (const InputError& e) {
           desc = std::string("(invalid: ") + e.what() + ")";
         }
         fmt::print("{:<24} {}\n", n, desc);
+        if (!levels.empty()) fmt::print("{:<24} levels: {}\n", "", levels);
       }
       return kExitOk;
     }
@@ -142,7 +163,8 @@ int main(int argc, char** argv) {
       fmt::print("{}", io::schema_markdown());
       return kExitOk;
     }
-    if (app.got_subcommand("check")) return cmd_check(scenario, sets);
+    if (app.got_subcommand("report")) return crater::app::cmd_report(report_opt);
+    if (app.got_subcommand("check")) return cmd_check(scenario, sets, level);
     opt.out_dir = out_dir;
     if (!resume_dir.empty()) {
       opt.out_dir = resume_dir;
@@ -152,7 +174,7 @@ int main(int argc, char** argv) {
       if (run->count("--out") == 0)
         opt.out_dir = std::filesystem::path(restart_file).parent_path().parent_path();
     }
-    return cmd_run(scenario, sets, opt);
+    return cmd_run(scenario, sets, level, opt);
   } catch (const InputError& e) {
     print_input_error(e);
     return kExitInput;

@@ -155,6 +155,8 @@ class DemPart final : public solver::Part<D> {
         gravity_(to_vec<D>(c.domain.gravity_m_s2)),
         domain_lo_(to_vec<D>(c.domain.min_m)),
         domain_hi_(to_vec<D>(c.domain.max_m)),
+        // A settling part keeps every grain: one that leaves fails the settling.
+        outflow_remove_(c.domain.outflow == io::Outflow::Remove && !local_damping),
         id_(f_.add_integer("id", "1", kStateRoles)),
         x_(f_.add_vector("position", "m", kRestart | kHalo)),
         v_(f_.add_vector("velocity", "m/s", kStateRoles)),
@@ -375,7 +377,8 @@ class DemPart final : public solver::Part<D> {
     return s;
   }
 
-  void compute_forces(Real /*t*/) override {
+  void compute_forces(Real t) override {
+    time_s_ = t;
     update_neighbors();
     const Index n = f_.size();
     const Real dt = last_dt_;
@@ -438,9 +441,13 @@ class DemPart final : public solver::Part<D> {
       if (!healthy(i)) bad = std::min(bad, i);
     if (bad == n) return std::nullopt;
     const Index i = bad;
-    if (!in_domain(i))
+    if (!outflow_remove_ && !in_domain(i))
       return solver::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
-                                               "[domain] or add walls",
+                                               "[domain], add walls or set domain.outflow = "
+                                               "\"remove\"",
+                                               fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
+    if (!x_[i].allFinite())
+      return solver::Fault{id_[i], fmt::format("non-finite position x = ({}) m",
                                                fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
     return solver::Fault{id_[i], "non-finite force or torque"};
   }
@@ -541,6 +548,7 @@ class DemPart final : public solver::Part<D> {
       v_[i] += (half / m_[i]) * force_[i];
       w_[i] += (half / inertia_[i]) * torque_[i];
     });
+    if (outflow_remove_) remove_outflow();
   }
 
   solver::Energies energies() const override {
@@ -562,6 +570,7 @@ class DemPart final : public solver::Part<D> {
     en.contact_j = s.e + contact_dissipated_ - contact_work_;
     en.damping_j = local_dissipated_;
     en.external_work_j = external_work_;
+    en.eroded_j = left_energy_j_;
     return en;
   }
 
@@ -581,6 +590,11 @@ class DemPart final : public solver::Part<D> {
     if (cfg_.bonds.enabled) {
       d.push_back({"bonds_initial", static_cast<Real>(bonds_initial_)});
       d.push_back({"bonds_broken", bonds_broken_});
+    }
+    if (outflow_remove_) {
+      d.push_back({"left_domain_count", static_cast<Real>(left_count_)});
+      d.push_back({"left_domain_mass_kg", left_mass_kg_});
+      d.push_back({"left_domain_energy_j", left_energy_j_});
     }
     return d;
   }
@@ -661,7 +675,134 @@ class DemPart final : public solver::Part<D> {
     return true;
   }
   bool healthy(Index i) const {
-    return force_[i].allFinite() && angular_finite<D>(torque_[i]) && in_domain(i);
+    return force_[i].allFinite() && angular_finite<D>(torque_[i]) &&
+           (outflow_remove_ ? x_[i].allFinite() : in_domain(i));
+  }
+
+  // outflow = "remove": grains beyond the domain box leave the model at the end of the step,
+  // with the velocities of t + dt. What they carried goes to eroded_j, so the balance still
+  // closes: their kinetic and rotational energy, and the energy stored in their contacts and
+  // bonds (elastic_ of the grains they end with), which would otherwise vanish from contact_j.
+  // The rest keep their order (compaction in index order) and their contact and bond histories
+  // (packed, less the slots keyed by a removed grain); the list is rebuilt at the next force
+  // stage: the same numbers for any thread count, and after a restart from this state.
+  void remove_outflow() {
+    const Index n = f_.size();
+    keep_.resize(static_cast<std::size_t>(n));
+    const Index leaving = parallel::deterministic_sum<Index>(n, [&](Index i) {
+      keep_[static_cast<std::size_t>(i)] = in_domain(i);
+      return static_cast<Index>(!keep_[static_cast<std::size_t>(i)]);
+    });
+    if (leaving == 0) return;
+    struct Left {
+      Real mass = 0, energy = 0;
+      Left& operator+=(const Left& o) {
+        mass += o.mass;
+        energy += o.energy;
+        return *this;
+      }
+    };
+    const Left left = parallel::deterministic_sum<Left>(n, [&](Index i) {
+      if (!keep_[static_cast<std::size_t>(i)])
+        return Left{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() +
+                               angular_kinetic<D>(inertia_[i], w_[i]) + elastic_[i]};
+      // A staying grain's contacts and bonds with leaving ones: the energy of those it owns
+      // leaves with them (the others' is in the leaving grain's elastic_), and their forces
+      // leave its force_ and torque_ (undoing grain_pass), so that the next half kick owes
+      // nothing to a removed grain (exactly so without local damping, which acted on the sum).
+      Real lost = 0;
+      const auto first = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
+      const auto last = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i) + 1]);
+      for (std::size_t e = first; e < last; ++e) {
+        if (keep_[static_cast<std::size_t>(list_.indices[e])]) continue;
+        const auto ref = static_cast<std::size_t>(pair_of_entry_[e]);
+        const std::size_t k = ref >> 1;
+        const std::uint8_t flags = cache_.flags[k];
+        const bool owner = !(ref & 1);
+        if (owner && flags) lost += cache_.elastic[k];
+        if (flags & kContactOn) {
+          const ContactResult& c = cache_.contact[k];
+          force_[i] -= owner ? c.f1 : Vec<D>(-c.f1);
+          torque_[i] -= c.t[owner ? 0 : 1];
+          if (owner) contacts_[i] -= 1;  // it counts the contacts it owns (and its walls)
+        }
+        if (flags & kBondOn) {
+          force_[i] -= owner ? cache_.bond_f1[k] : Vec<D>(-cache_.bond_f1[k]);
+          torque_[i] -= owner ? cache_.bond_t1[k] : cache_.bond_t2[k];
+          bonds_[i] -= 1;
+        }
+      }
+      elastic_[i] -= lost;
+      return Left{0, lost};
+    });
+    if (left_count_ == 0)
+      spdlog::info(
+          "part '{}': grains leave the domain from t = {:.6g} s on and are removed "
+          "(domain.outflow = \"remove\"; left_domain_* in summary.json)",
+          name_, time_s_);
+    left_count_ += leaving;
+    left_mass_kg_ += left.mass;
+    left_energy_j_ += left.energy;
+
+    std::vector<std::int64_t> gone;  // ids of the leaving grains, sorted
+    for (Index i = 0; i < n; ++i)
+      if (!keep_[static_cast<std::size_t>(i)]) gone.push_back(id_[i]);
+    std::sort(gone.begin(), gone.end());
+    if (!packed_) pack_history(partner_, xi_, roll_);
+    packed_ = true;
+    compact_slots(partner_, gone, xi_, roll_);
+    compact_slots(bond_partner_, gone, bond_);
+    const Index kept = f_.compact(keep_);
+    if (!bond_partner_new_.empty()) {  // scratch of the next pair pass
+      bond_partner_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, kNoContact);
+      bond_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, ParallelBondState<D>{});
+    }
+    const std::size_t wall_slots = static_cast<std::size_t>(kept) * cfg_.walls.size();
+    wall_xi_.assign(wall_slots, Vec<D>::Zero());
+    if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
+    wall_live_.assign(static_cast<std::size_t>(kept), 0);
+    skin_.invalidate();
+  }
+
+  // The kMaxContacts slots of each kept grain (keep_), in order, less the slots keyed by a
+  // grain in `gone` (its contacts and bonds end with it); the others move up, so that a grain's
+  // slots stay filled from the first. `payload` moves with `key` (empty vectors: models that
+  // are off).
+  template <class... Payload>
+  void compact_slots(std::vector<std::int64_t>& key, std::span<const std::int64_t> gone,
+                     std::vector<Payload>&... payload) {
+    if (key.empty()) return;
+    constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+    std::size_t out = 0;  // the first slot of the next kept grain; never past the one read
+    for (std::size_t i = 0; i < keep_.size(); ++i) {
+      if (!keep_[i]) continue;
+      std::size_t k = out;
+      for (std::size_t s = 0; s < slots; ++s) {
+        const std::size_t from = i * slots + s;
+        const std::int64_t p = key[from];
+        if (p == kNoContact) break;
+        if (std::binary_search(gone.begin(), gone.end(), p)) continue;
+        key[k] = p;
+        ((payload.empty() ? void() : void(payload[k] = payload[from])), ...);
+        ++k;
+      }
+      for (; k < out + slots; ++k) {
+        key[k] = kNoContact;
+        ((payload.empty() ? void() : void(payload[k] = blank<Payload>())), ...);
+      }
+      out += slots;
+    }
+    key.resize(out);
+    ((payload.empty() ? void() : payload.resize(out)), ...);
+  }
+  template <class T>
+  static T blank() {
+    if constexpr (std::is_same_v<T, Vec<D>>)
+      return Vec<D>::Zero();
+    else if constexpr (std::is_same_v<T, AngularVec<D>>)
+      return angular_zero<D>();
+    else
+      return T{};
   }
 
   // A rigid face of the domain box as the loops use it.
@@ -814,7 +955,10 @@ class DemPart final : public solver::Part<D> {
     std::vector<ContactResult> contact;
     std::vector<Vec<D>> bond_f1;
     std::vector<AngularVec<D>> bond_t1, bond_t2;
-    void resize(std::size_t n, bool bonds) {
+    // Elastic energy of the pair's contact and bond [J], kept for outflow only (a grain that
+    // leaves takes its partners' share with it); read only where flags is set.
+    std::vector<Real> elastic;
+    void resize(std::size_t n, bool bonds, bool energies) {
       flags.assign(n, 0);
       contact.assign(n, ContactResult{});
       if (bonds) {
@@ -822,6 +966,7 @@ class DemPart final : public solver::Part<D> {
         bond_t1.resize(n);
         bond_t2.resize(n);
       }
+      if (energies) elastic.assign(n, 0);
     }
   };
   static constexpr std::uint8_t kBondOn = 1, kContactOn = 2;
@@ -851,6 +996,7 @@ class DemPart final : public solver::Part<D> {
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     const bool rolling = rolling_.friction > 0;
     const bool bonds = !bond_partner_.empty();
+    const bool pair_energy = !cache_.elastic.empty();
     const Vec<D> x_i = x_[i];
     const Real r_i = r_[i];
     const Index end = pair_begin_[static_cast<std::size_t>(i) + 1];
@@ -867,6 +1013,7 @@ class DemPart final : public solver::Part<D> {
         }
       }
       std::uint8_t flags = 0;
+      Real elastic = 0;
       const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_i, r_i, x_[j], r_[j]);
       if (!g.touching() && bond < 0) {
         if (last_flags) clear_pair(k, last_flags);
@@ -893,6 +1040,7 @@ class DemPart final : public solver::Part<D> {
           cache_.bond_t1[k] = br.torque_on_1;
           cache_.bond_t2[k] = br.torque_on_2;
           tally.elastic += br.elastic_energy;
+          elastic += br.elastic_energy;
           bond_partner_new_[base + static_cast<std::size_t>(tally.bond_slots)] = id_[j];
           bond_new_[base + static_cast<std::size_t>(tally.bond_slots)] = br.state;
           ++tally.bond_slots;
@@ -919,7 +1067,9 @@ class DemPart final : public solver::Part<D> {
         pair_xi_[k] = cf.shear_history;
         if (rolling) pair_roll_[k] = rt.history;
         count_contact(i, tally);
-        tally.elastic += cf.elastic_energy + rt.elastic_energy;
+        const Real stored = cf.elastic_energy + rt.elastic_energy;
+        tally.elastic += stored;
+        elastic += stored;
         tally.dissipated += cf.dissipated_power + rt.dissipated_power;
       } else if (last_flags & kContactOn) {
         cache_.contact[k] = ContactResult{};
@@ -927,6 +1077,7 @@ class DemPart final : public solver::Part<D> {
         if (rolling) pair_roll_[k] = angular_zero<D>();
       }
       last_flags = flags;
+      if (pair_energy) cache_.elastic[k] = elastic;
     }
     tally_[static_cast<std::size_t>(i)] = tally;
   }
@@ -1192,7 +1343,7 @@ class DemPart final : public solver::Part<D> {
       }
     });
     const auto pairs = pair_j_.size();
-    cache_.resize(pairs, !bond_partner_.empty());
+    cache_.resize(pairs, !bond_partner_.empty(), outflow_remove_);
     pair_xi_.resize(pairs);
     pair_roll_.resize(rolling_.friction > 0 ? pairs : 0);
     tally_.resize(static_cast<std::size_t>(n));
@@ -1230,6 +1381,10 @@ class DemPart final : public solver::Part<D> {
     w.value(contact_pending_);
     w.value(wall_reflections_);
     skin_.save(w);
+    w.tag("outflow");
+    w.value(left_count_);
+    w.value(left_mass_kg_);
+    w.value(left_energy_j_);
   }
   void load_state(io::StateReader& r) override {
     r.tag("dem");
@@ -1251,6 +1406,10 @@ class DemPart final : public solver::Part<D> {
     r.value(contact_pending_);
     r.value(wall_reflections_);
     skin_.load(r);
+    r.tag("outflow");
+    r.value(left_count_);
+    r.value(left_mass_kg_);
+    r.value(left_energy_j_);
     if (skin_.radius() > 0) build_lists();
   }
 
@@ -1276,6 +1435,7 @@ class DemPart final : public solver::Part<D> {
   std::string name_;
   io::DemConfig cfg_;
   Vec<D> gravity_, domain_lo_, domain_hi_;
+  bool outflow_remove_ = false;  // domain.outflow = "remove" (remove_outflow)
   Real rho_ = 0, shear_modulus_ = 0, poisson_ = 0;
   ContactLaws laws_;
   RollingResistanceParams rolling_;
@@ -1346,6 +1506,12 @@ class DemPart final : public solver::Part<D> {
   Real bonds_broken_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
   std::vector<solver::Diagnostic> diagnostics_;
+  // Grains removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
+  // the energy booked with them [J] (eroded_j).
+  Index left_count_ = 0;
+  Real left_mass_kg_ = 0, left_energy_j_ = 0;
+  std::vector<std::uint8_t> keep_;  // scratch: remove_outflow's mask
+  Real time_s_ = 0;                 // of the last force stage, for the log
 };
 
 // Everything that shapes a settled packing, as text for its cache key (hex floats: exact).

@@ -3,11 +3,14 @@
 // so a new field needs one `add_*` line and nothing else.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -86,6 +89,28 @@ class FieldSet {
               v[i] = copy[static_cast<std::size_t>(order[i])];
           },
           c.data);
+  }
+
+  /// Drops the entities whose `keep` entry is 0; the others keep their relative order (entity
+  /// i moves to the number of kept entities before it), so the result is the same for any
+  /// thread count. Used to remove particles that left the domain. Returns the new size.
+  Index compact(std::span<const std::uint8_t> keep) {
+    if (static_cast<Index>(keep.size()) != size_)
+      throw std::logic_error("FieldSet::compact: keep mask has the wrong size");
+    for (auto& c : columns_)
+      std::visit(
+          [&](auto& v) {
+            std::size_t k = 0;
+            for (std::size_t i = 0; i < keep.size(); ++i)
+              if (keep[i]) {
+                if (k != i) v[k] = std::move(v[i]);
+                ++k;
+              }
+            v.resize(k);
+          },
+          c.data);
+    size_ = static_cast<Index>(std::count_if(keep.begin(), keep.end(), [](auto k) { return k; }));
+    return size_;
   }
 
   /// Every field, raw (checkpoints: io/checkpoint StateWriter / StateReader). All fields are

@@ -40,6 +40,13 @@ class VerletSkin {
     return radius_;
   }
 
+  /// Forgets the last rebuild, after the owner removed entities (the lists' indices are void):
+  /// stale() is true until the next built(), and a checkpoint of this state restores no list.
+  void invalidate() {
+    built_.clear();
+    radius_ = 0;
+  }
+
   Real radius() const { return radius_; }
   /// The positions of the last rebuild (a restored list is rebuilt from them).
   std::span<const Vec<D>> positions() const { return built_; }

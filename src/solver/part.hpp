@@ -25,7 +25,8 @@ struct Energies {
   Real damping_j = 0;        // dissipated by damping (local, viscous walls)
   Real hourglass_j = 0;      // FEM hourglass control
   Real contact_j = 0;        // stored/dissipated in contacts
-  Real eroded_j = 0;         // kinetic + internal energy of eroded entities
+  Real eroded_j = 0;         // kinetic + internal energy of eroded entities, and of particles
+                             // removed beyond the domain (outflow = "remove")
   Energies& operator+=(const Energies& o) {
     kinetic_j += o.kinetic_j;
     internal_j += o.internal_j;

@@ -18,6 +18,7 @@
 #include "io/output/json.hpp"
 #include "io/output/vtu_writer.hpp"
 #include "parallel/parallel.hpp"
+#include "solver/probes.hpp"
 #include "solver/progress.hpp"
 #include "sph/sph_part.hpp"
 
@@ -251,8 +252,11 @@ Energies sum_energies(const std::vector<std::unique_ptr<Part<D>>>& parts) {
 // parts' totals add up to total_j.
 template <int D>
 std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                                         const contact::Coupling<D>& coupling) {
+                                         const contact::Coupling<D>& coupling,
+                                         const Probes<D>& probes) {
   std::vector<std::string> columns = coupling.history_columns();
+  for (auto& col : probes.history_columns())
+    columns.push_back(std::move(col));
   if (parts.size() > 1)
     for (const auto& p : parts)
       columns.push_back("energy_" + p->name() + "_j");
@@ -260,8 +264,11 @@ std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<
 }
 template <int D>
 std::vector<Real> history_values(const std::vector<Energies>& per,
-                                 const contact::Coupling<D>& coupling) {
+                                 const contact::Coupling<D>& coupling, Probes<D>& probes,
+                                 const std::vector<std::unique_ptr<Part<D>>>& parts) {
   std::vector<Real> values = coupling.history_values();
+  for (Real v : probes.history_values(parts))
+    values.push_back(v);
   if (per.size() > 1)
     for (const Energies& e : per)
       values.push_back(total_energy(e));
@@ -273,7 +280,8 @@ void write_summary(const io::Config& c, const fs::path& dir,
                    const std::vector<std::unique_ptr<Part<D>>>& parts, const RunResult& r,
                    Real dt_min, Real dt_max, const Energies& e0, const Energies& e,
                    Real energy_error, const std::string& status, const std::string& message,
-                   const contact::Coupling<D>* coupling = nullptr) {
+                   const contact::Coupling<D>* coupling = nullptr,
+                   const std::vector<Diagnostic>& metrics = {}) {
   io::JsonWriter j;
   j.begin_object();
   j.field("crater_version", CRATER_VERSION);
@@ -281,6 +289,7 @@ void write_summary(const io::Config& c, const fs::path& dir,
   if (!message.empty()) j.field("message", message);
   j.key("scenario").begin_object();
   j.field("name", c.name).field("file", c.file).field("hash", c.hash);
+  if (!c.level.empty()) j.field("level", c.level);
   j.field("dimension", c.dimension).field("end_time_s", c.end_time_s);
   j.end_object();
   j.key("parts").begin_array();
@@ -323,6 +332,8 @@ void write_summary(const io::Config& c, const fs::path& dir,
   j.field("balance_error", energy_error);
   j.end_object();
   j.key("metrics").begin_object();
+  for (const auto& m : metrics)
+    j.field(m.name, m.value);
   j.end_object();
   // Everything above is identical for any thread count; this block is not.
   j.key("run").begin_object();
@@ -395,7 +406,8 @@ struct LoopState {
 
 template <int D>
 void write_checkpoint(const io::Config& c, const fs::path& dir, const LoopState& st,
-                      const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts) {
+                      const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts,
+                      const Probes<D>& probes) {
   io::StateWriter w;
   st.save(w);
   out.save(w);
@@ -405,6 +417,7 @@ void write_checkpoint(const io::Config& c, const fs::path& dir, const LoopState&
     w.tag(p->name());
     p->save_state(w);
   }
+  probes.save(w);
   const fs::path cdir = dir / "checkpoints";
   fs::create_directories(cdir);
   io::write_checkpoint(cdir / fmt::format("step_{:012d}.ckpt", st.steps),
@@ -428,6 +441,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   parallel::set_threads(opt.threads);
   auto parts = build_parts<D>(c);
   contact::Coupling<D> coupling(c, parts);
+  Probes<D> probes(c, parts);  // the initial ground surface: before any step or resume
   LoopState st;
   std::unique_ptr<Outputs<D>> outp;
   const bool resume = !opt.restart.empty();
@@ -450,6 +464,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       rd.tag(p->name());
       p->load_state(rd);
     }
+    probes.load(rd);
     if (!rd.done()) rd.fail("it holds more than this scenario's state");
     std::string history;
     {
@@ -462,8 +477,8 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
                                    "it has {} (resume into the directory the run wrote)",
                                    history_bytes, history.size()));
     history.resize(history_bytes);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, history_columns(parts, coupling),
-                                        std::move(history));
+    outp = std::make_unique<Outputs<D>>(
+        c, opt.out_dir, parts, history_columns(parts, coupling, probes), std::move(history));
     outp->restore_pvd(std::move(pvd));
     spdlog::info("resumed from {} at step {}, t = {:.6g} s", opt.restart.string(), st.steps, st.t);
   } else {
@@ -472,7 +487,8 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     coupling.apply(parts, 0);
     check_fixed_step(c, smallest_stable_step(parts, &coupling));
     prepare_out_dir(opt.out_dir, opt.force);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts, history_columns(parts, coupling));
+    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts,
+                                        history_columns(parts, coupling, probes));
   }
   Outputs<D>& out = *outp;
   for (const auto& w : c.warnings)
@@ -491,7 +507,8 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     st.track = EnergyTrack{total_energy(st.e0), 0};
     st.err = st.track.error(st.e0);
     out.frame(parts, t, "000000");
-    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err, history_values(per, coupling));
+    out.history(0, t, 0, st.e0, total_energy(st.e0), st.err,
+                history_values(per, coupling, probes, parts));
     st.next_frame_t = std::min(c.output.interval_s, c.end_time_s);
   }
   e = st.e0;
@@ -544,13 +561,15 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
           throw NumericalError(p->name(), fault->entity_id, t, fault->what);
       for (auto& p : parts)
         p->finish_step(dt);
+      probes.after_step(parts, t);
 
       const bool last = t >= c.end_time_s - t_eps;
       if (r.steps % c.output.history_every == 0 || at_frame || last) {
         const std::vector<Energies> per = part_energies(parts);
         e = sum_energies(per);
         st.err = st.track.error(e);
-        out.history(r.steps, t, dt, e, total_energy(e), st.err, history_values(per, coupling));
+        out.history(r.steps, t, dt, e, total_energy(e), st.err,
+                    history_values(per, coupling, probes, parts));
       }
       if (at_frame) {
         out.frame(parts, t, fmt::format("{:06d}", st.frame));
@@ -567,7 +586,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
            elapsed() - last_checkpoint_s >= c.output.checkpoint_every_s);
       if ((due || sig != 0) && !last) {
         out.flush();
-        write_checkpoint<D>(c, opt.out_dir, st, out, parts);
+        write_checkpoint<D>(c, opt.out_dir, st, out, parts, probes);
         last_checkpoint_s = elapsed();
       }
       if (sig != 0 && !last) {
@@ -599,7 +618,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   e = sum_energies(parts);
   out.flush();
   write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
-                "completed", "", &coupling);
+                "completed", "", &coupling, probes.finish(parts, opt.out_dir));
   return r;
 }
 

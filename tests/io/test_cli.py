@@ -17,7 +17,9 @@ class Cli(unittest.TestCase):
         p = crater("list")
         self.assertIn("demo", p.stdout)
         bundled = sorted(f.stem for f in (SOURCE_DIR / "scenarios").glob("*.toml"))
-        listed = sorted(line.split()[0] for line in p.stdout.splitlines() if line.strip())
+        # One line per scenario; a scenario's levels on an indented line after it.
+        listed = sorted(line.split()[0] for line in p.stdout.splitlines()
+                        if line.strip() and not line[0].isspace())
         self.assertEqual(listed, bundled)
 
     def test_check_prints_counts_masses_and_steps(self):

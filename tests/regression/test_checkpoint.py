@@ -147,6 +147,44 @@ class Checkpoints(unittest.TestCase):
                     self.assertEqual(summary_without_run_block(full / "summary.json"),
                                      summary_without_run_block(again / "summary.json"))
 
+    def test_restart_across_outflow_removals(self):
+        # domain.outflow = "remove": SPH particles and DEM grains (with contact and bond
+        # histories) leave between the checkpoint and the end, and before it; the restarted run
+        # removes the same particles at the same steps. Checkpoints before any removal, while
+        # the gas leaves, and while the grains leave.
+        scen = SOURCE / "tests" / "data" / "outflow_2d.toml"
+        sets = ["--set", "output.checkpoint_every_steps=10", "--set", "output.checkpoint_keep=1000"]
+        full = self.dir / "full_outflow"
+        crater("run", scen, "--out", full, "--force", "--quiet", *sets)
+        import json
+        summary = json.loads((full / "summary.json").read_text())
+        left = {p["name"]: p["diagnostics"]["left_domain_count"] for p in summary["parts"]}
+        self.assertTrue(all(n > 0 for n in left.values()), left)
+        history = (full / "history.csv").read_text().splitlines()
+        column = history[0].split(",").index("eroded_j")
+        eroded = {int(r.split(",")[0]): float(r.split(",")[column]) for r in history[1:]}
+        final = eroded[max(eroded)]
+        cks = sorted((full / "checkpoints").glob("*.ckpt"))
+        steps = {ck: int(ck.stem.split("_")[1]) for ck in cks}
+        before = [ck for ck in cks if eroded[steps[ck]] == 0]
+        during = [ck for ck in cks if 0 < eroded[steps[ck]] < final]
+        self.assertTrue(before, "no checkpoint before the first removal")
+        self.assertGreaterEqual(len(during), 3, "too few checkpoints between removals")
+        for ck in (before[-1], during[0], during[len(during) // 2], during[-1]):
+            with self.subTest(checkpoint=ck.name):
+                again = self.dir / "again_outflow"
+                if again.exists():
+                    shutil.rmtree(again)
+                shutil.copytree(full, again)
+                (again / "summary.json").unlink()
+                crater("run", scen, "--restart", again / "checkpoints" / ck.name, "--quiet", *sets)
+                for f in sorted(full.iterdir()):
+                    if f.is_file() and f.name != "summary.json":
+                        self.assertEqual(f.read_bytes(), (again / f.name).read_bytes(),
+                                         f"from {ck.name}: {f.name} differs")
+                self.assertEqual(summary_without_run_block(full / "summary.json"),
+                                 summary_without_run_block(again / "summary.json"))
+
     def test_resume_without_checkpoint_is_refused(self):
         out = self.dir / "empty"
         out.mkdir(exist_ok=True)

@@ -1,7 +1,9 @@
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
 history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, a
-settling DEM bed in 2D, a bonded DEM block breaking on a floor in 2D, an FEM plate eroding
-in 2D and the 3D Taylor bar (FEM, Johnson-Cook with heating, read from a Gmsh file)."""
+settling DEM bed in 2D, a bonded DEM block breaking on a floor in 2D, SPH particles and DEM
+grains leaving the domain (outflow = "remove") in 2D, an FEM plate eroding in 2D, the 3D Taylor
+bar (FEM, Johnson-Cook with heating, read from a Gmsh file) and the
+paper's coupled scene (paper-20cm, demo level)."""
 import sys
 import unittest
 
@@ -40,6 +42,23 @@ class ThreadDeterminism(unittest.TestCase):
         files = assert_bit_identical_runs(write_case(work), work,
                                           sets=["scenario.end_time_s=1.5e-5", "output.interval_s=5e-6"])
         self.assertIn("rod.pvd", files)
+
+    def test_paper_20cm_demo(self):
+        # The paper's coupled scene (SPH charge, eroding JC plate, DEM soil, three contacts)
+        # through the products' impact on the plate and the first erosions (0.5 ms; the whole
+        # 10 ms run: tests/regression/test_paper_scenarios.py, label slow).
+        files = assert_bit_identical_runs("paper-20cm", scratch("det_paper20"),
+                                          sets=["scenario.end_time_s=5e-4"])
+        self.assertIn("surface_profile.csv", files)
+        self.assertIn("plate.pvd", files)
+
+    def test_outflow_2d(self):
+        # domain.outflow = "remove": SPH particles and DEM grains (with contacts and bonds) are
+        # removed as they leave the box; the survivors are compacted in index order.
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/outflow_2d.toml",
+                                          scratch("det_outflow"))
+        self.assertIn("gas.pvd", files)
+        self.assertIn("columns.pvd", files)
 
     def test_sph_3d(self):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",

@@ -40,10 +40,15 @@ struct OutputConfig {
   Index checkpoint_keep = 2;         // newest checkpoints kept in <out>/checkpoints
 };
 
+/// What happens to a particle (SPH or DEM) that leaves the domain box: the run stops (exit 3),
+/// or the particle is removed at the end of the step and booked as having left.
+enum class Outflow { Stop, Remove };
+
 struct DomainConfig {
   Vec3 min_m{};
   Vec3 max_m{};
   Vec3 gravity_m_s2{};
+  Outflow outflow = Outflow::Stop;
 };
 
 /// Grain material of a DEM part (model "granular").
@@ -238,6 +243,15 @@ struct ContactConfig {
   SourceLocation where;
 };
 
+/// The paper's measurements ([probes]); see src/solver/probes.hpp.
+struct ProbesConfig {
+  std::optional<std::size_t> plate;  // an fem part (index into Config::parts)
+  std::optional<std::size_t> soil;   // a dem part
+  Real stress_time_s = 6e-4;
+  std::optional<Real> surface_bin_m;
+  bool any() const { return plate || soil; }
+};
+
 struct Config {
   std::string file;  // path of the scenario file
   std::string hash;  // FNV-1a 64 of the effective (defaults filled) scenario, hex
@@ -251,6 +265,12 @@ struct Config {
   std::vector<MaterialConfig> materials;
   std::vector<PartConfig> parts;
   std::vector<ContactConfig> contacts;
+  ProbesConfig probes;
+  std::string level;  // the [levels.<name>] applied (--level), or empty
+  struct LevelInfo {
+    std::string name, description;
+  };
+  std::vector<LevelInfo> levels;      // every level the file defines
   std::vector<std::string> warnings;  // non-fatal remarks shown by check and run
   std::string effective_toml;         // the scenario with defaults filled in
 };

@@ -53,8 +53,14 @@ void apply_override(toml::table& root, const std::string& arg) {
   const auto eq = arg.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError(where, "", "expected --set dotted.key=VALUE");
-  const std::string path = arg.substr(0, eq);
-  const std::string value = arg.substr(eq + 1);
+  // Blanks around the '=' are allowed ("key = value", as in a TOML file).
+  auto trim = [](std::string s) {
+    const auto b = s.find_first_not_of(" \t");
+    const auto e = s.find_last_not_of(" \t");
+    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+  };
+  const std::string path = trim(arg.substr(0, eq));
+  const std::string value = trim(arg.substr(eq + 1));
   const auto parts = split_path(path);
   for (const auto& s : parts)
     if (s.empty()) throw InputError(where, path, "empty segment in the key path");
@@ -255,6 +261,7 @@ class Builder {
     c.domain.min_m = vec3(dt, "min_m");
     c.domain.max_m = vec3(dt, "max_m");
     c.domain.gravity_m_s2 = vec3(dt, "gravity_m_s2");
+    c.domain.outflow = str(dt, "outflow") == "remove" ? Outflow::Remove : Outflow::Stop;
     for (int d = 0; d < dim; ++d)
       if (!(c.domain.max_m[d] > c.domain.min_m[d])) {
         domain_ok_ = false;
@@ -267,6 +274,7 @@ class Builder {
     read_materials(c, top);
     read_parts(c, top);
     read_contacts(c, top);
+    read_probes(c, top);
     if (!errors_.empty()) throw InputErrors(std::move(errors_));
     for (auto& wmsg : c_warnings_)
       c.warnings.push_back(std::move(wmsg));
@@ -647,6 +655,39 @@ class Builder {
               fmt::format("spacing {} m gives about {:.3g} particles, above the limit of {:.0e}",
                           p.spacing_m, count, kMaxEntities));
     }
+  }
+
+  void read_probes(Config& c, const SourceLocation& top) {
+    const toml::node* pn = root_.get("probes");
+    if (!pn) return;
+    const auto& t = *pn->as_table();
+    const SourceLocation w = where_of(t, top);
+    c.probes.stress_time_s = num(t, "stress_time_s");
+    c.probes.surface_bin_m = opt_num(t, "surface_bin_m");
+    auto part = [&](const char* key, const char* method) -> std::optional<std::size_t> {
+      const toml::node* n = t.get(key);
+      if (!n) return std::nullopt;
+      const std::string name = n->as_string()->get();
+      const auto it = std::find_if(c.parts.begin(), c.parts.end(),
+                                   [&](const PartConfig& p) { return p.name == name; });
+      if (it == c.parts.end() || it->method != method) {
+        std::string known;
+        for (const auto& p : c.parts)
+          if (p.method == method) known += (known.empty() ? "'" : ", '") + p.name + "'";
+        error(loc(t, key, w), std::string("probes.") + key,
+              fmt::format("expected the name of a {} part ({}), got '{}'", method,
+                          known.empty() ? std::string("the scenario has none") : known, name));
+        return std::nullopt;
+      }
+      return static_cast<std::size_t>(it - c.parts.begin());
+    };
+    c.probes.plate = part("plate", "fem");
+    c.probes.soil = part("soil", "dem");
+    if (c.probes.plate && c.probes.stress_time_s > c.end_time_s)
+      c_warnings_.push_back(
+          fmt::format("probes.stress_time_s = {} s is after scenario.end_time_s = {} s: "
+                      "plate_peak_von_mises_pa will not be measured",
+                      c.probes.stress_time_s, c.end_time_s));
   }
 
   void read_contacts(Config& c, const SourceLocation& top) {
@@ -1224,8 +1265,80 @@ class Builder {
   std::vector<std::string> c_warnings_;
 };
 
+// Resolution levels: `[levels.<name>]` tables, each a list of overrides (`set`, in --set
+// syntax) and a description. They are taken out of the table before validation; the chosen
+// level's overrides apply before the command line's.
+struct Level {
+  std::string name, description;
+  std::vector<std::pair<std::string, SourceLocation>> sets;
+  std::uint32_t line = 0;
+};
+
+std::vector<Level> take_levels(toml::table& root, const std::string& file) {
+  std::vector<Level> levels;
+  toml::node* ln = root.get("levels");
+  if (!ln) return levels;
+  const SourceLocation top{file, 1, 0};
+  const auto* lt = ln->as_table();
+  if (!lt) throw InputError(where_of(*ln, top), "levels", "expected a table of [levels.<name>]");
+  for (const auto& [k, v] : *lt) {
+    const std::string key = "levels." + std::string(k.str());
+    const auto* t = v.as_table();
+    if (!t)
+      throw InputError(where_of(v, top), key, "expected a table with `set` and `description`");
+    Level l;
+    l.name = std::string(k.str());
+    for (const auto& [kk, vv] : *t) {
+      const std::string sub = key + "." + std::string(kk.str());
+      if (kk.str() == "description") {
+        if (!vv.is_string()) throw InputError(where_of(vv, top), sub, "expected a string");
+        l.description = vv.as_string()->get();
+      } else if (kk.str() == "set") {
+        const auto* arr = vv.as_array();
+        if (!arr) throw InputError(where_of(vv, top), sub, "expected an array of \"key=VALUE\"");
+        for (std::size_t i = 0; i < arr->size(); ++i) {
+          const toml::node& e = *arr->get(i);
+          if (!e.is_string())
+            throw InputError(where_of(e, top), fmt::format("{}[{}]", sub, i),
+                             "expected a string \"dotted.key=VALUE\" (--set syntax)");
+          l.sets.emplace_back(e.as_string()->get(), where_of(e, top));
+        }
+      } else {
+        throw InputError(where_of(vv, top), sub, "unknown key (a level has `set`, `description`)");
+      }
+    }
+    l.line = v.source().begin.line;
+    levels.push_back(std::move(l));
+  }
+  // In the file's order (a TOML table's keys come sorted).
+  std::stable_sort(levels.begin(), levels.end(),
+                   [](const Level& a, const Level& b) { return a.line < b.line; });
+  root.erase("levels");
+  return levels;
+}
+
 Config load_table(toml::table root, const std::string& file,
-                  const std::vector<std::string>& overrides) {
+                  const std::vector<std::string>& overrides, const std::string& level) {
+  const std::vector<Level> levels = take_levels(root, file);
+  std::string known;
+  for (const auto& l : levels)
+    known += (known.empty() ? "" : ", ") + l.name;
+  if (!level.empty()) {
+    const auto it =
+        std::find_if(levels.begin(), levels.end(), [&](const Level& l) { return l.name == level; });
+    if (it == levels.end())
+      throw InputError({"--level " + level, 0, 0}, "",
+                       levels.empty()
+                           ? fmt::format("the scenario {} defines no levels", file)
+                           : fmt::format("no level '{}' in {} (levels: {})", level, file, known));
+    for (const auto& [set, where] : it->sets) {
+      try {
+        apply_override(root, set);
+      } catch (const InputError& e) {
+        throw InputError(where, fmt::format("levels.{}.set", level), e.what());
+      }
+    }
+  }
   for (const auto& o : overrides)
     apply_override(root, o);
 
@@ -1242,6 +1355,9 @@ Config load_table(toml::table root, const std::string& file,
   if (!errors.empty()) throw InputErrors(std::move(errors));
 
   Config c = Builder(root, file).build();
+  c.level = level;
+  for (const auto& l : levels)
+    c.levels.push_back({l.name, l.description});
   std::ostringstream os;
   os << root;
   c.effective_toml = os.str();
@@ -1300,7 +1416,8 @@ fs::path resolve_scenario(const std::string& path_or_name) {
                    "no such file, and no bundled scenario of that name (bundled: " + known + ")");
 }
 
-Config load_scenario(const std::string& path_or_name, const std::vector<std::string>& overrides) {
+Config load_scenario(const std::string& path_or_name, const std::vector<std::string>& overrides,
+                     const std::string& level) {
   const fs::path path = resolve_scenario(path_or_name);
   std::error_code ec;
   const auto size = fs::file_size(path, ec);
@@ -1313,14 +1430,14 @@ Config load_scenario(const std::string& path_or_name, const std::vector<std::str
   if (!in) throw InputError({path.string(), 0, 0}, "", "cannot open the file");
   std::ostringstream ss;
   ss << in.rdbuf();
-  return load_scenario_text(ss.str(), path.string(), overrides);
+  return load_scenario_text(ss.str(), path.string(), overrides, level);
 }
 
 Config load_scenario_text(const std::string& text, const std::string& source_name,
-                          const std::vector<std::string>& overrides) {
+                          const std::vector<std::string>& overrides, const std::string& level) {
   if (text.find('\0') != std::string::npos)
     throw InputError({source_name, 0, 0}, "", "expected a text (TOML) file, found a NUL byte");
-  return load_table(parse_text(text, source_name), source_name, overrides);
+  return load_table(parse_text(text, source_name), source_name, overrides, level);
 }
 
 }  // namespace crater::io

@@ -155,7 +155,7 @@ TableSchema make_output() {
 TableSchema make_domain() {
   TableSchema t{"domain",
                 "The box every entity must stay in. A particle leaving it stops the run "
-                "(exit 3).",
+                "(exit 3), unless `outflow = \"remove\"`.",
                 {},
                 {},
                 {}};
@@ -163,6 +163,23 @@ TableSchema make_domain() {
       required(vec("min_m", "m", "Lower corner.")),
       required(vec("max_m", "m", "Upper corner; each component above min_m.")),
       vec("gravity_m_s2", "m/s^2", "Gravitational acceleration. Unset: zero (no gravity)."),
+      with_default(
+          choice("outflow", {"stop", "remove"},
+                 "What happens to an SPH or DEM particle whose centre leaves the box. "
+                 "\"stop\": the run stops (exit 3), naming the particle. \"remove\": the "
+                 "particle is deleted at the end of the step it left in (its velocity that "
+                 "of the step's end), as hydrocodes deactivate material that leaves the mesh "
+                 "(detonation products venting through a crater). What it carried is booked "
+                 "in its part: its kinetic energy (plus internal m e for SPH, rotational for "
+                 "DEM, and the energy stored in the DEM contacts and bonds it had) goes to "
+                 "`eroded_j` of history.csv and summary.json, so the energy balance still "
+                 "closes; the count and mass that left are the part's diagnostics "
+                 "`left_domain_count` and `left_domain_mass_kg` in summary.json, and the "
+                 "part's `count` and `mass_kg` are what stays. The remaining particles keep "
+                 "their order, so results do not depend on the thread count, and restarts "
+                 "stay bit-identical. A non-finite position is still a numerical failure. "
+                 "FEM parts are not affected (they are not held to the box)."),
+          "\"stop\""),
   };
   return t;
 }
@@ -839,6 +856,34 @@ TableSchema make_contact() {
   return t;
 }
 
+TableSchema make_probes() {
+  TableSchema t{"probes",
+                "The paper's measurements (docs/theory.md, \"Probes\"): summary.json `metrics`, "
+                "surface_profile.csv and the plate's peak stress in history.csv.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      text("plate",
+           "The fem part measured as the plate: plate_peak_von_mises_pa (at stress_time_s), "
+           "plate_peak_von_mises_max_pa, plate_eroded_elements, plate_perforated, and the "
+           "history.csv column plate_max_von_mises_pa."),
+      text("soil",
+           "The dem part whose surface (with the plate's) is the ground: surface_profile.csv, "
+           "surface_settlement_max_m, surface_settlement_max_x_m, crater_depth_m, "
+           "crater_radius_m, delamination_gap_max_m."),
+      with_default(at_least(real("stress_time_s", "s",
+                                 "Time of plate_peak_von_mises_pa (the paper's figures: 0.6 ms)."),
+                            0),
+                   "6.0e-4"),
+      positive(
+          real("surface_bin_m", "m",
+               "Width of the columns (and height of the cells) in which the ground surface "
+               "is found. Unset: 8 x the soil's largest grain radius (cells of some 15 grains).")),
+  };
+  return t;
+}
+
 }  // namespace
 
 const TableSchema& scenario_schema() {
@@ -849,6 +894,7 @@ const TableSchema& scenario_schema() {
   static const TableSchema material = make_material();
   static const TableSchema part = make_part();
   static const TableSchema contact = make_contact();
+  static const TableSchema probes = make_probes();
   static const TableSchema root = [] {
     TableSchema r{"", "A crater scenario file (TOML, SI units).", {}, {}, {}};
     r.keys = {
@@ -859,6 +905,7 @@ const TableSchema& scenario_schema() {
         required(sub("materials", KeyType::TableArray, material, material.doc)),
         required(sub("parts", KeyType::TableArray, part, part.doc)),
         sub("contacts", KeyType::TableArray, contact, contact.doc),
+        sub("probes", KeyType::Table, probes, probes.doc),
     };
     return r;
   }();

@@ -37,6 +37,40 @@ TEST(FieldSet, PermuteMovesEveryFieldTogether) {
   EXPECT_THROW(f.permute(std::vector<Index>{0, 1}), std::logic_error);
 }
 
+TEST(FieldSet, CompactDropsMaskedEntitiesAndKeepsTheOrderOfTheRest) {
+  crater::fields::FieldSet<2> f;
+  auto& id = f.add_integer("id", "1", crater::fields::kOutput);
+  auto& x = f.add_vector("position", "m", crater::fields::kRestart);
+  auto& rho = f.add_scalar("density", "kg/m^3", crater::fields::kOutput);
+  f.resize(6);
+  for (Index i = 0; i < 6; ++i) {
+    id[i] = i;
+    x[i] = crater::Vec<2>(i, -i);
+    rho[i] = 10.0 * i;
+  }
+  const std::vector<std::uint8_t> keep{0, 1, 1, 0, 0, 1};
+  EXPECT_EQ(f.compact(keep), 3);
+  EXPECT_EQ(f.size(), 3);
+  const std::vector<Index> kept{1, 2, 5};
+  for (Index i = 0; i < 3; ++i) {  // every field compacted alike, in index order
+    EXPECT_EQ(id[i], kept[i]);
+    EXPECT_EQ(x[i][0], static_cast<Real>(kept[i]));
+    EXPECT_EQ(x[i][1], -static_cast<Real>(kept[i]));
+    EXPECT_EQ(rho[i], 10.0 * kept[i]);
+  }
+  for (const auto& v : f.views(crater::fields::kOutput | crater::fields::kRestart))
+    EXPECT_EQ(v.size, 3);
+  EXPECT_EQ(id.size(), 3u);
+  EXPECT_EQ(x.size(), 3u);
+  EXPECT_THROW(f.compact(std::vector<std::uint8_t>{1, 1}), std::logic_error);
+  EXPECT_EQ(f.compact(std::vector<std::uint8_t>{1, 1, 1}), 3);  // keep all: unchanged
+  EXPECT_EQ(id[2], 5);
+  EXPECT_EQ(f.compact(std::vector<std::uint8_t>{0, 0, 0}), 0);  // remove all
+  EXPECT_TRUE(rho.empty());
+  f.resize(1);  // an emptied set still grows
+  EXPECT_EQ(rho[0], 0.0);
+}
+
 TEST(FieldSet, ViewsFilterByRoleAndKeepReferencesStable) {
   crater::fields::FieldSet<3> f;
   auto& a = f.add_scalar("a", "1", crater::fields::kOutput);

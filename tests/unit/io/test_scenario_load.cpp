@@ -130,6 +130,14 @@ TEST(ScenarioLoad, DefaultsAreFilled) {
   EXPECT_NE(c.effective_toml.find("safety_factor"), std::string::npos) << c.effective_toml;
 }
 
+TEST(ScenarioLoad, DomainOutflowDefaultsToStopAndIsAChoice) {
+  EXPECT_EQ(load_scenario_text(kBase, "unit.toml", {}).domain.outflow, Outflow::Stop);
+  EXPECT_EQ(load_scenario_text(kBase, "unit.toml", {"domain.outflow=\"remove\""}).domain.outflow,
+            Outflow::Remove);
+  const auto errors = load_errors(kBase, {"domain.outflow=\"delete\""});
+  ASSERT_NE(find_key(errors, "domain.outflow"), nullptr) << all_messages(errors);
+}
+
 TEST(ScenarioLoad, DimensionDefaultsToTwo) {
   const Config c = load_scenario_text(replace(kBase, "dimension = 2\n", ""), "unit.toml", {});
   EXPECT_EQ(c.dimension, 2);

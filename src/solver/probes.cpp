@@ -1,0 +1,459 @@
+// The paper's measurements; see probes.hpp.
+#include "solver/probes.hpp"
+
+#include <fmt/format.h>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string_view>
+
+#include "io/checkpoint/checkpoint.hpp"
+#include "io/output/atomic_file.hpp"
+
+namespace crater::solver {
+namespace {
+
+constexpr Real kNaN = std::numeric_limits<Real>::quiet_NaN();
+
+std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
+
+const fields::FieldView* field(const std::vector<fields::FieldView>& views, std::string_view name) {
+  for (const auto& v : views)
+    if (v.info->name == name) return &v;
+  return nullptr;
+}
+
+Real ball_volume(Real r, int d) {
+  return d == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+
+/// Volume (area in 2D) of a quad (VTK_QUAD) or hexahedron (VTK_HEXAHEDRON) from its nodes.
+template <int D>
+Real cell_volume(const std::vector<Vec<D>>& x, const std::int64_t* nodes) {
+  if constexpr (D == 2) {
+    Real a = 0;
+    for (int k = 0; k < 4; ++k) {
+      const Vec<D>& p = x[at(nodes[k])];
+      const Vec<D>& q = x[at(nodes[(k + 1) % 4])];
+      a += p[0] * q[1] - q[0] * p[1];
+    }
+    return std::abs(a) / 2;
+  } else {
+    // Six tetrahedra around the diagonal 0-6.
+    static constexpr int tets[6][2] = {{1, 2}, {2, 3}, {3, 7}, {7, 4}, {4, 5}, {5, 1}};
+    const Vec<3>& a = x[at(nodes[0])];
+    const Vec<3>& g = x[at(nodes[6])];
+    Real v = 0;
+    for (const auto& t : tets)
+      v += std::abs((x[at(nodes[t[0]])] - a).cross(x[at(nodes[t[1]])] - a).dot(g - a)) / 6;
+    return v;
+  }
+}
+
+}  // namespace
+
+template <int D>
+Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>>>& parts)
+    : cfg_(c.probes) {
+  if (!cfg_.soil) return;
+  for (int d = 0; d < D; ++d)
+    lo_[d] = c.domain.min_m[d];
+  const auto& soil = *parts[*cfg_.soil];
+  const auto pf = soil.point_fields();
+  const auto* radius = field(pf, "radius");
+  const Index n = soil.count();
+  for (Index i = 0; radius && i < n; ++i)
+    grain_r_max_ = std::max(grain_r_max_, radius->real_data[i]);
+  bin_ = cfg_.surface_bin_m ? *cfg_.surface_bin_m : 8 * grain_r_max_;
+  if (!(bin_ > 0)) bin_ = 1;
+  // At most ~1e7 cells: coarser columns for a huge domain.
+  for (;;) {
+    Real cells = 1;
+    for (int d = 0; d < D; ++d)
+      cells *= std::ceil((c.domain.max_m[d] - c.domain.min_m[d]) / bin_);
+    if (cells <= 1e7) break;
+    bin_ *= 2;
+  }
+  // Columns tile the domain's width exactly (no part-empty column at the far side).
+  for (int d = 0; d + 1 < D; ++d) {
+    const Real extent = c.domain.max_m[d] - c.domain.min_m[d];
+    columns_[d] = std::max<Index>(1, static_cast<Index>(std::round(extent / bin_)));
+    width_[d] = extent / static_cast<Real>(columns_[d]);
+  }
+  rows_ = std::max<Index>(
+      1, static_cast<Index>(std::ceil((c.domain.max_m[D - 1] - c.domain.min_m[D - 1]) / bin_)));
+
+  // The bed's packing fraction: grains per cell volume, median over cells with grains in the
+  // cells above and below (inside the bed).
+  phi_ref_ = 1;
+  {
+    const auto cols = ground(parts);  // with phi_ref = 1: F = grain volume (+ plate)
+    const Real cell = cell_volume_ground();
+    std::vector<Real> inside;
+    for (const auto& col : cols)
+      for (std::size_t k = 1; k + 1 < col.grains.size(); ++k) {
+        if (col.grains[k].empty() || col.grains[k - 1].empty() || col.grains[k + 1].empty())
+          continue;
+        Real v = 0;
+        for (Index i : col.grains[k])
+          v += ball_volume(radius->real_data[i], D);
+        inside.push_back(v / cell);
+      }
+    if (!inside.empty()) {
+      std::nth_element(inside.begin(), inside.begin() + static_cast<long>(inside.size() / 2),
+                       inside.end());
+      phi_ref_ = std::clamp(inside[inside.size() / 2], Real(0.05), Real(1));
+    }
+  }
+  const auto cols = ground(parts);
+  surface0_.resize(cols.size());
+  for (std::size_t k = 0; k < cols.size(); ++k)
+    surface0_[k] = surface_height(cols[k]);
+}
+
+template <int D>
+std::vector<typename Probes<D>::Column> Probes<D>::ground(
+    const std::vector<std::unique_ptr<Part<D>>>& parts) const {
+  Index ncol = 1;
+  for (int d = 0; d + 1 < D; ++d)
+    ncol *= columns_[d];
+  std::vector<Column> cols(at(ncol));
+  for (auto& c : cols) {
+    c.filled.assign(at(rows_), 0);
+    c.grains.resize(at(rows_));
+  }
+  // Column and row of a point; false outside the domain.
+  auto locate = [&](const Vec<D>& x, Index& col, Index& row) {
+    col = 0;
+    for (int d = 0; d + 1 < D; ++d) {
+      const Real f = std::floor((x[d] - lo_[d]) / width_[d]);
+      if (!(f >= 0 && f < static_cast<Real>(columns_[d]))) return false;
+      col = col * columns_[d] + static_cast<Index>(f);
+    }
+    const Real f = std::floor((x[D - 1] - lo_[D - 1]) / bin_);
+    if (!(f >= 0 && f < static_cast<Real>(rows_))) return false;
+    row = static_cast<Index>(f);
+    return true;
+  };
+  const auto& soil = *parts[*cfg_.soil];
+  const auto* radius = field(soil.point_fields(), "radius");
+  const auto& xs = *soil.geometry().points;
+  for (Index i = 0; i < soil.count(); ++i) {
+    Index col = 0, row = 0;
+    if (!locate(xs[at(i)], col, row)) continue;
+    cols[at(col)].filled[at(row)] += ball_volume(radius->real_data[i], D) / phi_ref_;
+    cols[at(col)].grains[at(row)].push_back(i);
+  }
+  if (cfg_.plate) {
+    const auto& plate = *parts[*cfg_.plate];
+    const Geometry<D> g = plate.geometry();
+    const auto* eroded = field(plate.cell_fields(), "eroded");
+    const auto& xn = *g.points;
+    std::int64_t begin = 0;
+    for (std::size_t e = 0; e < g.offsets.size(); ++e) {
+      const std::int64_t end = g.offsets[e];
+      if (!(eroded && eroded->integer_data[e] != 0)) {
+        Vec<D> centre = Vec<D>::Zero();
+        for (std::int64_t k = begin; k < end; ++k)
+          centre += xn[at(g.connectivity[at(k)])];
+        centre /= static_cast<Real>(end - begin);
+        Index col = 0, row = 0;
+        if (locate(centre, col, row))
+          cols[at(col)].filled[at(row)] += cell_volume<D>(xn, &g.connectivity[at(begin)]);
+      }
+      begin = end;
+    }
+  }
+  return cols;
+}
+
+template <int D>
+Real Probes<D>::surface_height(const Column& col) const {
+  const Real full = cell_volume_ground();
+  const Index n = static_cast<Index>(col.filled.size());
+  for (Index k = n - 1; k >= 0; --k) {
+    if (!(col.filled[at(k)] > 0)) continue;
+    const Real below = k > 0 ? col.filled[at(k - 1)] : full;
+    if (col.filled[at(k)] + below < full / 2) continue;
+    const Real above = k + 1 < n ? col.filled[at(k + 1)] : 0;
+    return lo_[D - 1] + static_cast<Real>(k) * bin_ + (col.filled[at(k)] + above) / (full / bin_);
+  }
+  return kNaN;
+}
+
+template <int D>
+Real Probes<D>::plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts) const {
+  const auto cf = parts[*cfg_.plate]->cell_fields();
+  const auto* vm = field(cf, "von_mises");
+  const auto* eroded = field(cf, "eroded");
+  Real m = 0;
+  for (Index e = 0; vm && e < vm->size; ++e)
+    if (!(eroded && eroded->integer_data[e] != 0)) m = std::max(m, vm->real_data[e]);
+  return m;
+}
+
+template <int D>
+std::vector<std::string> Probes<D>::history_columns() const {
+  if (!cfg_.plate) return {};
+  return {"plate_max_von_mises_pa"};
+}
+
+template <int D>
+std::vector<Real> Probes<D>::history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  if (!cfg_.plate) return {};
+  const Real m = plate_max_von_mises(parts);
+  peak_max_ = std::max(peak_max_, m);
+  return {m};
+}
+
+template <int D>
+void Probes<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s) {
+  if (!cfg_.plate || peak_time_s_ >= 0 || t_s < cfg_.stress_time_s) return;
+  peak_at_time_ = plate_max_von_mises(parts);
+  peak_time_s_ = t_s;
+  peak_max_ = std::max(peak_max_, peak_at_time_);
+}
+
+template <int D>
+std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                          const std::filesystem::path& dir) const {
+  std::vector<Diagnostic> m;
+  if (cfg_.plate) {
+    const auto& plate = *parts[*cfg_.plate];
+    if (peak_time_s_ >= 0) {
+      m.push_back({"plate_peak_von_mises_pa", peak_at_time_});
+      m.push_back({"plate_peak_von_mises_time_s", peak_time_s_});
+    }
+    m.push_back({"plate_peak_von_mises_max_pa", std::max(peak_max_, plate_max_von_mises(parts))});
+    // Erosion and perforation: eroded elements sharing nodes, from bottom face to top face.
+    const Geometry<D> g = plate.geometry();
+    const auto cf = plate.cell_fields();
+    const auto* eroded = field(cf, "eroded");
+    const auto* disp = field(plate.point_fields(), "displacement");
+    const auto& xn = *g.points;
+    const Index ne = static_cast<Index>(g.offsets.size());
+    auto first = [&](Index e) { return e == 0 ? std::int64_t{0} : g.offsets[at(e - 1)]; };
+    auto ref_up = [&](std::int64_t node) {
+      Real z = xn[at(node)][D - 1];
+      if (disp) z -= disp->real_data[at(node) * D + D - 1];
+      return z;
+    };
+    Real zmin = std::numeric_limits<Real>::infinity(), zmax = -zmin;
+    for (std::size_t k = 0; k < xn.size(); ++k) {
+      zmin = std::min(zmin, ref_up(static_cast<std::int64_t>(k)));
+      zmax = std::max(zmax, ref_up(static_cast<std::int64_t>(k)));
+    }
+    const Real tol = 1e-6 * std::max(Real(1e-3), zmax - zmin);
+    Index eroded_count = 0;
+    // Union-find over eroded elements through shared nodes.
+    std::vector<Index> parent(at(ne));
+    for (Index e = 0; e < ne; ++e)
+      parent[at(e)] = e;
+    auto find = [&](Index e) {
+      while (parent[at(e)] != e)
+        e = parent[at(e)] = parent[at(parent[at(e)])];
+      return e;
+    };
+    std::vector<Index> node_owner(xn.size(), -1);
+    auto is_eroded = [&](Index e) { return eroded && eroded->integer_data[e] != 0; };
+    for (Index e = 0; e < ne; ++e) {
+      if (!is_eroded(e)) continue;
+      ++eroded_count;
+      for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
+        const auto node = at(g.connectivity[at(k)]);
+        if (node_owner[node] < 0)
+          node_owner[node] = e;
+        else
+          parent[at(find(e))] = find(node_owner[node]);
+      }
+    }
+    std::vector<std::uint8_t> bottom(at(ne), 0), top(at(ne), 0);
+    bool perforated = false;
+    for (Index e = 0; e < ne; ++e) {
+      if (!is_eroded(e)) continue;
+      const Index root = find(e);
+      for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
+        const Real z = ref_up(g.connectivity[at(k)]);
+        if (z <= zmin + tol) bottom[at(root)] = 1;
+        if (z >= zmax - tol) top[at(root)] = 1;
+      }
+    }
+    for (Index e = 0; e < ne; ++e)
+      perforated = perforated || (bottom[at(e)] && top[at(e)]);
+    m.push_back({"plate_eroded_elements", static_cast<Real>(eroded_count)});
+    m.push_back({"plate_perforated", perforated ? Real(1) : Real(0)});
+  }
+  if (!cfg_.soil) return m;
+
+  // Ground surface now and at t = 0.
+  const auto cols = ground(parts);
+  const std::size_t nc = cols.size();
+  std::vector<Real> now(nc), drop(nc, kNaN);
+  for (std::size_t k = 0; k < nc; ++k) {
+    now[k] = surface_height(cols[k]);
+    if (std::isfinite(now[k]) && std::isfinite(surface0_[k])) drop[k] = surface0_[k] - now[k];
+  }
+  auto centre = [&](std::size_t k, int axis) {
+    // Column k's centre along horizontal axis `axis` (row-major: the last horizontal axis
+    // varies fastest).
+    Index rest = static_cast<Index>(k);
+    Index idx = 0;
+    for (int d = D - 2; d >= 0; --d) {
+      const Index i = rest % columns_[d];
+      rest /= columns_[d];
+      if (d == axis) idx = i;
+    }
+    return lo_[axis] + (static_cast<Real>(idx) + 0.5) * width_[axis];
+  };
+  {
+    std::string csv = D == 2 ? "x_m," : "x_m,y_m,";
+    csv += "surface_initial_m,surface_m,vertical_displacement_m\n";
+    for (std::size_t k = 0; k < nc; ++k) {
+      for (int d = 0; d + 1 < D; ++d)
+        csv += fmt::format("{},", centre(k, d));
+      csv += fmt::format("{},{},{}\n", surface0_[k], now[k], -drop[k]);
+    }
+    io::write_file_atomic(dir / "surface_profile.csv", csv);
+  }
+  // The crater: the connected columns around the deepest drop that dropped by more than a
+  // grain radius.
+  std::size_t deepest = nc;
+  for (std::size_t k = 0; k < nc; ++k)
+    if (std::isfinite(drop[k]) && (deepest == nc || drop[k] > drop[deepest])) deepest = k;
+  std::vector<std::uint8_t> crater(nc, 0);
+  Index crater_columns = 0;
+  Real depth = 0;
+  if (deepest < nc && drop[deepest] > grain_r_max_) {
+    depth = drop[deepest];
+    std::vector<std::size_t> stack{deepest};
+    crater[deepest] = 1;
+    while (!stack.empty()) {
+      const std::size_t k = stack.back();
+      stack.pop_back();
+      ++crater_columns;
+      // Neighbours along each horizontal axis.
+      Index stride = 1;
+      for (int d = D - 2; d >= 0; --d) {
+        const Index i = (static_cast<Index>(k) / stride) % columns_[d];
+        for (int s : {-1, 1}) {
+          if (i + s < 0 || i + s >= columns_[d]) continue;
+          const std::size_t q = at(static_cast<Index>(k) + s * stride);
+          if (!crater[q] && std::isfinite(drop[q]) && drop[q] > grain_r_max_) {
+            crater[q] = 1;
+            stack.push_back(q);
+          }
+        }
+        stride *= columns_[d];
+      }
+    }
+  }
+  const Real column_area = cell_volume_ground() / bin_;
+  const Real crater_radius =
+      D == 2 ? static_cast<Real>(crater_columns) * column_area / 2
+             : std::sqrt(static_cast<Real>(crater_columns) * column_area / std::numbers::pi);
+  // Settlement outside the crater and its neighbouring columns.
+  Real settle = -std::numeric_limits<Real>::infinity(), settle_x = kNaN;
+  for (std::size_t k = 0; k < nc; ++k) {
+    if (!std::isfinite(drop[k]) || crater[k]) continue;
+    bool next_to_crater = false;
+    Index stride = 1;
+    for (int d = D - 2; d >= 0; --d) {
+      const Index i = (static_cast<Index>(k) / stride) % columns_[d];
+      for (int s : {-1, 1})
+        if (i + s >= 0 && i + s < columns_[d] && crater[at(static_cast<Index>(k) + s * stride)])
+          next_to_crater = true;
+      stride *= columns_[d];
+    }
+    if (next_to_crater) continue;
+    if (drop[k] > settle) {
+      settle = drop[k];
+      settle_x = centre(k, 0);
+    }
+  }
+  if (std::isfinite(settle)) {
+    m.push_back({"surface_settlement_max_m", settle});
+    m.push_back({"surface_settlement_max_x_m", settle_x});
+  }
+  m.push_back({"crater_depth_m", depth});
+  m.push_back({"crater_radius_m", crater_radius});
+
+  // Plate-soil gaps per column.
+  if (cfg_.plate) {
+    const auto& plate = *parts[*cfg_.plate];
+    const Geometry<D> g = plate.geometry();
+    const auto* eroded = field(plate.cell_fields(), "eroded");
+    const auto& xn = *g.points;
+    std::vector<std::uint8_t> live(xn.size(), 0);
+    std::int64_t begin = 0;
+    for (std::size_t e = 0; e < g.offsets.size(); ++e) {
+      if (!(eroded && eroded->integer_data[e] != 0))
+        for (std::int64_t k = begin; k < g.offsets[e]; ++k)
+          live[at(g.connectivity[at(k)])] = 1;
+      begin = g.offsets[e];
+    }
+    const Real inf = std::numeric_limits<Real>::infinity();
+    std::vector<Real> plate_lo(nc, inf), plate_hi(nc, -inf);
+    for (std::size_t n = 0; n < xn.size(); ++n) {
+      if (!live[n]) continue;
+      Index col = 0;
+      bool inside = true;
+      for (int d = 0; d + 1 < D; ++d) {
+        const Real f = std::floor((xn[n][d] - lo_[d]) / width_[d]);
+        inside = inside && f >= 0 && f < static_cast<Real>(columns_[d]);
+        col = col * columns_[d] + (inside ? static_cast<Index>(f) : 0);
+      }
+      if (!inside) continue;
+      plate_lo[at(col)] = std::min(plate_lo[at(col)], xn[n][D - 1]);
+      plate_hi[at(col)] = std::max(plate_hi[at(col)], xn[n][D - 1]);
+    }
+    const auto& soil = *parts[*cfg_.soil];
+    const auto* radius = field(soil.point_fields(), "radius");
+    const auto& xs = *soil.geometry().points;
+    Real gap_max = 0;
+    for (std::size_t k = 0; k < nc; ++k) {
+      if (!(plate_lo[k] <= plate_hi[k])) continue;
+      Real below = -inf, above = inf;
+      for (std::size_t r = 0; r < cols[k].grains.size(); ++r) {
+        for (Index i : cols[k].grains[r]) {
+          const Real z = xs[at(i)][D - 1], rad = radius->real_data[i];
+          if (z < plate_lo[k]) below = std::max(below, z + rad);
+          if (z > plate_hi[k]) above = std::min(above, z - rad);
+        }
+      }
+      if (std::isfinite(below)) gap_max = std::max(gap_max, plate_lo[k] - below);
+      if (std::isfinite(above) && std::isfinite(now[k]) && now[k] > plate_hi[k] + bin_)
+        gap_max = std::max(gap_max, above - plate_hi[k]);
+    }
+    m.push_back({"delamination_gap_max_m", gap_max});
+  }
+  return m;
+}
+
+template <int D>
+void Probes<D>::save(io::StateWriter& w) const {
+  w.tag("probes");
+  w.value(phi_ref_);
+  w.vector(surface0_);
+  w.value(peak_at_time_);
+  w.value(peak_time_s_);
+  w.value(peak_max_);
+}
+
+template <int D>
+void Probes<D>::load(io::StateReader& r) {
+  r.tag("probes");
+  r.value(phi_ref_);
+  r.vector(surface0_);
+  r.value(peak_at_time_);
+  r.value(peak_time_s_);
+  r.value(peak_max_);
+}
+
+template class Probes<2>;
+template class Probes<3>;
+
+}  // namespace crater::solver

@@ -1,0 +1,101 @@
+// The paper's measurements ([probes]; docs/theory.md "Probes"): the plate's stresses, erosion
+// and perforation, the ground surface (settlement, crater) and the plate-soil gap. They read
+// the parts through what the writers see (geometry and output fields), so they measure what
+// the VTU files show.
+//
+// Ground surface. The domain's horizontal extent is cut into columns of width ~b (the extent
+// over a whole number of columns), each column into cells of height b. A cell's filled volume is F
+// = (grain volume) / phi_ref + (volume of the plate's live elements), a grain or an element counted
+// in the cell of its centre, phi_ref the bed's packing fraction measured at t = 0 (median over
+// cells inside the bed). From the top down, the first non-empty cell c that with the cell below
+// holds at least half a cell's worth (F_c + F_{c-1} >= b^D / 2) is the column's top; the surface
+// height is the bottom of c plus (F_c + F_{c+1}) / b^(D-1), the height the solid of those two cells
+// would fill at the bed's packing. Loose ejecta above the ground do not half fill a cell pair and
+// are not the ground (dense clumps of ejecta can: the measure is meant for a settled ground). The
+// packing's density varies from cell to cell: the surface of a flat bed comes out within about
+// a grain diameter.
+//   surface_profile.csv: per column, the surface at t = 0 and at the end, and their difference.
+//   crater_depth_m: the largest drop; crater_radius_m: half the width (2D) or the radius of the
+//   equal-area disk (3D) of the connected columns around it that dropped by more than the
+//   largest grain radius; surface_settlement_max_m (and _x_m): the largest drop of the other
+//   columns, outside the crater and the column next to it (negative: they all rose).
+// Plate. plate_peak_von_mises_pa: the largest von Mises stress over the live elements at the
+// end of the first step reaching probes.stress_time_s (plate_peak_von_mises_time_s says when);
+// plate_peak_von_mises_max_pa: the largest over the history rows (and that sample);
+// plate_eroded_elements; plate_perforated = 1 when eroded elements sharing nodes connect the
+// plate's bottom face to its top face (faces of the undeformed plate along the vertical axis).
+// delamination_gap_max_m: per column, the open gap between the plate's live nodes and the
+// nearest grain under the plate, and over it where the ground still covers it (its surface a
+// cell above the plate); the largest over the columns. At t = 0 it is the packing's own gap at
+// the plate's faces (up to about a grain radius).
+// The vertical axis is the last one (y in 2D, z in 3D).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scenario/config.hpp"
+#include "solver/part.hpp"
+
+namespace crater::io {
+class StateWriter;
+class StateReader;
+}  // namespace crater::io
+
+namespace crater::solver {
+
+template <int D>
+class Probes {
+ public:
+  /// Measures the initial ground surface from the parts' state at t = 0.
+  Probes(const io::Config& config, const std::vector<std::unique_ptr<Part<D>>>& parts);
+
+  bool empty() const { return !cfg_.any(); }
+
+  /// history.csv: the plate's largest von Mises stress (plate_max_von_mises_pa).
+  std::vector<std::string> history_columns() const;
+  /// The values for a history row at time t (also the running maximum).
+  std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts);
+
+  /// After each step: samples the plate at probes.stress_time_s.
+  void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s);
+
+  /// The metrics of the current state (summary.json), and surface_profile.csv into `dir`.
+  std::vector<Diagnostic> finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                 const std::filesystem::path& dir) const;
+
+  void save(io::StateWriter& w) const;
+  void load(io::StateReader& r);
+
+ private:
+  struct Column {
+    std::vector<Real> filled;                // F per cell, bottom up [m^D]
+    std::vector<std::vector<Index>> grains;  // grains per cell (soil indices)
+  };
+  // The ground's cells in the current state (columns in row-major order of their indices).
+  std::vector<Column> ground(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  Real surface_height(const Column& col) const;
+  Real plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  Real cell_volume_ground() const {
+    Real v = bin_;
+    for (int d = 0; d + 1 < D; ++d)
+      v *= width_[d];
+    return v;
+  }
+
+  io::ProbesConfig cfg_;
+  Vec<D> lo_ = Vec<D>::Zero();  // domain's lower corner
+  Real bin_ = 0;
+  Index columns_[D - 1] = {};
+  Real width_[D - 1] = {};  // column widths: the domain's width over the column count
+  Index rows_ = 0;
+  Real grain_r_max_ = 0;
+  Real phi_ref_ = 1;
+  std::vector<Real> surface0_;  // per column; NaN where there is no ground
+  // Plate samples.
+  Real peak_at_time_ = -1, peak_time_s_ = -1, peak_max_ = 0;
+};
+
+}  // namespace crater::solver

@@ -1,0 +1,141 @@
+"""Resolution levels and the paper's probes (issue 6) on the bundled paper-20cm scenario.
+
+Levels: `--level` applies the file's [levels.<name>] overrides (the counts `check` prints grow
+as the paper's section IV-B says), an unknown level or a malformed levels table exits 2.
+Probes: the measurements of summary.json agree with what the VTU files show when read with
+VTK's own reader (the plate's peak von Mises stress at the sampled frame, the eroded element
+count), the initial ground surface of the flat bed is y = 0 to within a grain diameter, and
+crater depth and settlement agree with surface_profile.csv."""
+# ctest-timeout: 900
+import csv
+import json
+import sys
+import unittest
+
+import numpy as np
+
+from crater_test import SOURCE_DIR, crater, read_pvd, read_vtu_cells, scratch
+
+INTERVAL_S = 1e-4
+FRAME = 6
+# The frame time exactly as the run computes it (interval x frame number), so that the stress
+# sample (the first step reaching stress_time_s) is that frame.
+STRESS_TIME_S = INTERVAL_S * FRAME
+
+
+class Levels(unittest.TestCase):
+    def counts(self, *args):
+        p = crater("check", "paper-20cm", *args)
+        rows = {}
+        for line in p.stdout.splitlines():
+            f = line.split()
+            if len(f) > 2 and f[1] in ("sph", "fem", "dem"):
+                rows[f[0]] = int(f[2])
+        return rows, p.stdout
+
+    def test_levels_refine_every_part(self):
+        demo, out = self.counts()
+        self.assertEqual(demo, self.counts("--level", "demo")[0])
+        medium, out = self.counts("--level", "medium")
+        self.assertIn("level medium", out)
+        # Paper section IV-B, medium: SPH 1.2 cm (READING-NOTES: ~8,900 particles in the
+        # disk), FEM 5 mm (800 x 40 elements in the 4 m x 0.2 m plate).
+        self.assertAlmostEqual(medium["charge"], 8900, delta=100)
+        self.assertEqual(medium["plate"], 800 * 40)
+        self.assertGreater(medium["soil"], 10 * demo["soil"])
+
+    def test_unknown_level_exits_2(self):
+        p = crater("check", "paper-20cm", "--level", "extreme", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("no level 'extreme'", p.stderr)
+        self.assertIn("medium", p.stderr)
+        p = crater("check", "demo", "--level", "medium", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("defines no levels", p.stderr)
+
+    def test_bad_level_table_exits_2(self):
+        d = scratch("levels_bad")
+        text = (SOURCE_DIR / "scenarios/demo.toml").read_text()
+        for body, needle in [
+            ('[levels.a]\nsets = ["x=1"]\n', "levels.a.sets"),
+            ('[levels.a]\nset = [1]\n', "levels.a.set[0]"),
+            ('[levels.a]\nset = ["parts.charge.spacing_m = -1"]\n', "spacing_m"),
+        ]:
+            f = d / "bad.toml"
+            f.write_text(text + "\n" + body)
+            p = crater("check", f, "--level", "a", check=False)
+            self.assertEqual(p.returncode, 2, p.stderr)
+            self.assertIn(needle, p.stderr)
+            self.assertNotIn("Traceback", p.stderr)
+
+    def test_list_shows_levels(self):
+        p = crater("list")
+        self.assertRegex(p.stdout, r"paper-20cm .*\n\s+levels: demo, coarse, medium, fine")
+
+
+class Probes(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.out = scratch("probes_paper20")
+        crater("run", "paper-20cm", "--out", cls.out, "--force", "--quiet",
+               "--set", "scenario.end_time_s=7e-4", "--set", f"output.interval_s={INTERVAL_S!r}",
+               "--set", f"probes.stress_time_s={STRESS_TIME_S!r}")
+        with open(cls.out / "summary.json") as f:
+            cls.summary = json.load(f)
+        cls.m = cls.summary["metrics"]
+
+    def test_every_metric_is_written(self):
+        for k in ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa",
+                  "surface_settlement_max_m", "surface_settlement_max_x_m", "crater_depth_m",
+                  "crater_radius_m", "plate_eroded_elements", "plate_perforated",
+                  "delamination_gap_max_m"]:
+            self.assertIn(k, self.m)
+            self.assertTrue(np.isfinite(self.m[k]), k)
+
+    def test_peak_stress_is_the_frames_maximum(self):
+        frames = read_pvd(self.out / "plate.pvd")
+        t, name = frames[FRAME]
+        self.assertEqual(t, self.m["plate_peak_von_mises_time_s"])
+        cells = read_vtu_cells(self.out / name)
+        live = cells["eroded"] == 0
+        self.assertGreater(self.m["plate_peak_von_mises_pa"], 0)
+        self.assertEqual(self.m["plate_peak_von_mises_pa"], float(cells["von_mises"][live].max()))
+        self.assertGreaterEqual(self.m["plate_peak_von_mises_max_pa"],
+                                self.m["plate_peak_von_mises_pa"])
+        with open(self.out / "history.csv") as f:
+            rows = list(csv.DictReader(f))
+        hist = max(float(r["plate_max_von_mises_pa"]) for r in rows)
+        self.assertLessEqual(hist, self.m["plate_peak_von_mises_max_pa"])
+        self.assertGreater(hist, 0)
+
+    def test_eroded_count_matches_last_frame(self):
+        _, name = read_pvd(self.out / "plate.pvd")[-1]
+        cells = read_vtu_cells(self.out / name)
+        self.assertEqual(self.m["plate_eroded_elements"], int((cells["eroded"] != 0).sum()))
+
+    def test_surface_profile(self):
+        with open(self.out / "surface_profile.csv") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(list(rows[0].keys()), ["x_m", "surface_initial_m", "surface_m",
+                                                "vertical_displacement_m"])
+        # Columns of ~8 r_max (r_max 19 mm) tiling the 4 m width.
+        self.assertEqual(len(rows), round(4.0 / (8 * 0.019)))
+        y0 = np.array([float(r["surface_initial_m"]) for r in rows])
+        # The bed is laid up to y = 0 (ground surface): to within a grain diameter.
+        self.assertLess(np.abs(y0).max(), 2 * 0.019)
+        dy = np.array([float(r["vertical_displacement_m"]) for r in rows])
+        dy = dy[np.isfinite(dy)]
+        # A crater is a drop deeper than the largest grain radius (19 mm); less is no crater.
+        deepest = -dy.min()
+        self.assertAlmostEqual(self.m["crater_depth_m"], deepest if deepest > 0.019 else 0.0,
+                               delta=1e-12)
+        # Settlement: the largest drop outside the crater (all columns when there is none).
+        if self.m["crater_depth_m"] == 0:
+            self.assertAlmostEqual(self.m["surface_settlement_max_m"], deepest, delta=1e-12)
+        else:
+            self.assertLessEqual(self.m["surface_settlement_max_m"], deepest)
+        self.assertGreaterEqual(self.m["crater_radius_m"], 0)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=[sys.argv[0], "-v"])

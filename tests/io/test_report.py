@@ -1,0 +1,291 @@
+"""`crater report DIR`: figures and report.md for a run directory (tools/report/crater_report.py,
+embedded in the binary). A small charge + plate + grains scene and the demo are run and
+reported; every figure report.md links must exist and be a real picture (a PNG over 200 px
+each way that is not one flat colour); the optional figures appear when history.csv and
+surface_profile.csv hold their columns; a failed run is reported with its state at failure;
+bad input exits 2 with one line and no Python traceback; a missing interpreter or module
+exits 1 naming the Debian packages."""
+import csv
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import unittest
+
+import numpy as np
+
+from crater_test import BIN, crater, run_scenario, scratch
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def linked_pngs(report_md):
+    """The PNG files report.md links, in order."""
+    return re.findall(r"!\[[^\]]*\]\(([^)\s]+\.png)\)", report_md.read_text())
+
+
+def png_size(path):
+    """(width, height) from the IHDR chunk, which follows the signature."""
+    data = path.read_bytes()[:24]
+    if data[:8] != PNG_SIGNATURE or data[12:16] != b"IHDR":
+        raise AssertionError(f"{path} is not a PNG file")
+    return struct.unpack(">II", data[16:24])
+
+
+def report(*args, env=None):
+    """Runs `crater report`; returns the CompletedProcess (no check: callers test the code)."""
+    return subprocess.run([BIN, "report", *map(str, args)], capture_output=True, text=True,
+                          timeout=300, env=env)
+
+
+class Report(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("report")
+        scenario = cls.work / "scene.toml"
+        scenario.write_text(SCENE)
+        cls.scene = cls.work / "scene"
+        cls.scene_summary = run_scenario(scenario, cls.scene)
+        cls.demo = cls.work / "demo"
+        run_scenario("demo", cls.demo)
+
+    def assert_valid_report(self, out_dir, expected):
+        """report.md links exactly the PNGs written, each of them a sensible picture, and the
+        expected ones among them. Returns report.md's text."""
+        md = out_dir / "report.md"
+        self.assertTrue(md.is_file(), f"no {md}")
+        links = linked_pngs(md)
+        self.assertTrue(set(expected) <= set(links), f"{expected} not all in {links}")
+        self.assertEqual(sorted(links), sorted(p.name for p in out_dir.glob("*.png")),
+                         "report.md links every PNG written, and only those")
+        import matplotlib.image
+        for name in links:
+            with self.subTest(png=name):
+                path = out_dir / name
+                self.assertTrue(path.is_file(), f"{path} linked but missing")
+                w, h = png_size(path)
+                self.assertGreater(w, 200)
+                self.assertGreater(h, 200)
+                self.assertLess(path.stat().st_size, 600_000, "PNGs stay small")
+                pixels = matplotlib.image.imread(str(path))
+                self.assertGreater(float(np.std(pixels)), 0.0, "not a single flat colour")
+        return md.read_text()
+
+    def test_multi_part_run(self):
+        p = report(self.scene)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertNotIn("Traceback", p.stderr)
+        text = self.assert_valid_report(self.scene / "report", [
+            "snapshots_parts.png", "snapshots_velocity.png", "snapshots_pressure.png",
+            "snapshots_von_mises.png", "energy.png"])
+        self.assertIn("report-small", text)
+        self.assertIn("completed", text)
+        for part in self.scene_summary["parts"]:
+            self.assertRegex(text, rf"\| {part['name']} \| {part['method']} \| {part['count']} \|")
+        # default snapshots: four output times spread over the run, the first and last included
+        self.assertIn("Snapshots at 0 ms, 0.05 ms, 0.15 ms, 0.2 ms;", text)
+
+    def test_times_and_out(self):
+        out = self.work / "elsewhere"
+        p = report(self.scene, "--out", out, "--times", "0.00011,1")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        text = self.assert_valid_report(out, ["snapshots_velocity.png"])
+        self.assertIn("Snapshots at 0.1 ms, 0.2 ms;", text)  # the frames nearest
+
+    def test_sph_only_demo(self):
+        p = report(self.demo)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assert_valid_report(self.demo / "report", [
+            "snapshots_velocity.png", "snapshots_pressure.png", "energy.png"])
+        self.assertFalse((self.demo / "report" / "snapshots_von_mises.png").exists(),
+                         "no FEM part, no von Mises figure")
+
+    def test_optional_histories_and_metrics(self):
+        # The plate's peak stress per history row, the ground surface at the end and metrics
+        # in summary.json: added to a copy of the scene's run.
+        run = self.work / "with_profiles"
+        if run.exists():
+            shutil.rmtree(run)
+        shutil.copytree(self.scene, run, ignore=shutil.ignore_patterns("report"))
+        with open(self.scene / "history.csv") as f:
+            rows = list(csv.reader(f))
+        rows[0].append("plate_max_von_mises_pa")
+        for i, row in enumerate(rows[1:]):
+            row.append(str(1e6 * i))
+        with open(run / "history.csv", "w", newline="") as f:
+            csv.writer(f).writerows(rows)
+        x = np.linspace(0.0, 1.0, 41)
+        with open(run / "surface_profile.csv", "w") as f:
+            f.write("x_m,vertical_displacement_m\n")
+            for xi in x:
+                f.write(f"{xi},{-0.01 * np.exp(-((xi - 0.35) / 0.2) ** 2)}\n")
+        summary = json.loads((run / "summary.json").read_text())
+        summary["metrics"] = {"plate_peak_von_mises_pa": 2.5e8, "crater_depth_m": 0.12,
+                              "plate_eroded_elements": 3, "plate_perforated": False}
+        (run / "summary.json").write_text(json.dumps(summary))
+        p = report(run)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        text = self.assert_valid_report(run / "report", [
+            "von_mises_history.png", "surface_profile.png"])
+        self.assertRegex(text, r"\| `plate_peak_von_mises_pa` \| 2\.5e\+08 .*\| Pa \|")
+        self.assertRegex(text, r"\| `crater_depth_m` \| 0\.12 \| m \|")
+        self.assertRegex(text, r"\| `plate_perforated` \| no \|")
+
+    def test_failed_run(self):
+        # The demo's charge in a domain barely larger than itself: a particle leaves (exit 3).
+        run = self.work / "failed"
+        p = crater("run", "demo", "--out", run, "--quiet", "--force",
+                   "--set", "domain.min_m=[-0.12, -0.12]", "--set", "domain.max_m=[0.12, 0.12]",
+                   check=False)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        p = report(run)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        text = self.assert_valid_report(run / "report", ["snapshots_velocity.png"])
+        self.assertIn("**failed**", text)
+        self.assertIn("left the domain", text)
+        self.assertIn("charge_failure.vtu", text)
+
+    def test_bad_input_exits_2_without_traceback(self):
+        empty = scratch("report_empty")
+        no_frames = scratch("report_no_frames")
+        (no_frames / "summary.json").write_text('{"status": "completed", "parts": []}')
+        bad_json = scratch("report_bad_json")
+        (bad_json / "summary.json").write_text("{ not json")
+        cases = [
+            ([self.work / "no-such-dir"], "no such run directory"),
+            ([self.scene / "summary.json"], "not a directory"),
+            ([empty], "no summary.json"),
+            ([no_frames], "no <part>.pvd"),
+            ([bad_json], "not readable as JSON"),
+            ([self.scene, "--times", "0.1,soon"], "--times"),
+        ]
+        for args, message in cases:
+            with self.subTest(args=args):
+                p = report(*args)
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertNotIn("Traceback", p.stderr)
+                self.assertIn(message, p.stderr)
+                self.assertEqual(len(p.stderr.strip().splitlines()), 1, p.stderr)
+        p = crater("report", check=False)  # no DIR: the command line is wrong
+        self.assertEqual(p.returncode, 2)
+
+    def test_missing_python_or_modules_exits_1(self):
+        env = dict(os.environ, CRATER_PYTHON=str(self.work / "no-python"))
+        p = report(self.demo, env=env)
+        self.assertEqual(p.returncode, 1)
+        self.assertIn("python3-vtk9 python3-matplotlib python3-numpy", p.stderr)
+        # An interpreter without Debian's site packages (-S) lacks numpy, VTK and matplotlib.
+        bare = self.work / "bare-python"
+        bare.write_text(f'#!/bin/sh\nexec {sys.executable} -S "$@"\n')
+        bare.chmod(0o755)
+        p = report(self.demo, env=dict(os.environ, CRATER_PYTHON=str(bare)))
+        self.assertEqual(p.returncode, 1, p.stderr)
+        self.assertNotIn("Traceback", p.stderr)
+        self.assertIn("python3-vtk9", p.stderr)
+
+
+# A small charge under a plate in a box of grains: the paper's scene
+# (scenarios/paper-20cm.toml) at a fifth of its size; runs in about a second.
+SCENE = """
+[scenario]
+name = "report-small"
+description = "a small charge under a plate in a box of grains (crater report test)"
+dimension = 2
+end_time_s = 2.0e-4
+
+[time]
+safety_factor = 0.45
+
+[output]
+interval_s = 5.0e-5
+history_every = 10
+
+[domain]
+min_m = [0.0, -0.6]
+max_m = [1.0, 1.0]
+gravity_m_s2 = [0.0, -9.81]
+
+[[materials]]
+name = "tnt"
+model = "jwl"
+rho0_kg_m3 = 1630.0
+a_pa = 373.8e9
+b_pa = 3.747e9
+r1 = 4.15
+r2 = 0.90
+omega = 0.35
+e0_j_m3 = 6.0e9
+d_cj_m_s = 6930.0
+
+[[materials]]
+name = "steel"
+model = "johnson_cook"
+rho0_kg_m3 = 7850
+youngs_modulus_pa = 200e9
+poisson_ratio = 0.3
+a_pa = 50.103e6
+b_pa = 176.091e6
+n = 0.5176
+c = 0.095
+m = 0.6622
+damage = { d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = 0.61 }
+
+[[materials]]
+name = "sand"
+model = "granular"
+rho0_kg_m3 = 1920
+shear_modulus_pa = 29e9
+poisson_ratio = 0.2
+friction = 0.84
+restitution = 0.5
+
+[[parts]]
+name = "charge"
+method = "sph"
+material = "tnt"
+spacing_m = 0.02
+region = { type = "disk", center_m = [0.35, -0.38], radius_m = 0.1 }
+[parts.sph]
+walls = ["left", "right", "bottom"]
+[[parts.detonation]]
+point_m = [0.35, -0.38]
+
+[[parts]]
+name = "plate"
+method = "fem"
+material = "steel"
+spacing_m = 0.025
+region = { type = "box", min_m = [0.0, -0.2], max_m = [1.0, -0.15] }
+[parts.fem]
+erode_inverted = true
+erosion_plastic_strain = 2.0
+
+[[parts]]
+name = "soil"
+method = "dem"
+material = "sand"
+spacing_m = 0.03
+region = { type = "box", min_m = [0.0, -0.6], max_m = [1.0, 0.0] }
+carve = ["charge", "plate"]
+[parts.dem]
+radius_min_m = 0.011
+radius_max_m = 0.014
+hertz_2d = "row_of_spheres"
+walls = ["left", "right", "bottom"]
+
+[[contacts]]
+parts = ["charge", "plate"]
+
+[[contacts]]
+parts = ["soil", "plate"]
+friction = 0.4
+
+[[contacts]]
+parts = ["charge", "soil"]
+"""
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -1,0 +1,39 @@
+"""The bundled paper scenarios at their demo level, run to the end (10 ms): they complete, write
+every metric of issue 6 and surface_profile.csv, the energy balance stays within 5 %, and
+paper-20cm gives bit-identical outputs on 1 and 2 threads. About 3 minutes per run on 2 cores
+(1 thread: twice that), so the label is slow (`make test-slow`)."""
+# ctest-labels: slow
+# ctest-timeout: 3600
+import sys
+import unittest
+
+from crater_test import assert_bit_identical_runs, run_scenario, scratch
+
+METRICS = ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa", "surface_settlement_max_m",
+           "surface_settlement_max_x_m", "crater_depth_m", "crater_radius_m",
+           "plate_eroded_elements", "plate_perforated", "delamination_gap_max_m"]
+
+
+class PaperScenarios(unittest.TestCase):
+    def check(self, summary, out):
+        self.assertEqual(summary["status"], "completed")
+        self.assertAlmostEqual(summary["time_s"], 1e-2, delta=1e-15)
+        for k in METRICS:
+            self.assertIn(k, summary["metrics"])
+        self.assertLess(abs(summary["energy"]["balance_error"]), 0.05)
+        self.assertTrue((out / "surface_profile.csv").is_file())
+
+    def test_paper_20cm_demo_threads(self):
+        work = scratch("paper20_full")
+        assert_bit_identical_runs("paper-20cm", work)
+        import json
+        with open(work / "threads1" / "summary.json") as f:
+            self.check(json.load(f), work / "threads1")
+
+    def test_paper_40cm_demo(self):
+        out = scratch("paper40_full")
+        self.check(run_scenario("paper-40cm", out, threads=2), out)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

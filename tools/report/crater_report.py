@@ -1,0 +1,1004 @@
+#!/usr/bin/env python3
+"""crater report: figures and a one-page report.md for a run directory of `crater run`.
+
+  crater report DIR [--out OUT] [--times T1,T2,...]
+  /usr/bin/python3 tools/report/crater_report.py DIR [...]      (the same, from the source tree)
+
+`crater report` carries this script inside the binary (CMake embeds it at build time) and runs
+it with Debian's /usr/bin/python3, the interpreter python3-vtk9, python3-numpy and
+python3-matplotlib load in.
+
+DIR is a finished, failed or interrupted run directory: summary.json, <part>.pvd with its
+<part>_NNNNNN.vtu frames, history.csv, and when the run wrote them <part>_failure.vtu and
+surface_profile.csv. Written into OUT (default DIR/report/):
+  snapshots_parts.png       all parts at the chosen output times, a colour per part;
+  snapshots_velocity.png    ... coloured by speed;
+  snapshots_pressure.png    ... by pressure (SPH and FEM; grains grey);
+  snapshots_von_mises.png   ... by von Mises stress (FEM; the other parts grey);
+  energy.png                the energy balance of history.csv (and each part's total);
+  von_mises_history.png     the <part>_max_von_mises_pa columns of history.csv, if any;
+  surface_profile.png       the ground surface of surface_profile.csv, if present;
+  report.md                 the summary as tables, linking the figures.
+Snapshots show up to four output times spread evenly from the first to the last (the state at
+failure of a failed run counts as the last), or the frames nearest to --times (seconds).
+Particles are drawn as discs of their own size (DEM: the grain radius; SPH: the disc whose area
+is mass/density), FEM elements as filled polygons; eroded elements are hidden. 3D runs show a
+vertical section through the charge (the vertical axis: along gravity in the scenario file, else
+z, as crater's probes take it): the FEM mesh cut by the plane, the particles within about a
+particle layer of it.
+
+Exit codes: 0 done; 2 bad input (no run directory, no summary.json, no .pvd, bad --times);
+1 missing Python modules or another error; 130 interrupted.
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+import warnings
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+EXIT_OK, EXIT_OTHER, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+DEBIAN_PACKAGES = "python3-vtk9 python3-numpy python3-matplotlib"
+
+# The files this script writes; older copies of them in OUT are removed first, nothing else.
+SNAPSHOT_FILES = {
+    "parts": "snapshots_parts.png",
+    "velocity": "snapshots_velocity.png",
+    "pressure": "snapshots_pressure.png",
+    "von_mises": "snapshots_von_mises.png",
+}
+ENERGY_FILE = "energy.png"
+VON_MISES_HISTORY_FILE = "von_mises_history.png"
+SURFACE_FILE = "surface_profile.png"
+REPORT_FILE = "report.md"
+OUR_FILES = [*SNAPSHOT_FILES.values(), ENERGY_FILE, VON_MISES_HISTORY_FILE, SURFACE_FILE,
+             REPORT_FILE]
+
+DEFAULT_SNAPSHOTS = 4
+DPI = 100
+# Parts without the plotted quantity are grey, a shade per method (products, grains, steel).
+GREY = {"sph": "#dedee6", "dem": "#a6a6a6", "fem": "#707070"}
+# The colours of the parts in snapshots_parts.png, by method, then in the parts' order.
+PART_COLOURS = {"sph": ["#e0402a", "#f39c12", "#e377c2"], "dem": ["#c8a165", "#8c564b", "#bcbd22"],
+                "fem": ["#2f5f9e", "#17becf", "#9467bd"]}
+
+
+class InputError(Exception):
+    """Bad input (exit 2): the message is one line naming the file or option."""
+
+
+def warn(msg):
+    print(f"crater report: warning: {msg}", file=sys.stderr)
+
+
+# ---------------------------------------------------------------------------------------------
+# The run directory (standard library only: bad input is reported before the heavy imports)
+# ---------------------------------------------------------------------------------------------
+
+class Part:
+    """One part of the run: its name, method (sph, dem, fem) and frames [(time, Path)]."""
+
+    def __init__(self, name, method, frames, failure):
+        self.name, self.method, self.frames, self.failure = name, method, frames, failure
+
+
+class Frame:
+    """One snapshot time: {part name: .vtu path}; label is "" or "failure"."""
+
+    def __init__(self, time, files, label=""):
+        self.time, self.files, self.label = time, files, label
+
+
+def load_summary(run_dir):
+    path = run_dir / "summary.json"
+    if not path.is_file():
+        raise InputError(f"{run_dir}: no summary.json; not a run directory of `crater run`")
+    try:
+        summary = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise InputError(f"{path}: not readable as JSON ({e})") from None
+    if not isinstance(summary, dict):
+        raise InputError(f"{path}: not a JSON object")
+    return summary
+
+
+def read_pvd(path):
+    """[(time, Path)] of a ParaView collection, sorted by time; [] if it cannot be read."""
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as e:
+        warn(f"{path}: skipped, not a readable .pvd ({e})")
+        return []
+    frames = []
+    for ds in root.iter("DataSet"):
+        try:
+            t = float(ds.get("timestep", "nan"))
+        except ValueError:
+            continue
+        f = ds.get("file")
+        if f and math.isfinite(t) and (path.parent / f).is_file():
+            frames.append((t, path.parent / f))
+    return sorted(frames, key=lambda x: x[0])
+
+
+def find_parts(run_dir, summary):
+    """The parts with a .pvd, in the summary's order (then any other .pvd of DIR)."""
+    methods = {}
+    for p in summary.get("parts") or []:
+        if isinstance(p, dict) and isinstance(p.get("name"), str):
+            methods[p["name"]] = str(p.get("method", ""))
+    names = [n for n in methods if (run_dir / f"{n}.pvd").is_file()]
+    names += sorted(p.stem for p in run_dir.glob("*.pvd") if p.stem not in methods)
+    if not names:
+        raise InputError(f"{run_dir}: no <part>.pvd output; the run wrote no frames")
+    parts = []
+    for n in names:
+        frames = read_pvd(run_dir / f"{n}.pvd")
+        failure = run_dir / f"{n}_failure.vtu"
+        if frames or failure.is_file():
+            parts.append(Part(n, methods.get(n, ""), frames, failure if failure.is_file() else None))
+    if not parts:
+        raise InputError(f"{run_dir}: no .pvd lists an existing .vtu frame")
+    return parts
+
+
+def collect_frames(parts, summary):
+    """Every output time of any part, each with the nearest frame of every part; the state at
+    failure (<part>_failure.vtu, at summary.json's time_s) last."""
+    times = sorted({t for p in parts for t, _ in p.frames})
+    merged = []
+    for t in times:  # parts share output times; merge those equal to rounding
+        if merged and abs(t - merged[-1]) <= 1e-9 * max(abs(t), 1e-300):
+            continue
+        merged.append(t)
+    frames = []
+    for t in merged:
+        files = {}
+        for p in parts:
+            if p.frames:
+                tp, f = min(p.frames, key=lambda x: abs(x[0] - t))
+                if abs(tp - t) <= 1e-9 * max(abs(t), 1e-300):
+                    files[p.name] = f
+        frames.append(Frame(t, files))
+    if any(p.failure for p in parts):
+        t_fail = as_float(summary.get("time_s"))
+        if t_fail is None:
+            t_fail = merged[-1] if merged else 0.0
+        files = {p.name: p.failure for p in parts if p.failure}
+        frames.append(Frame(t_fail, files, "failure"))
+    return frames
+
+
+def select_frames(frames, times_option):
+    if times_option is None:
+        n = len(frames)
+        if n <= DEFAULT_SNAPSHOTS:
+            return list(frames)
+        picks = sorted({round(i * (n - 1) / (DEFAULT_SNAPSHOTS - 1))
+                        for i in range(DEFAULT_SNAPSHOTS)})
+        return [frames[i] for i in picks]
+    wanted = []
+    for item in times_option.split(","):
+        try:
+            t = float(item)
+        except ValueError:
+            raise InputError(f"--times: '{item}' is not a time in seconds "
+                             "(give e.g. --times 0.0006,0.002)") from None
+        if not math.isfinite(t):
+            raise InputError(f"--times: '{item}' is not a finite time in seconds")
+        wanted.append(t)
+    picks = sorted({min(range(len(frames)), key=lambda i: abs(frames[i].time - t))
+                    for t in wanted})
+    return [frames[i] for i in picks]
+
+
+def read_csv_columns(path):
+    """{column: [float]} of a CSV file with a header row (non-numbers read as nan); None if the
+    file is absent, {} if it cannot be read."""
+    if not path.is_file():
+        return None
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        warn(f"{path}: skipped ({e})")
+        return {}
+    if len(rows) < 2:
+        return {}
+    header = [h.strip() for h in rows[0]]
+    cols = {h: [] for h in header}
+    for row in rows[1:]:
+        if len(row) != len(header):
+            continue  # a row cut short by an interrupted run
+        for h, v in zip(header, row):
+            try:
+                cols[h].append(float(v))
+            except ValueError:
+                cols[h].append(float("nan"))
+    return cols
+
+
+def as_float(v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        return None
+    return float(v)
+
+
+# ---------------------------------------------------------------------------------------------
+# Frames read with VTK
+# ---------------------------------------------------------------------------------------------
+
+class PartState:
+    """One part at one frame, reduced to what is drawn in the plotted plane.
+
+    particles: xy (N x 2) and diameter (N) of discs; or polygons: list of (K x 2) vertex
+    arrays. values: {quantity: array per disc or polygon, in plot units}.
+    """
+
+    def __init__(self, name, method):
+        self.name, self.method = name, method
+        self.xy = None
+        self.diameter = None
+        self.polygons = None
+        self.values = {}
+
+
+def vtk_arrays(data):
+    return {data.GetArrayName(i): vtk_to_numpy(data.GetArray(i))
+            for i in range(data.GetNumberOfArrays()) if data.GetArray(i) is not None}
+
+
+def read_grid(path):
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    if reader.GetErrorCode() != 0:
+        return None
+    grid = reader.GetOutput()
+    if grid is None or grid.GetPoints() is None:
+        return None
+    return grid
+
+
+AXES = "xyz"
+
+
+class Plane:
+    """What the snapshots show: the plane of a horizontal axis h and the vertical axis v; in 3D
+    the section at c0 along the third axis n."""
+
+    def __init__(self, vertical=1, normal=None, c0=0.0):
+        self.v, self.n, self.c0 = vertical, normal, c0
+        self.h = next(a for a in range(3) if a not in (vertical, normal))
+
+    def cols(self):
+        return [self.h, self.v]
+
+    def label(self):
+        return "" if self.n is None else f"section {AXES[self.n]} = {self.c0:.3g} m"
+
+
+def vertical_axis_3d(summary, run_dir):
+    """The vertical axis of a 3D run: the one gravity points along in the scenario file (when it
+    can still be read), else z, as crater's probes take it (surface_profile.csv: x_m, y_m)."""
+    sc = summary.get("scenario") if isinstance(summary.get("scenario"), dict) else {}
+    name = sc.get("file")
+    try:
+        import tomllib
+        for path in ([Path(name), run_dir.parent / name] if isinstance(name, str) else []):
+            if path.is_file():
+                with open(path, "rb") as f:
+                    g = tomllib.load(f).get("domain", {}).get("gravity_m_s2")
+                if isinstance(g, list) and len(g) == 3 and any(g):
+                    return max(range(3), key=lambda a: abs(float(g[a])))
+                break
+    except (ImportError, OSError, ValueError, TypeError):
+        pass
+    return 2
+
+
+def cell_polygons(points, cells, cols):
+    """Vertex arrays (in the plotted axes cols) of a vtkCellArray's cells."""
+    conn = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64)
+    offs = vtk_to_numpy(cells.GetOffsetsArray()).astype(np.int64)
+    sizes = np.diff(offs)
+    if len(sizes) and np.all(sizes == sizes[0]):
+        return list(points[conn.reshape(-1, sizes[0])][:, :, cols])
+    return [points[conn[a:b]][:, cols] for a, b in zip(offs[:-1], offs[1:])]
+
+
+def speed(v):
+    v = np.asarray(v, dtype=float)
+    return np.linalg.norm(v, axis=1) if v.ndim == 2 else np.abs(v)
+
+
+def particle_state(grid, name, method, plane):
+    st = PartState(name, method)
+    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+    arr = vtk_arrays(grid.GetPointData())
+    n = len(pts)
+    dimension = 2 if plane.n is None else 3
+    if method == "dem" and "radius" in arr:
+        d = 2.0 * np.asarray(arr["radius"], dtype=float)
+    elif "mass" in arr and "density" in arr:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vol = np.asarray(arr["mass"], float) / np.asarray(arr["density"], float)
+        # the disc of the particle's area (2D), the sphere of its volume (3D)
+        d = (np.sqrt(4.0 * vol / math.pi) if dimension == 2
+             else np.cbrt(6.0 * vol / math.pi))
+        d = np.where(np.isfinite(d) & (d > 0), d, np.nan)
+        if np.any(np.isfinite(d)):
+            # expanded gas would cover everything: at most 2.5x the dense particles' size
+            cap = 2.5 * np.nanpercentile(d, 20)
+            d = np.where(np.isfinite(d), np.minimum(d, cap), cap)
+        else:
+            d = None
+    else:
+        d = None
+    if d is None:  # no size in the file: the spacing of n particles over their bounding box
+        ext = np.ptp(pts[:, :dimension], axis=0) if n else np.ones(dimension)
+        ext = np.where(ext > 0, ext, ext.max() if ext.max() > 0 else 1.0)
+        d = np.full(n, float(np.prod(ext) / max(n, 1)) ** (1.0 / dimension))
+    keep = np.ones(n, dtype=bool)
+    if plane.n is not None and n:
+        # the section: a slab about one particle layer thick (the particles' size, or the
+        # part's mean spacing where that is larger, as in a loose lattice of grains; 1.2 of
+        # it, lest a lattice put its layers just outside)
+        ext = np.maximum(np.ptp(pts, axis=0), 1e-12)
+        spacing = float(np.prod(ext) / n) ** (1.0 / 3.0)
+        keep = np.abs(pts[:, plane.n] - plane.c0) <= 0.6 * np.maximum(d, spacing)
+    keep &= np.all(np.isfinite(pts), axis=1)  # a failed run's last state may hold inf or nan
+    st.xy = pts[keep][:, plane.cols()]
+    st.diameter = d[keep]
+    if "velocity" in arr:
+        st.values["velocity"] = speed(arr["velocity"])[keep]
+    if method != "dem" and "pressure" in arr:
+        st.values["pressure"] = np.asarray(arr["pressure"], float)[keep] / 1e6
+    return st
+
+
+def fem_state(grid, name, plane):
+    st = PartState(name, "fem")
+    if plane.n is not None:
+        # the section: the mesh cut by the plane (cell data pass through)
+        normal = [0.0, 0.0, 0.0]
+        normal[plane.n] = 1.0
+        cut_plane = vtkPlane()
+        cut_plane.SetOrigin(*[plane.c0 * c for c in normal])
+        cut_plane.SetNormal(*normal)
+        cutter = vtkCutter()
+        cutter.SetCutFunction(cut_plane)
+        cutter.SetInputData(grid)
+        cutter.Update()
+        cut = cutter.GetOutput()
+        if cut.GetNumberOfPoints() == 0:
+            st.polygons = []
+            return st
+        pts = vtk_to_numpy(cut.GetPoints().GetData()).astype(float)
+        cells = cut.GetPolys()
+        point_arrays, cell_arrays = vtk_arrays(cut.GetPointData()), vtk_arrays(cut.GetCellData())
+    else:
+        pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+        cells = grid.GetCells()
+        point_arrays, cell_arrays = vtk_arrays(grid.GetPointData()), vtk_arrays(grid.GetCellData())
+    conn = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64)
+    offs = vtk_to_numpy(cells.GetOffsetsArray()).astype(np.int64)
+    polygons = cell_polygons(pts, cells, plane.cols())
+    keep = np.array([np.all(np.isfinite(p)) for p in polygons], dtype=bool)
+    if "eroded" in cell_arrays and len(cell_arrays["eroded"]) == len(polygons):
+        keep &= np.asarray(cell_arrays["eroded"], float) < 0.5
+    st.polygons = [p for p, k in zip(polygons, keep) if k]
+    if "velocity" in point_arrays:
+        # an element's speed: the mean of its nodes'
+        node_speed = speed(point_arrays["velocity"])
+        sums = np.add.reduceat(node_speed[conn], offs[:-1]) if len(conn) else np.zeros(0)
+        st.values["velocity"] = (sums / np.diff(offs))[keep]
+    for key in ("pressure", "von_mises"):
+        if key in cell_arrays and len(cell_arrays[key]) == len(polygons):
+            st.values[key] = np.asarray(cell_arrays[key], float)[keep] / 1e6
+    return st
+
+
+def section_plane(parts, frame, vertical):
+    """The vertical section of a 3D run: through the charge's centre (the first SPH part's mean),
+    else through the middle of all points, normal to the horizontal axis other than x."""
+    normal = 1 if vertical != 1 else 2
+    cs = []
+    for p in parts:
+        f = frame.files.get(p.name)
+        grid = read_grid(f) if f else None
+        if grid is None:
+            continue
+        c = vtk_to_numpy(grid.GetPoints().GetData())[:, normal]
+        if len(c) and p.method == "sph":
+            return Plane(vertical, normal, float(np.mean(c)))
+        if len(c):
+            cs += [float(c.min()), float(c.max())]
+    return Plane(vertical, normal, 0.5 * (min(cs) + max(cs)) if cs else 0.0)
+
+
+def load_states(parts, frame, plane):
+    states = []
+    for p in parts:
+        f = frame.files.get(p.name)
+        if f is None:
+            continue
+        grid = read_grid(f)
+        if grid is None:
+            warn(f"{f}: skipped, VTK could not read it")
+            continue
+        method = p.method or guess_method(grid)
+        if method == "fem":
+            states.append(fem_state(grid, p.name, plane))
+        else:
+            states.append(particle_state(grid, p.name, method, plane))
+    return states
+
+
+def guess_method(grid):
+    """The method of a part summary.json does not name, from what its file holds."""
+    if grid.GetCellData().GetArray("von_mises") is not None:
+        return "fem"
+    return "dem" if grid.GetPointData().GetArray("radius") is not None else "sph"
+
+
+# ---------------------------------------------------------------------------------------------
+# Figures
+# ---------------------------------------------------------------------------------------------
+
+QUANTITIES = {
+    # key: (title, colour bar label, colour map); "parts": a colour per part, no colour bar
+    "parts": ("parts", None, None),
+    "velocity": ("speed", "speed [m/s]", "viridis"),
+    "pressure": ("pressure", "pressure [MPa]", "inferno"),
+    "von_mises": ("von Mises stress", "von Mises stress [MPa]", "plasma"),
+}
+
+
+def state_extent(st):
+    """(xmin, xmax, ymin, ymax) of a part's drawing; a few stray SPH particles (0.1 % on each
+    side) left out."""
+    if st.polygons:
+        allv = np.concatenate(st.polygons)
+        return allv[:, 0].min(), allv[:, 0].max(), allv[:, 1].min(), allv[:, 1].max()
+    if st.xy is not None and len(st.xy):
+        xy, r = st.xy, 0.5 * np.nanmax(st.diameter)
+        if st.method == "sph" and len(xy) > 1000:
+            lo, hi = np.percentile(xy, [0.1, 99.9], axis=0)
+        else:
+            lo, hi = xy.min(axis=0), xy.max(axis=0)
+        return lo[0] - r, hi[0] + r, lo[1] - r, hi[1] + r
+    return None
+
+
+def view_box(all_states):
+    """One view for every panel: what the parts cover at the chosen times, at most the first
+    panel's size beyond it on each side."""
+    def union(states):
+        boxes = [b for b in (state_extent(s) for s in states) if b is not None]
+        if not boxes:
+            return None
+        b = np.array(boxes, dtype=float)
+        return b[:, 0].min(), b[:, 1].max(), b[:, 2].min(), b[:, 3].max()
+
+    first = union(all_states[0]) if all_states else None
+    total = union([s for states in all_states for s in states])
+    if total is None:
+        return (-1.0, 1.0, -1.0, 1.0)
+    if first is not None:
+        w, h = first[1] - first[0], first[3] - first[2]
+        total = (max(total[0], first[0] - w), min(total[1], first[1] + w),
+                 max(total[2], first[2] - h), min(total[3], first[3] + h))
+    x0, x1, y0, y1 = total
+    size = max(x1 - x0, y1 - y0, 1e-12)
+    w, h = max(x1 - x0, 0.05 * size), max(y1 - y0, 0.05 * size)
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    return (cx - 0.53 * w, cx + 0.53 * w, cy - 0.53 * h, cy + 0.53 * h)
+
+
+def colour_range(states, key):
+    vals = [s.values[key] for s in states if key in s.values and len(s.values[key])]
+    if not vals:
+        return None
+    v = np.concatenate(vals)
+    v = v[np.isfinite(v)]
+    if not len(v):
+        return None
+    # the extremes of a few elements or particles would wash out everything else
+    lo, hi = np.percentile(v, [0.5, 99.5])
+    if key != "pressure":
+        lo = 0.0
+    elif lo > 0:
+        lo = 0.0
+    if hi <= lo:
+        hi = lo + max(abs(lo), 1.0) * 1e-3
+    return lo, hi
+
+
+def part_colours(parts):
+    """{part name: colour} for snapshots_parts.png."""
+    used = {}
+    colours = {}
+    for p in parts:
+        palette = PART_COLOURS.get(p.method, PART_COLOURS["dem"])
+        i = used.get(p.method, 0)
+        used[p.method] = i + 1
+        colours[p.name] = palette[i % len(palette)]
+    return colours
+
+
+def draw_states(ax, states, key, cmap, norm, colours):
+    # gas at the bottom, grains above it, the plate on top
+    order = {"sph": 0, "dem": 1, "fem": 2}
+    for st in sorted(states, key=lambda s: order.get(s.method, 1)):
+        vals = st.values.get(key)
+        flat = colours.get(st.name, "k") if key == "parts" else GREY.get(st.method, GREY["dem"])
+        if st.polygons is not None:
+            if not st.polygons:
+                continue
+            coll = PolyCollection(st.polygons, linewidths=0.3)
+        else:
+            if not len(st.xy):
+                continue
+            coll = EllipseCollection(st.diameter, st.diameter, np.zeros(len(st.xy)), units="xy",
+                                     offsets=st.xy, offset_transform=ax.transData,
+                                     linewidths=0)
+        if vals is not None:
+            coll.set_array(vals)
+            coll.set_cmap(cmap)
+            coll.set_norm(norm)
+            coll.set_edgecolor("face")
+        else:
+            coll.set_facecolor(flat)
+            coll.set_edgecolor(flat)
+        ax.add_collection(coll)
+
+
+def snapshot_figure(path, key, frames, all_states, view, colours, title, plane):
+    label, bar_label, cmap_name = QUANTITIES[key]
+    n = len(frames)
+    ncols = 1 if n == 1 else 2
+    nrows = (n + ncols - 1) // ncols
+    x0, x1, y0, y1 = view
+    panel_w = 5.6 if ncols == 2 else 7.0
+    panel_h = min(max(panel_w * (y1 - y0) / (x1 - x0), 2.2), 7.5)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(ncols * (panel_w + 1.2), nrows * panel_h + 0.6),
+                             squeeze=False, constrained_layout=True)
+    cmap = plt.get_cmap(cmap_name) if cmap_name else None
+    for i, ax in enumerate(axes.flat):
+        if i >= n:
+            ax.set_visible(False)
+            continue
+        frame, states = frames[i], all_states[i]
+        rng = colour_range(states, key) if cmap else None
+        norm = Normalize(*(rng or (0.0, 1.0)))
+        draw_states(ax, states, key, cmap, norm, colours)
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("equal")
+        ax.set_xlabel(f"{AXES[plane.h]} [m]")
+        ax.set_ylabel(f"{AXES[plane.v]} [m]")
+        when = f"t = {frame.time * 1e3:.4g} ms"
+        ax.set_title(when + (" (state at failure)" if frame.label == "failure" else ""))
+        if cmap:
+            bar = fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.9)
+            bar.set_label(bar_label)
+        elif i == 0:
+            shown = [s for s in states]
+            handles = [Patch(color=colours.get(s.name, "k"), label=f"{s.name} ({s.method})")
+                       for s in shown]
+            ax.legend(handles=handles, fontsize=8, loc="upper right", framealpha=0.9)
+    fig.suptitle(f"{title}: {label}" + (f" ({plane.label()})" if plane.n is not None else ""))
+    save_png(fig, path)
+
+
+def save_png(fig, path):
+    """Writes the figure as a palette PNG (256 colours: a third of the size of full colour)."""
+    fig.set_dpi(DPI)
+    fig.canvas.draw()
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    plt.close(fig)
+    try:
+        from PIL import Image
+    except ImportError:  # python3-pil comes with python3-matplotlib; without it, full colour
+        plt.imsave(path, rgba)
+        return
+    image = Image.fromarray(rgba[:, :, :3])
+    image.quantize(256, method=Image.Quantize.FASTOCTREE).save(path, compress_level=9)
+
+
+def energy_unit(values):
+    m = max((abs(v) for v in values if math.isfinite(v)), default=0.0)
+    for scale, unit in ((1e12, "TJ"), (1e9, "GJ"), (1e6, "MJ"), (1e3, "kJ")):
+        if m >= scale:
+            return scale, unit
+    return 1.0, "J"
+
+
+# history.csv's energy terms: (column, label, colour, line width, style)
+ENERGY_TERMS = [("kinetic_j", "kinetic", "tab:blue", 1.6, "-"),
+                ("internal_j", "internal", "tab:orange", 1.6, "-"),
+                ("total_j", "total", "black", 2.2, "-"),
+                ("external_work_j", "external work", "tab:green", 1.0, "--"),
+                ("damping_j", "damping", "tab:purple", 1.0, "--"),
+                ("hourglass_j", "hourglass", "tab:gray", 1.0, "--"),
+                ("contact_j", "contact", "tab:brown", 1.0, "--"),
+                ("eroded_j", "eroded", "tab:pink", 1.0, "--")]
+
+
+def energy_figure(path, hist, title):
+    """The energy balance (its terms, and the error on a second axis) and, for runs of several
+    parts, how much each part's own total energy changed since the start."""
+    t = np.array(hist["time_s"]) * 1e3
+    per_part = [c for c in hist if c.startswith("energy_") and c.endswith("_j")]
+    fig, axes = plt.subplots(1, 2 if per_part else 1, figsize=(12 if per_part else 7.5, 4.5),
+                             squeeze=False, constrained_layout=True)
+    ax = axes[0][0]
+    # the three main terms always, the others when they are not zero throughout
+    terms = [e for e in ENERGY_TERMS if e[0] in hist and (
+        e[0] in ("kinetic_j", "internal_j", "total_j") or np.nanmax(np.abs(hist[e[0]])) > 0)]
+    scale, unit = energy_unit([v for e in terms for v in hist[e[0]]])
+    for col, label, colour, lw, ls in terms:
+        ax.plot(t, np.array(hist[col]) / scale, color=colour, lw=lw, ls=ls, label=label)
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel(f"energy [{unit}]")
+    ax.grid(alpha=0.3)
+    handles, labels = ax.get_legend_handles_labels()
+    if "energy_error" in hist:
+        ax2 = ax.twinx()
+        ax2.plot(t, np.array(hist["energy_error"]) * 100.0, color="tab:red", lw=1.2, ls=":",
+                 label="energy error")
+        ax2.set_ylabel("energy error [%]", color="tab:red")
+        ax2.tick_params(axis="y", colors="tab:red")
+        h2, l2 = ax2.get_legend_handles_labels()
+        handles, labels = handles + h2, labels + l2
+    ax.legend(handles, labels, fontsize=8, loc="best")
+    ax.set_title("energy balance")
+    if per_part:
+        ax = axes[0][1]
+        change = {c: np.array(hist[c]) - hist[c][0] for c in per_part}
+        scale, unit = energy_unit([v for d in change.values() for v in d])
+        for c in per_part:
+            ax.plot(t, change[c] / scale, lw=1.6, label=c[len("energy_"):-2])
+        ax.axhline(0.0, color="0.6", lw=0.8)
+        ax.set_xlabel("time [ms]")
+        ax.set_ylabel(f"change since t = 0 [{unit}]")
+        ax.grid(alpha=0.3)
+        ax.legend(title="part", fontsize=8)
+        ax.set_title("each part's total energy (energy_<part>_j)")
+    fig.suptitle(title)
+    save_png(fig, path)
+
+
+def von_mises_history_figure(path, hist, columns, title):
+    t = np.array(hist["time_s"]) * 1e3
+    fig, ax = plt.subplots(figsize=(7.5, 4.5), constrained_layout=True)
+    for c in columns:
+        ax.plot(t, np.array(hist[c]) / 1e6, lw=1.6, label=c[:-len("_max_von_mises_pa")])
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("peak von Mises stress [MPa]")
+    ax.grid(alpha=0.3)
+    ax.legend(title="part", fontsize=8)
+    ax.set_title(f"{title}: peak von Mises stress over the plate")
+    save_png(fig, path)
+
+
+def surface_figure(path, prof, title, end_time_s):
+    """surface_profile.csv: per column of the ground, its vertical displacement at the end (2D:
+    along x, with the surface heights at t = 0 and at the end when the file has them; 3D: a map
+    over x and y)."""
+    x = np.array(prof["x_m"])
+    d = np.array(prof["vertical_displacement_m"])
+    finite = np.isfinite(d)
+    big = bool(np.any(finite)) and np.nanmax(np.abs(d)) >= 0.1
+    scale, unit = (1.0, "m") if big else (1e3, "mm")
+    when = f" at t = {end_time_s * 1e3:.4g} ms" if end_time_s is not None else ""
+    if "y_m" in prof:  # 3D: one row per column of an x-y grid
+        y = np.array(prof["y_m"])
+        fig, ax = plt.subplots(figsize=(7.5, 6.0), constrained_layout=True)
+        lim = float(np.nanmax(np.abs(d[finite]))) * scale if np.any(finite) else 0.0
+        lim = lim if lim > 0 else 1.0  # a flat ground: +-1 mm
+
+        def pitch(c):
+            u = np.unique(c)
+            return float(np.diff(u).min()) if len(u) > 1 else 1.0
+
+        wx, wy = pitch(x), pitch(y)
+        boxes = [np.array([[xi - wx / 2, yi - wy / 2], [xi + wx / 2, yi - wy / 2],
+                           [xi + wx / 2, yi + wy / 2], [xi - wx / 2, yi + wy / 2]])
+                 for xi, yi in zip(x[finite], y[finite])]
+        coll = PolyCollection(boxes, array=d[finite] * scale, cmap="coolwarm_r",
+                              norm=Normalize(-lim, lim), edgecolors="face")
+        ax.add_collection(coll)
+        ax.set_xlim(x.min() - wx, x.max() + wx)
+        ax.set_ylim(y.min() - wy, y.max() + wy)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        fig.colorbar(coll, ax=ax, shrink=0.85).set_label(f"vertical displacement [{unit}]")
+        ax.set_title(f"{title}: ground surface{when}")
+        save_png(fig, path)
+        return
+    heights = "surface_initial_m" in prof and "surface_m" in prof
+    fig, axes = plt.subplots(2 if heights else 1, 1, figsize=(7.5, 6.5 if heights else 4.0),
+                             sharex=True, squeeze=False, constrained_layout=True)
+    marker = "." if len(x) < 60 else None
+    ax = axes[-1][0]
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.plot(x, d * scale, lw=1.8, marker=marker)
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel(f"vertical displacement [{unit}]")
+    ax.grid(alpha=0.3)
+    if heights:
+        top = axes[0][0]
+        top.plot(x, np.array(prof["surface_initial_m"]), color="0.5", lw=1.4, ls="--",
+                 marker=marker, label="t = 0")
+        top.plot(x, np.array(prof["surface_m"]), color="tab:brown", lw=1.8, marker=marker,
+                 label=when.strip()[3:] or "end")
+        top.set_ylabel("surface height [m]")
+        top.grid(alpha=0.3)
+        top.legend(fontsize=8)
+    axes[0][0].set_title(f"{title}: ground surface{when}")
+    save_png(fig, path)
+
+
+# ---------------------------------------------------------------------------------------------
+# report.md
+# ---------------------------------------------------------------------------------------------
+
+# Metric names end in their unit (summary.json): the longest matching suffix wins.
+UNIT_SUFFIXES = [("_m_s", "m/s"), ("_pa", "Pa"), ("_kg", "kg"), ("_j", "J"), ("_n", "N"),
+                 ("_m", "m"), ("_s", "s"), ("_k", "K")]
+
+
+def metric_unit(name):
+    for suffix, unit in UNIT_SUFFIXES:
+        if name.endswith(suffix):
+            return unit
+    return ""
+
+
+def fmt_value(v, digits=6):
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return f"{v:.{digits}g}"
+    if v is None:
+        return "—"
+    return md_escape(json.dumps(v) if isinstance(v, (dict, list)) else str(v))
+
+
+def md_escape(s):
+    return str(s).replace("|", "\\|").replace("\n", " ")
+
+
+def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist):
+    sc = summary.get("scenario") if isinstance(summary.get("scenario"), dict) else {}
+    name = sc.get("name", run_dir.name)
+    dim = sc.get("dimension")
+    lines = [f"# crater report: {md_escape(name)}", ""]
+    lines += [f"Run directory `{run_dir.resolve()}`, written by crater {fmt_value(summary.get('crater_version'))}."
+              " Figures: `crater report` (tools/report/crater_report.py).", ""]
+    status = str(summary.get("status", "unknown"))
+    rows = [("scenario", f"`{md_escape(name)}` ({md_escape(sc.get('file', '?'))}, "
+                         f"hash {md_escape(sc.get('hash', '?'))})")]
+    if dim in (2, 3):
+        rows.append(("dimension", f"{dim}D" + (" (plane strain; masses per metre of depth)"
+                                                 if dim == 2 else "")))
+    rows.append(("status", f"**{md_escape(status)}**" + (
+        f": {md_escape(summary['message'])}" if summary.get("message") else "")))
+    rows.append(("steps", fmt_value(summary.get("steps"))))
+    t_end, t_reached = as_float(sc.get("end_time_s")), as_float(summary.get("time_s"))
+    rows.append(("time reached / end time",
+                 f"{fmt_ms(t_reached)} / {fmt_ms(t_end)}"))
+    ts = summary.get("time_step") if isinstance(summary.get("time_step"), dict) else {}
+    if ts:
+        rows.append(("time step", f"{fmt_value(ts.get('min_s'), 4)} to "
+                                  f"{fmt_value(ts.get('max_s'), 4)} s (safety factor "
+                                  f"{fmt_value(ts.get('safety_factor'), 3)})"))
+    en = summary.get("energy") if isinstance(summary.get("energy"), dict) else {}
+    e0 = (en.get("initial") or {}).get("total_j") if isinstance(en.get("initial"), dict) else None
+    e1 = (en.get("final") or {}).get("total_j") if isinstance(en.get("final"), dict) else None
+    err = as_float(en.get("balance_error"))
+    if err is None and hist and hist.get("energy_error"):
+        err = hist["energy_error"][-1]
+    rows.append(("total energy, initial → final",
+                 f"{fmt_value(as_float(e0), 5)} J → {fmt_value(as_float(e1), 5)} J"))
+    rows.append(("energy error", f"{err * 100:.3g} %" if err is not None else "—"))
+    run = summary.get("run") if isinstance(summary.get("run"), dict) else {}
+    if run:
+        rows.append(("wall time", f"{fmt_value(as_float(run.get('wall_time_s')), 4)} s on "
+                                  f"{fmt_value(run.get('threads'))} thread(s)"))
+    lines += ["| | |", "| --- | --- |"] + [f"| {k} | {v} |" for k, v in rows] + [""]
+
+    lines += ["## Parts", "",
+              "| part | method | count | mass [kg]" + (" per metre" if dim == 2 else "") + " | notes |",
+              "| --- | --- | ---: | ---: | --- |"]
+    for p in summary.get("parts") or []:
+        if not isinstance(p, dict):
+            continue
+        diag = p.get("diagnostics") if isinstance(p.get("diagnostics"), dict) else {}
+        notes = []
+        if "elements" in diag:
+            notes.append(f"{fmt_value(diag.get('eroded_elements', 0))} of "
+                         f"{fmt_value(diag['elements'])} elements eroded")
+        if diag.get("wall_reflections"):
+            notes.append(f"{fmt_value(diag['wall_reflections'])} wall reflections")
+        lines.append(f"| {md_escape(p.get('name', '?'))} | {md_escape(p.get('method', '?'))} | "
+                     f"{fmt_value(p.get('count'))} | {fmt_value(as_float(p.get('mass_kg')), 6)} | "
+                     f"{'; '.join(notes)} |")
+    lines.append("")
+
+    metrics = summary.get("metrics") if isinstance(summary.get("metrics"), dict) else {}
+    lines += ["## Metrics", ""]
+    if metrics:
+        lines += ["| metric | value | unit |", "| --- | ---: | --- |"]
+        for k, v in metrics.items():
+            unit = metric_unit(k)
+            value = fmt_value(v)
+            if unit == "Pa" and as_float(v) is not None:
+                value += f" ({as_float(v) / 1e6:.4g} MPa)"
+            lines.append(f"| `{md_escape(k)}` | {value} | {unit} |")
+    else:
+        lines.append("None recorded in summary.json.")
+    lines.append("")
+
+    contacts = summary.get("contacts") if isinstance(summary.get("contacts"), dict) else {}
+    if contacts:
+        lines += ["## Contacts at the end", "", "| quantity | value | unit |",
+                  "| --- | ---: | --- |"]
+        for k, v in contacts.items():
+            lines.append(f"| `{md_escape(k)}` | {fmt_value(v)} | {metric_unit(k)} |")
+        lines.append("")
+
+    lines += ["## Figures", ""]
+    if snapshot_frames:
+        when = ", ".join(fmt_ms(f.time) + (" (failure)" if f.label else "")
+                         for f in snapshot_frames)
+        lines += [f"Snapshots at {when}; eroded elements hidden; grey: a part without the "
+                  "quantity." + (f" 3D: the vertical {AXES[plane.h]}-{AXES[plane.v]} "
+                                 f"{plane.label()} through the charge (particles within about "
+                                 "a particle layer of it)." if plane.n is not None else ""),
+                  ""]
+    for title, fname in figures:
+        lines += [f"### {title}", "", f"![{title}]({fname})", ""]
+    failures = sorted(p.failure.name for p in parts if p.failure)
+    if failures:
+        lines += ["The state at failure: " + ", ".join(f"`{f}`" for f in failures) + ".", ""]
+    return "\n".join(lines) + "\n"
+
+
+def fmt_ms(t):
+    return f"{t * 1e3:.4g} ms" if t is not None else "—"
+
+
+# ---------------------------------------------------------------------------------------------
+
+def parse_args(argv):
+    ap = argparse.ArgumentParser(
+        prog="crater report",
+        description="Figures (PNG) and report.md for a run directory of `crater run`.")
+    ap.add_argument("dir", help="run directory (summary.json, <part>.pvd, history.csv)")
+    ap.add_argument("--out", "-o", help="where to write the report (default: DIR/report)")
+    ap.add_argument("--times", help="snapshot times in seconds, comma-separated (the nearest "
+                                    "output frames); default: up to 4 spread over the run")
+    return ap.parse_args(argv)
+
+
+def main(argv):
+    args = parse_args(argv)
+    run_dir = Path(args.dir)
+    if not run_dir.is_dir():
+        raise InputError(f"{run_dir}: " + ("not a directory" if run_dir.exists()
+                                           else "no such run directory"))
+    summary = load_summary(run_dir)
+    parts = find_parts(run_dir, summary)
+    frames = collect_frames(parts, summary)
+    chosen = select_frames(frames, args.times)
+    out_dir = Path(args.out) if args.out else run_dir / "report"
+
+    import_plotting()
+    out_dir.mkdir(parents=True, exist_ok=True)
+    for f in OUR_FILES:
+        (out_dir / f).unlink(missing_ok=True)
+
+    sc = summary.get("scenario") if isinstance(summary.get("scenario"), dict) else {}
+    title = str(sc.get("name", run_dir.name))
+    dim = sc.get("dimension")
+    if dim not in (2, 3):  # summary.json does not say: 3D if the points are not all at z = 0
+        grids = (read_grid(f) for frame in chosen for f in frame.files.values())
+        grid = next((g for g in grids if g is not None), None)
+        pts = vtk_to_numpy(grid.GetPoints().GetData()) if grid is not None else np.zeros((0, 3))
+        dim = 3 if len(pts) and np.ptp(pts[:, 2]) > 0 else 2
+    figures = []
+
+    plane = (section_plane(parts, chosen[0], vertical_axis_3d(summary, run_dir)) if dim == 3
+             else Plane())
+    all_states = [load_states(parts, f, plane) for f in chosen]
+    if any(all_states):
+        view = view_box(all_states)
+        present = {"parts"} | {k for states in all_states for s in states for k in s.values}
+        colours = part_colours(parts)
+        for key, fname in SNAPSHOT_FILES.items():
+            if key in present:
+                snapshot_figure(out_dir / fname, key, chosen, all_states, view, colours, title,
+                                plane)
+                figures.append((f"Snapshots: {QUANTITIES[key][0]}", fname))
+    else:
+        warn("no frame could be read; no snapshots")
+
+    hist = read_csv_columns(run_dir / "history.csv")
+    if hist and "time_s" in hist and len(hist["time_s"]) >= 1:
+        energy_figure(out_dir / ENERGY_FILE, hist, title)
+        figures.append(("Energy history", ENERGY_FILE))
+        vm = [c for c in hist if c.endswith("_max_von_mises_pa")]
+        if vm:
+            von_mises_history_figure(out_dir / VON_MISES_HISTORY_FILE, hist, vm, title)
+            figures.append(("Peak von Mises stress of the plate", VON_MISES_HISTORY_FILE))
+    elif hist is None:
+        warn(f"{run_dir / 'history.csv'}: absent; no energy history")
+
+    prof = read_csv_columns(run_dir / "surface_profile.csv")
+    if prof and {"x_m", "vertical_displacement_m"} <= prof.keys() and prof["x_m"]:
+        surface_figure(out_dir / SURFACE_FILE, prof, title, as_float(summary.get("time_s")))
+        figures.append(("Ground surface settlement", SURFACE_FILE))
+
+    (out_dir / REPORT_FILE).write_text(
+        build_report(run_dir, summary, parts, figures, chosen, plane, hist))
+    print(f"crater report: {out_dir / REPORT_FILE} and {len(figures)} figure(s)")
+    return EXIT_OK
+
+
+def import_plotting():
+    """numpy, VTK and matplotlib, into this module's globals; exit 1 naming the Debian packages
+    if one is missing."""
+    global np, plt, Normalize, ScalarMappable, PolyCollection, EllipseCollection, Patch
+    global vtkXMLUnstructuredGridReader, vtkCutter, vtkPlane, vtk_to_numpy
+    try:
+        import numpy as np
+        os.environ.setdefault("MPLBACKEND", "Agg")
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib.cm import ScalarMappable
+        from matplotlib.collections import EllipseCollection, PolyCollection
+        from matplotlib.colors import Normalize
+        from matplotlib.patches import Patch
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkCommonCore import vtkObject
+        from vtkmodules.vtkCommonDataModel import vtkPlane
+        from vtkmodules.vtkFiltersCore import vtkCutter
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    except ImportError as e:
+        print(f"crater report: error: {sys.executable} lacks a module ({e}); install the Debian "
+              f"packages {DEBIAN_PACKAGES}", file=sys.stderr)
+        sys.exit(EXIT_OTHER)
+    vtkObject.GlobalWarningDisplayOff()  # unreadable files are reported here, in one line
+    # numpy's warnings on empty or all-nan data (a part eroded away, a probe not measured) are
+    # noise here: such data are left out of the figures
+    warnings.filterwarnings("ignore", category=RuntimeWarning)
+
+
+if __name__ == "__main__":
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except InputError as e:
+        print(f"crater report: error: {e}", file=sys.stderr)
+        sys.exit(EXIT_INPUT)
+    except KeyboardInterrupt:
+        print("crater report: interrupted", file=sys.stderr)
+        sys.exit(EXIT_INTERRUPTED)
+    except OSError as e:
+        print(f"crater report: error: {e}", file=sys.stderr)
+        sys.exit(EXIT_OTHER)
+    except Exception as e:  # a bug here, not bad input: one line, the traceback on request
+        if os.environ.get("CRATER_REPORT_DEBUG"):
+            raise
+        print(f"crater report: internal error: {type(e).__name__}: {e} "
+              "(CRATER_REPORT_DEBUG=1 shows the traceback)", file=sys.stderr)
+        sys.exit(EXIT_OTHER)
