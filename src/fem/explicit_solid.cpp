@@ -54,6 +54,7 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
   for_each_entity(mesh.element_count(), [&](Index e) {
     const std::size_t ue = at(e);
     NodeArray<D>& force = mesh.element_force[ue];
+    const NodeArray<D> last_force = force;
     for (Vec<D>& f : force) {
       f.setZero();
     }
@@ -62,12 +63,26 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
     }
     const NodeArray<D> x = mesh.element_positions(e);
     const NodeArray<D> v = mesh.element_velocities(e);
+    // An element that fails now: its forces of the last evaluation worked on its nodes over the
+    // step just taken (half of the trapezoid, as the half kicks have it; the other half, with
+    // its forces now zero, is nothing). That work is booked before the element's energy leaves
+    // the part, or the nodes keep energy the element never gave up.
+    auto erode = [&] {
+      Real work = 0;
+      for (int node = 0; node < kNodes; ++node) {
+        work -= last_force[node].dot(v[node]);
+      }
+      work *= Real(0.5) * dt;
+      out.internal_energy_j[ue] = work;
+      mesh.internal_energy_j[ue] += work;
+      mesh.eroded[ue] = 1;
+      out.eroded_now[ue] = 1;
+      mesh.stress[ue].setZero();
+    };
     const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
     if (!(g.volume > 0)) {
       if (material.erode_inverted) {
-        mesh.eroded[ue] = 1;
-        out.eroded_now[ue] = 1;
-        mesh.stress[ue].setZero();
+        erode();
       } else {
         out.inverted[ue] = 1;
       }
@@ -97,9 +112,7 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
       mesh.temperature_k[ue] += up.temperature_increment_k;
       if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
           mesh.plastic_strain[ue] >= material.erosion_plastic_strain) {
-        mesh.eroded[ue] = 1;
-        out.eroded_now[ue] = 1;
-        mesh.stress[ue].setZero();
+        erode();
         mesh.volume[ue] = g.volume;
         return;
       }

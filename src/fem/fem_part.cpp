@@ -336,6 +336,7 @@ class FemPart final : public solver::Part<D> {
     w.vector(mesh_.internal_energy_j);
     w.vector(mesh_.hourglass_energy_j);
     w.vector(mesh_.hourglass);
+    w.vector(mesh_.element_force);  // an element failing next books their work (explicit_solid)
     w.vector(mesh_.eroded);
     w.vector(acceleration_);
     w.vector(external_force_);
@@ -375,6 +376,7 @@ class FemPart final : public solver::Part<D> {
     sized(mesh_.internal_energy_j, ne, "internal energies");
     sized(mesh_.hourglass_energy_j, ne, "hourglass energies");
     sized(mesh_.hourglass, ne, "hourglass forces");
+    sized(mesh_.element_force, ne, "element forces");
     sized(mesh_.eroded, ne, "erosion flags");
     sized(acceleration_, nn, "accelerations");
     sized(external_force_, nn, "external forces");
