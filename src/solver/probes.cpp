@@ -2,13 +2,14 @@
 #include "solver/probes.hpp"
 
 #include <fmt/format.h>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string_view>
 
+#include "dem/packing.hpp"
+#include "fem/element_geometry.hpp"
 #include "io/checkpoint/checkpoint.hpp"
 #include "io/output/atomic_file.hpp"
 
@@ -27,34 +28,46 @@ const fields::FieldView* field(const std::vector<fields::FieldView>& views, std:
   return nullptr;
 }
 
-Real ball_volume(Real r, int d) {
-  return d == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+/// Whether cell e of a part's `eroded` field (none: nothing erodes) is eroded.
+bool eroded_at(const fields::FieldView* eroded, std::size_t e) {
+  return eroded && eroded->integer_data[e] != 0;
 }
 
-/// Volume (area in 2D) of a quad (VTK_QUAD) or hexahedron (VTK_HEXAHEDRON) from its nodes.
+/// Volume of an FEM element (area per metre in 2D) from the writers' connectivity, which lists
+/// the element's nodes in the mesh's order: the element's own one-point volume.
 template <int D>
-Real cell_volume(const std::vector<Vec<D>>& x, const std::int64_t* nodes) {
-  if constexpr (D == 2) {
-    Real a = 0;
-    for (int k = 0; k < 4; ++k) {
-      const Vec<D>& p = x[at(nodes[k])];
-      const Vec<D>& q = x[at(nodes[(k + 1) % 4])];
-      a += p[0] * q[1] - q[0] * p[1];
-    }
-    return std::abs(a) / 2;
-  } else {
-    // Six tetrahedra around the diagonal 0-6.
-    static constexpr int tets[6][2] = {{1, 2}, {2, 3}, {3, 7}, {7, 4}, {4, 5}, {5, 1}};
-    const Vec<3>& a = x[at(nodes[0])];
-    const Vec<3>& g = x[at(nodes[6])];
-    Real v = 0;
-    for (const auto& t : tets)
-      v += std::abs((x[at(nodes[t[0]])] - a).cross(x[at(nodes[t[1]])] - a).dot(g - a)) / 6;
-    return v;
-  }
+Real element_volume(const std::vector<Vec<D>>& x, const std::int64_t* nodes) {
+  fem::NodeArray<D> xe;
+  for (int k = 0; k < fem::kElementNodes<D>; ++k)
+    xe[at(k)] = x[at(nodes[k])];
+  return std::max(Real(0), fem::uniform_strain_gradients<D>(xe).volume);
 }
 
 }  // namespace
+
+template <int D>
+bool Probes<D>::column_of(const Vec<D>& x, Index& col) const {
+  col = 0;
+  for (int d = 0; d + 1 < D; ++d) {
+    const Real f = std::floor((x[d] - lo_[d]) / width_[d]);
+    if (!(f >= 0 && f < static_cast<Real>(columns_[d]))) return false;
+    col = col * columns_[d] + static_cast<Index>(f);
+  }
+  return true;
+}
+
+template <int D>
+template <class F>
+void Probes<D>::for_each_neighbour(std::size_t k, F&& f) const {
+  // Columns are numbered row-major, the last horizontal axis fastest.
+  Index stride = 1;
+  for (int d = D - 2; d >= 0; --d) {
+    const Index i = (static_cast<Index>(k) / stride) % columns_[d];
+    for (int s : {-1, 1})
+      if (i + s >= 0 && i + s < columns_[d]) f(at(static_cast<Index>(k) + s * stride));
+    stride *= columns_[d];
+  }
+}
 
 template <int D>
 Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>>>& parts)
@@ -100,7 +113,7 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
           continue;
         Real v = 0;
         for (Index i : col.grains[k])
-          v += ball_volume(radius->real_data[i], D);
+          v += dem::grain_volume<D>(radius->real_data[i]);
         inside.push_back(v / cell);
       }
     if (!inside.empty()) {
@@ -128,12 +141,7 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
   }
   // Column and row of a point; false outside the domain.
   auto locate = [&](const Vec<D>& x, Index& col, Index& row) {
-    col = 0;
-    for (int d = 0; d + 1 < D; ++d) {
-      const Real f = std::floor((x[d] - lo_[d]) / width_[d]);
-      if (!(f >= 0 && f < static_cast<Real>(columns_[d]))) return false;
-      col = col * columns_[d] + static_cast<Index>(f);
-    }
+    if (!column_of(x, col)) return false;
     const Real f = std::floor((x[D - 1] - lo_[D - 1]) / bin_);
     if (!(f >= 0 && f < static_cast<Real>(rows_))) return false;
     row = static_cast<Index>(f);
@@ -145,7 +153,7 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
   for (Index i = 0; i < soil.count(); ++i) {
     Index col = 0, row = 0;
     if (!locate(xs[at(i)], col, row)) continue;
-    cols[at(col)].filled[at(row)] += ball_volume(radius->real_data[i], D) / phi_ref_;
+    cols[at(col)].filled[at(row)] += dem::grain_volume<D>(radius->real_data[i]) / phi_ref_;
     cols[at(col)].grains[at(row)].push_back(i);
   }
   if (cfg_.plate) {
@@ -156,14 +164,14 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
     std::int64_t begin = 0;
     for (std::size_t e = 0; e < g.offsets.size(); ++e) {
       const std::int64_t end = g.offsets[e];
-      if (!(eroded && eroded->integer_data[e] != 0)) {
+      if (!eroded_at(eroded, e)) {
         Vec<D> centre = Vec<D>::Zero();
         for (std::int64_t k = begin; k < end; ++k)
           centre += xn[at(g.connectivity[at(k)])];
         centre /= static_cast<Real>(end - begin);
         Index col = 0, row = 0;
         if (locate(centre, col, row))
-          cols[at(col)].filled[at(row)] += cell_volume<D>(xn, &g.connectivity[at(begin)]);
+          cols[at(col)].filled[at(row)] += element_volume<D>(xn, &g.connectivity[at(begin)]);
       }
       begin = end;
     }
@@ -192,7 +200,7 @@ Real Probes<D>::plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>&
   const auto* eroded = field(cf, "eroded");
   Real m = 0;
   for (Index e = 0; vm && e < vm->size; ++e)
-    if (!(eroded && eroded->integer_data[e] != 0)) m = std::max(m, vm->real_data[e]);
+    if (!eroded_at(eroded, at(e))) m = std::max(m, vm->real_data[e]);
   return m;
 }
 
@@ -259,7 +267,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
       return e;
     };
     std::vector<Index> node_owner(xn.size(), -1);
-    auto is_eroded = [&](Index e) { return eroded && eroded->integer_data[e] != 0; };
+    auto is_eroded = [&](Index e) { return eroded_at(eroded, at(e)); };
     for (Index e = 0; e < ne; ++e) {
       if (!is_eroded(e)) continue;
       ++eroded_count;
@@ -335,20 +343,12 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
       const std::size_t k = stack.back();
       stack.pop_back();
       ++crater_columns;
-      // Neighbours along each horizontal axis.
-      Index stride = 1;
-      for (int d = D - 2; d >= 0; --d) {
-        const Index i = (static_cast<Index>(k) / stride) % columns_[d];
-        for (int s : {-1, 1}) {
-          if (i + s < 0 || i + s >= columns_[d]) continue;
-          const std::size_t q = at(static_cast<Index>(k) + s * stride);
-          if (!crater[q] && std::isfinite(drop[q]) && drop[q] > grain_r_max_) {
-            crater[q] = 1;
-            stack.push_back(q);
-          }
+      for_each_neighbour(k, [&](std::size_t q) {
+        if (!crater[q] && std::isfinite(drop[q]) && drop[q] > grain_r_max_) {
+          crater[q] = 1;
+          stack.push_back(q);
         }
-        stride *= columns_[d];
-      }
+      });
     }
   }
   const Real column_area = cell_volume_ground() / bin_;
@@ -360,14 +360,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
   for (std::size_t k = 0; k < nc; ++k) {
     if (!std::isfinite(drop[k]) || crater[k]) continue;
     bool next_to_crater = false;
-    Index stride = 1;
-    for (int d = D - 2; d >= 0; --d) {
-      const Index i = (static_cast<Index>(k) / stride) % columns_[d];
-      for (int s : {-1, 1})
-        if (i + s >= 0 && i + s < columns_[d] && crater[at(static_cast<Index>(k) + s * stride)])
-          next_to_crater = true;
-      stride *= columns_[d];
-    }
+    for_each_neighbour(k, [&](std::size_t q) { next_to_crater = next_to_crater || crater[q]; });
     if (next_to_crater) continue;
     if (drop[k] > settle) {
       settle = drop[k];
@@ -390,7 +383,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
     std::vector<std::uint8_t> live(xn.size(), 0);
     std::int64_t begin = 0;
     for (std::size_t e = 0; e < g.offsets.size(); ++e) {
-      if (!(eroded && eroded->integer_data[e] != 0))
+      if (!eroded_at(eroded, e))
         for (std::int64_t k = begin; k < g.offsets[e]; ++k)
           live[at(g.connectivity[at(k)])] = 1;
       begin = g.offsets[e];
@@ -400,13 +393,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
     for (std::size_t n = 0; n < xn.size(); ++n) {
       if (!live[n]) continue;
       Index col = 0;
-      bool inside = true;
-      for (int d = 0; d + 1 < D; ++d) {
-        const Real f = std::floor((xn[n][d] - lo_[d]) / width_[d]);
-        inside = inside && f >= 0 && f < static_cast<Real>(columns_[d]);
-        col = col * columns_[d] + (inside ? static_cast<Index>(f) : 0);
-      }
-      if (!inside) continue;
+      if (!column_of(xn[n], col)) continue;
       plate_lo[at(col)] = std::min(plate_lo[at(col)], xn[n][D - 1]);
       plate_hi[at(col)] = std::max(plate_hi[at(col)], xn[n][D - 1]);
     }

@@ -77,6 +77,11 @@ class Probes {
   // The ground's cells in the current state (columns in row-major order of their indices).
   std::vector<Column> ground(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
   Real surface_height(const Column& col) const;
+  // The column holding x (its horizontal coordinates); false outside the domain.
+  bool column_of(const Vec<D>& x, Index& col) const;
+  // f(q) for each column q next to column k along a horizontal axis.
+  template <class F>
+  void for_each_neighbour(std::size_t k, F&& f) const;
   Real plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
   Real cell_volume_ground() const {
     Real v = bin_;
