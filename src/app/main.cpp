@@ -45,19 +45,22 @@ int cmd_check(const std::string& scenario, const std::vector<std::string>& sets,
   const auto reports = solver::check_scenario(c);
   fmt::print("{:<16} {:<6} {:>12} {:>14} {:>13}  {}\n", "part", "method", "count", "mass [kg]",
              "stable dt [s]", "limited by");
-  double dt_min = 1e300;
-  std::string limiting;
+  const double safety = c.time.safety_factor;
+  const solver::PartReport* limiting = nullptr;
   for (const auto& r : reports) {
     fmt::print("{:<16} {:<6} {:>12} {:>14.6g} {:>13.4e}  entity {} ({})\n", r.name, r.method,
                r.count, r.mass_kg, r.stable.dt_s, r.stable.entity_id, r.stable.reason);
-    if (r.stable.dt_s < dt_min) {
-      dt_min = r.stable.dt_s;
-      limiting = r.method == "contact" ? std::string("the contacts") : "part '" + r.name + "'";
-    }
+    if (!limiting || r.stable.allowed_s(safety) < limiting->stable.allowed_s(safety)) limiting = &r;
   }
   if (c.dimension == 2) fmt::print("(2D: masses per metre of depth)\n");
-  fmt::print("global step: {:.4e} s = {} x {:.4e} s ({})", c.time.safety_factor * dt_min,
-             c.time.safety_factor, dt_min, limiting);
+  if (limiting && limiting->stable.absolute)
+    fmt::print(
+        "global step: {:.4e} s (the contacts' accuracy bound, not scaled by the safety "
+        "factor)",
+        limiting->stable.dt_s);
+  else if (limiting)
+    fmt::print("global step: {:.4e} s = {} x {:.4e} s (part '{}')", safety * limiting->stable.dt_s,
+               safety, limiting->stable.dt_s, limiting->name);
   if (c.time.fixed_dt_s) fmt::print("; fixed step {:.4e} s in use", *c.time.fixed_dt_s);
   fmt::print("\n");
   for (const auto& w : c.warnings)

@@ -176,7 +176,11 @@ Coupling<D>::Coupling(const io::Config& config,
     p.config = c;
     const std::string& m0 = config.parts[c.parts[0]].method;
     const std::string& m1 = config.parts[c.parts[1]].method;
-    if (m0 == "fem" || m1 == "fem") {
+    if (m0 == "fem" && m1 == "fem") {
+      p.kind = Kind::SurfaceSurface;
+      p.points = c.parts[0];
+      p.other = c.parts[1];
+    } else if (m0 == "fem" || m1 == "fem") {
       p.kind = Kind::ParticleSurface;
       p.points = m0 == "fem" ? c.parts[1] : c.parts[0];
       p.other = m0 == "fem" ? c.parts[0] : c.parts[1];
@@ -209,6 +213,46 @@ solver::StableStep Coupling<D>::stable_step(
     }
   };
   for (const auto& p : pairings_) {
+    if (p.kind == Kind::SurfaceSurface) {
+      const auto sa = parts[p.points]->contact_surface();
+      const auto sb = parts[p.other]->contact_surface();
+      if (!sa || !sb || sa->face_stiffness->empty() || sb->face_stiffness->empty()) continue;
+      auto lightest = [](const solver::ContactSurface<D>& surf) {
+        Real m = std::numeric_limits<Real>::infinity();
+        for (const auto& face : *surf.faces)
+          for (Index n : face)
+            if ((*surf.node_mass)[at(n)] > 0) m = std::min(m, (*surf.node_mass)[at(n)]);
+        return m;
+      };
+      const Real k_max =
+          p.config.penalty_scale *
+          std::min(*std::max_element(sa->face_stiffness->begin(), sa->face_stiffness->end()),
+                   *std::max_element(sb->face_stiffness->begin(), sb->face_stiffness->end()));
+      consider(
+          spring_step(k_max, reduced_mass(lightest(*sa), lightest(*sb)), p.config.damping_ratio),
+          -1, [&] {
+            return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", p.name,
+                               k_max);
+          });
+      if (!p.load_known || p.load_points.size() != sa->node_mass->size() ||
+          p.load_other.size() != sb->node_mass->size())
+        measure_load(p, parts);
+      for (int side = 0; side < 2; ++side) {
+        const std::vector<Real>& load = side == 0 ? p.load_points : p.load_other;
+        const std::vector<Real>& mass = side == 0 ? *sa->node_mass : *sb->node_mass;
+        for (std::size_t i = 0; i < load.size() && i < mass.size(); ++i) {
+          if (!(load[i] > 0) || !(mass[i] > 0)) continue;
+          consider(spring_step(load[i], mass[i], p.config.damping_ratio), static_cast<Index>(i),
+                   [&] {
+                     return fmt::format(
+                         "contact '{}': node {} of '{}' held by penalty springs summing to "
+                         "{:.3g} N/m",
+                         p.name, i, parts[side == 0 ? p.points : p.other]->name(), load[i]);
+                   });
+        }
+      }
+      continue;
+    }
     const auto pts = parts[p.points]->contact_points();
     if (!pts || pts->mass->empty()) continue;
     const Real m_min = parallel::min_over(static_cast<Index>(pts->mass->size()),
@@ -264,6 +308,7 @@ solver::StableStep Coupling<D>::stable_step(
     summed(p.load_other, *other_mass,
            p.kind == Kind::ParticleSurface ? "surface node" : "particle of the other part");
   }
+  best.absolute = true;  // omega dt <= 1/2 is an accuracy bound (spring_step)
   return best;
 }
 
@@ -369,6 +414,18 @@ std::vector<typename Coupling<D>::ParticlePair> Coupling<D>::particle_pairs(
 template <int D>
 void Coupling<D>::measure_load(const Pairing& p,
                                const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const {
+  if (p.kind == Kind::SurfaceSurface) {
+    const auto sa = parts[p.points]->contact_surface();
+    const auto sb = parts[p.other]->contact_surface();
+    p.load_points.assign(sa->node_position->size(), 0);
+    p.load_other.assign(sb->node_position->size(), 0);
+    node_surface(p, *sa, *sb, node_hits(*sa, *sb), p.load_points, p.load_other, nullptr, nullptr,
+                 -1);
+    node_surface(p, *sb, *sa, node_hits(*sb, *sa), p.load_other, p.load_points, nullptr, nullptr,
+                 1);
+    p.load_known = true;
+    return;
+  }
   const auto pts = parts[p.points]->contact_points();
   p.load_points.assign(pts->position->size(), 0);
   if (p.kind == Kind::ParticleSurface) {
@@ -403,6 +460,28 @@ void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& par
       torque[k].assign(at(n), axial_zero<D>());
   }
   for (auto& p : pairings_) {
+    if (p.kind == Kind::SurfaceSurface) {
+      const auto sa = parts[p.points]->contact_surface();
+      const auto sb = parts[p.other]->contact_surface();
+      p.active = 0;
+      p.max_overlap_m = 0;
+      p.normal_force_n = 0;
+      p.force_on_other.setZero();
+      p.load_points.assign(sa->node_position->size(), 0);
+      p.load_other.assign(sb->node_position->size(), 0);
+      for (const NodeSurfaceSums& sums :
+           {node_surface(p, *sa, *sb, node_hits(*sa, *sb), p.load_points, p.load_other,
+                         &force[p.points], &force[p.other], -1),
+            node_surface(p, *sb, *sa, node_hits(*sb, *sa), p.load_other, p.load_points,
+                         &force[p.other], &force[p.points], 1)}) {
+        p.active += sums.active;
+        p.max_overlap_m = std::max(p.max_overlap_m, sums.max_overlap_m);
+        p.normal_force_n += sums.normal_force_n;
+        p.force_on_other += sums.force_on_other;
+      }
+      p.load_known = true;
+      continue;
+    }
     const auto pts = parts[p.points]->contact_points();
     if (p.kind == Kind::ParticleSurface) {
       const auto surf = parts[p.other]->contact_surface();
@@ -565,6 +644,137 @@ void Coupling<D>::particle_particle(Pairing& p, const solver::ContactPoints<D>& 
     if (!t_b.empty()) t_b[at(pp.b)] += moment<D>(pf.arm_b, Vec<D>(-pf.force));
     add_particle_load(p, b, pp);
   }
+}
+
+template <int D>
+struct Coupling<D>::NodeHit {
+  Index node = -1;
+  Index face = -1;
+  FacePoint<D> where;
+  Vec<D> n = Vec<D>::Zero();  // the face's outward normal
+  Real overlap = 0;           // depth behind the face
+  Real k = 0;                 // penalty stiffness (without the scale)
+};
+
+template <int D>
+std::vector<typename Coupling<D>::NodeHit> Coupling<D>::node_hits(
+    const solver::ContactSurface<D>& nodes_of, const solver::ContactSurface<D>& faces_of) const {
+  constexpr int kF = solver::kFaceNodes<D>;
+  const auto& xa = *nodes_of.node_position;
+  const auto& xb = *faces_of.node_position;
+  const auto& faces = *faces_of.faces;
+  // The surface nodes of `nodes_of` that carry mass, ascending, with the stiffest of their
+  // own faces.
+  std::vector<Real> node_k(xa.size(), 0);
+  for (std::size_t f = 0; f < nodes_of.faces->size(); ++f)
+    for (Index n : (*nodes_of.faces)[f])
+      node_k[at(n)] = std::max(node_k[at(n)], (*nodes_of.face_stiffness)[f]);
+  std::vector<Index> nodes;
+  for (std::size_t n = 0; n < xa.size(); ++n)
+    if (node_k[n] > 0 && (*nodes_of.node_mass)[n] > 0) nodes.push_back(static_cast<Index>(n));
+  std::vector<NodeHit> hits(nodes.size());
+  const Index nf = static_cast<Index>(faces.size());
+  if (nf == 0 || nodes.empty()) return hits;
+
+  std::vector<Vec<D>> centre(at(nf));
+  std::vector<Real> size(at(nf));
+  Real half_size = 0;
+  for (Index f = 0; f < nf; ++f) {
+    std::array<Vec<D>, kF> fx;
+    Vec<D> c = Vec<D>::Zero();
+    for (int k = 0; k < kF; ++k) {
+      fx[at(k)] = xb[at(faces[at(f)][at(k)])];
+      c += fx[at(k)] / Real(kF);
+    }
+    centre[at(f)] = c;
+    for (int k = 0; k < kF; ++k)
+      half_size = std::max(half_size, (fx[at(k)] - c).norm());
+    if constexpr (D == 2) {
+      size[at(f)] = (fx[1] - fx[0]).norm();
+    } else {
+      size[at(f)] = std::sqrt(Real(0.5) * (fx[2] - fx[0]).cross(fx[3] - fx[1]).norm());
+    }
+  }
+  std::vector<Vec<D>> x(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    x[i] = xa[at(nodes[i])];
+  // A node within half a face's size behind it, projecting onto it, is within
+  // sqrt(half_size^2 + (half_size)^2) of its centre.
+  neighbors::NeighborList candidates;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(centre),
+                                 Real(1.5) * half_size, candidates);
+  parallel::for_each(static_cast<Index>(nodes.size()), [&](Index i) {
+    NodeHit best;
+    best.node = nodes[at(i)];
+    const Vec<D>& p = x[at(i)];
+    for (Index f : candidates.of(i)) {
+      std::array<Vec<D>, kF> fx;
+      for (int k = 0; k < kF; ++k)
+        fx[at(k)] = xb[at(faces[at(f)][at(k)])];
+      const FacePoint<D> fp = closest_on_face<D>(p, fx);
+      const Vec<D> nf_out = face_normal<D>(fx);
+      const Vec<D> d = p - fp.point;
+      const Real s = d.dot(nf_out);
+      const Real len = size[at(f)];
+      if (s >= 0 || -s > Real(0.5) * len) continue;
+      if ((d - s * nf_out).norm() > Real(0.01) * len) continue;  // projects beside the face
+      if (best.face >= 0 && (-s > best.overlap || (-s == best.overlap && f > best.face))) continue;
+      best.face = f;
+      best.where = fp;
+      best.n = nf_out;
+      best.overlap = -s;
+      best.k = std::min((*faces_of.face_stiffness)[at(f)], node_k[at(best.node)]);
+    }
+    hits[at(i)] = best;
+  });
+  return hits;
+}
+
+template <int D>
+typename Coupling<D>::NodeSurfaceSums Coupling<D>::node_surface(
+    const Pairing& p, const solver::ContactSurface<D>& a, const solver::ContactSurface<D>& b,
+    const std::vector<NodeHit>& hits, std::vector<Real>& load_a, std::vector<Real>& load_b,
+    std::vector<Vec<D>>* f_a, std::vector<Vec<D>>* f_b, Real sign) const {
+  constexpr int kF = solver::kFaceNodes<D>;
+  const auto& faces = *b.faces;
+  NodeSurfaceSums sums;
+  std::vector<Vec<D>> push(hits.size(), Vec<D>::Zero());
+  std::vector<Real> normal(hits.size(), 0);
+  if (f_a)
+    parallel::for_each(static_cast<Index>(hits.size()), [&](Index q) {
+      const NodeHit& h = hits[at(q)];
+      if (h.face < 0) return;
+      const auto& face = faces[at(h.face)];
+      Real m_face = 0;
+      Vec<D> v_face = Vec<D>::Zero();
+      for (int k = 0; k < kF; ++k) {
+        m_face += h.where.weight[at(k)] * (*b.node_mass)[at(face[at(k)])];
+        v_face += h.where.weight[at(k)] * (*b.node_velocity)[at(face[at(k)])];
+      }
+      const Vec<D> v = (*a.node_velocity)[at(h.node)] - v_face;
+      push[at(q)] = penalty_force<D>(p.config.penalty_scale * h.k, h.overlap, h.n, v,
+                                     reduced_mass((*a.node_mass)[at(h.node)], m_face),
+                                     p.config.damping_ratio, p.config.friction, normal[at(q)]);
+    });
+  // Scatter in node order: the same sums for any thread count.
+  for (std::size_t q = 0; q < hits.size(); ++q) {
+    const NodeHit& h = hits[q];
+    if (h.face < 0) continue;
+    const auto& face = faces[at(h.face)];
+    const Real k = p.config.penalty_scale * h.k;
+    load_a[at(h.node)] += k;
+    for (int j = 0; j < kF; ++j)
+      load_b[at(face[at(j)])] += k * h.where.weight[at(j)];
+    if (!f_a) continue;
+    ++sums.active;
+    sums.max_overlap_m = std::max(sums.max_overlap_m, h.overlap);
+    sums.normal_force_n += normal[q];
+    sums.force_on_other += sign * push[q];
+    (*f_a)[at(h.node)] += push[q];
+    for (int j = 0; j < kF; ++j)
+      (*f_b)[at(face[at(j)])] -= h.where.weight[at(j)] * push[q];
+  }
+  return sums;
 }
 
 template <int D>

@@ -16,6 +16,14 @@
 //     particle backs out (LS-DYNA's treatment of initial penetrations in eroding contacts).
 //     Without it the penalty spring releases energy it never stored. One offset per particle
 //     (solver::ContactPoints::surface_offset): a particle meets one solid's surface at a time.
+//   surface-surface (fem-fem): penalty node-to-segment, both ways: every node of either part's
+//     surface (with mass) against the faces of the other's. A node x is in contact with a face
+//     when it lies behind it, s = (x - c).n_f < 0 with c the closest point of the face, by less
+//     than half the face's size, and c is its foot (x - c along n_f to 1 % of the face's size:
+//     the node projects onto the face); of those faces the one of smallest depth. n = n_f,
+//     delta = -s, k = s_p min(K A^2 / V of the face's element, the largest of the node's own
+//     faces) (LS-DYNA's rule for two segment stiffnesses), and the forces as below with the
+//     node as the particle (no radius, no spin, no initial-penetration offset).
 //   particle-particle (sph-dem): an SPH particle (radius = half its spacing) against every
 //     grain it overlaps, delta = r_1 + r_2 - d, k = s_p E r_2 (3D) or s_p E (2D, per metre),
 //     E the grain's Young's modulus.
@@ -80,11 +88,11 @@ class Coupling {
   std::vector<Real> history_values() const;
 
  private:
-  enum class Kind { ParticleSurface, ParticleParticle };
+  enum class Kind { ParticleSurface, ParticleParticle, SurfaceSurface };
   struct Pairing {
     Kind kind;
-    std::size_t points;  // the particle part (sph for sph-dem)
-    std::size_t other;   // the surface part, or the dem part
+    std::size_t points;  // the particle part (sph for sph-dem; the first part for fem-fem)
+    std::size_t other;   // the surface part, or the dem part (the second for fem-fem)
     io::ContactConfig config;
     Real grain_modulus_pa = 0;  // particle-particle: E of the grains
     std::string name;
@@ -127,6 +135,25 @@ class Coupling {
   void particle_particle(Pairing& p, const solver::ContactPoints<D>& a,
                          const solver::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
                          std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const;
+
+  // A surface node against a face of the other part (surface-surface).
+  struct NodeHit;
+  std::vector<NodeHit> node_hits(const solver::ContactSurface<D>& nodes_of,
+                                 const solver::ContactSurface<D>& faces_of) const;
+  // The loads and forces of one direction (nodes of `a` against faces of `b`); the load sums
+  // and forces of a's nodes go to load_a / f_a, of b's face nodes to load_b / f_b.
+  // Without forces (f_a null) only the loads are summed. Returns the contact's diagnostics of
+  // this direction, force_on_other = sign x the sum of the nodes' forces.
+  struct NodeSurfaceSums {
+    Index active = 0;
+    Real max_overlap_m = 0;
+    Real normal_force_n = 0;
+    Vec<D> force_on_other = Vec<D>::Zero();
+  };
+  NodeSurfaceSums node_surface(const Pairing& p, const solver::ContactSurface<D>& a,
+                               const solver::ContactSurface<D>& b, const std::vector<NodeHit>& hits,
+                               std::vector<Real>& load_a, std::vector<Real>& load_b,
+                               std::vector<Vec<D>>* f_a, std::vector<Vec<D>>* f_b, Real sign) const;
 
   std::vector<Pairing> pairings_;
   std::vector<std::size_t> involved_;  // parts in any contact, ascending

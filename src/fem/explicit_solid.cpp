@@ -110,8 +110,14 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
       }
       mesh.plastic_strain[ue] += d_eps;
       mesh.temperature_k[ue] += up.temperature_increment_k;
+      // A crushed element's step shrinks with its thickness; below the floor it erodes
+      // rather than hold the whole model's step down (bulk viscosity of this step included).
+      const bool too_small_a_step =
+          material.erosion_min_step_s > 0 &&
+          stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace()) <
+              material.erosion_min_step_s;
       if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
-          mesh.plastic_strain[ue] >= material.erosion_plastic_strain) {
+          mesh.plastic_strain[ue] >= material.erosion_plastic_strain || too_small_a_step) {
         erode();
         mesh.volume[ue] = g.volume;
         return;

@@ -36,6 +36,9 @@ struct SolidMaterial {
   // Erosion besides Johnson-Cook damage (as LS-DYNA's *MAT_ADD_EROSION / ERODE options):
   Real erosion_plastic_strain = std::numeric_limits<Real>::infinity();  // erode at this eps_p
   bool erode_inverted = false;  // an element turned inside out erodes instead of failing
+  // An element whose own stable step falls below this erodes (LS-DYNA's ERODE = 1 with
+  // *CONTROL_TERMINATION's DTMIN); 0: never. Set by the part from erosion_step_ratio.
+  Real erosion_min_step_s = 0;
 };
 
 /// What one force evaluation reports (sums in a fixed order: bit-identical for any thread count).

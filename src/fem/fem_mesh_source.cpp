@@ -190,6 +190,8 @@ SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
       out.nodes.push_back(nodes);
       out.element.push_back(c.element);
       out.area.push_back(outward.norm());
+      out.reference_area.push_back(
+          face_area_vector(mesh, c.element, as_vector, mesh.reference_position).norm());
     }
     i = j;
   }

@@ -67,7 +67,8 @@ template <int D>
 struct SurfaceFaces {
   std::vector<std::array<Index, D == 2 ? 2 : 4>> nodes;
   std::vector<Index> element;
-  std::vector<Real> area;
+  std::vector<Real> area;            // in the current geometry [m^2; m per metre in 2D]
+  std::vector<Real> reference_area;  // the same face at t = 0
 };
 template <int D>
 SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh);

@@ -2,6 +2,7 @@
 #include "fem/fem_part.hpp"
 
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -48,6 +49,16 @@ SolidMaterial solid_material(const io::Config& config, const io::PartConfig& pc)
   return s;
 }
 
+/// A tabulated history: linear between the points, zero before the first and after the last.
+Real tabulated(const std::vector<Real>& t, const std::vector<Real>& v, Real time) {
+  if (t.empty() || time < t.front() || time > t.back()) return 0;
+  const auto hi = std::upper_bound(t.begin(), t.end(), time);
+  if (hi == t.end()) return v.back();
+  const std::size_t j = static_cast<std::size_t>(hi - t.begin());
+  const Real w = (time - t[j - 1]) / (t[j] - t[j - 1]);
+  return (1 - w) * v[j - 1] + w * v[j];
+}
+
 template <int D>
 class FemPart final : public solver::Part<D> {
  public:
@@ -56,6 +67,9 @@ class FemPart final : public solver::Part<D> {
     MeshSource<D> source = build_mesh_source<D>(config, pc);
     mesh_ = std::move(source.mesh);
     initialise(mesh_, material_);
+    // The erosion floor follows from the mesh at rest (the same on a restart).
+    if (pc.fem.erosion_step_ratio > 0)
+      material_.erosion_min_step_s = pc.fem.erosion_step_ratio * stable_time_step(mesh_, material_);
     const Index nn = mesh_.node_count();
     for (int k = 0; k < D; ++k)
       gravity_[k] = config.domain.gravity_m_s2[at(k)];
@@ -90,6 +104,9 @@ class FemPart final : public solver::Part<D> {
     rebuild_surface();
     for (const auto& b : pc.fem.boundaries)
       apply_boundary_config(source, b, config);
+    for (const auto& l : pc.fem.loads)
+      add_pressure_load(l);
+    if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
     impose_velocities();
 
     last_.stable_dt_s = stable_time_step(mesh_, material_);
@@ -108,10 +125,11 @@ class FemPart final : public solver::Part<D> {
     return s;
   }
 
-  void compute_forces(Real /*t_s*/) override {
+  void compute_forces(Real t_s) override {
     if (!stale_) return;
     last_ = compute_internal_forces(mesh_, material_, dt_pending_);
     if (last_.newly_eroded > 0) account_erosion();
+    if (!loads_.empty()) pressure_forces(t_s);
     const Real dt = dt_pending_;
     const Index nn = mesh_.node_count();
     struct Work {
@@ -136,6 +154,7 @@ class FemPart final : public solver::Part<D> {
       }
       const Vec<D>& v = mesh_.velocity[u];
       Vec<D> external = m * gravity_;
+      if (!load_force_.empty()) external += load_force_[u];
       Vec<D> dashpot = Vec<D>::Zero();
       if (const Index d = dashpot_of_node_[u]; d >= 0) dashpot = -(dashpot_matrix_[at(d)] * v);
       Vec<D> f = mesh_.internal_force[u] + external + dashpot;
@@ -446,7 +465,10 @@ class FemPart final : public solver::Part<D> {
   }
 
   /// The faces of live elements that no other live element shares, oriented outward, with
-  /// the LS-DYNA segment stiffness K A^2 / V of their element.
+  /// the LS-DYNA segment stiffness K A^2 / V of their element, taken in the reference
+  /// geometry: a face exposed by erosion on a crushed or stretched element would otherwise
+  /// carry a spring many times stiffer (K A^2 / V grows as the element flattens) and cut the
+  /// step for the rest of the run.
   void rebuild_surface() {
     const SurfaceFaces<D> sf = surface_faces(mesh_);
     const Real bulk = materials::bulk_modulus(materials::elastic_of(material_.strength));
@@ -454,8 +476,8 @@ class FemPart final : public solver::Part<D> {
     surface_element_ = sf.element;
     surface_stiffness_.resize(sf.nodes.size());
     for (std::size_t f = 0; f < sf.nodes.size(); ++f)
-      surface_stiffness_[f] =
-          bulk * sf.area[f] * sf.area[f] / mesh_.reference_volume[at(sf.element[f])];
+      surface_stiffness_[f] = bulk * sf.reference_area[f] * sf.reference_area[f] /
+                              mesh_.reference_volume[at(sf.element[f])];
     ++surface_revision_;
   }
 
@@ -501,6 +523,78 @@ class FemPart final : public solver::Part<D> {
       }
     }
     rebuild_surface();
+  }
+
+  /// The surface faces of a pressure load: those of the live mesh (outward numbering, as the
+  /// contact surface) with every node on the chosen face of the bounding box and the centre
+  /// in the load's box (along the other axes).
+  void add_pressure_load(const io::FemLoadConfig& l) {
+    const NodeSet<D> set = face_node_set(mesh_, l.face);
+    std::vector<std::uint8_t> on_face(at(mesh_.node_count()), 0);
+    for (Index n : set.nodes)
+      on_face[at(n)] = 1;
+    const int normal = static_cast<int>(l.face) / 2;
+    const SurfaceFaces<D> sf = surface_faces(mesh_);
+    PressureLoad load;
+    load.time_s = l.time_s;
+    load.pressure_pa = l.pressure_pa;
+    for (std::size_t f = 0; f < sf.nodes.size(); ++f) {
+      Vec<D> centre = Vec<D>::Zero();
+      bool all = true;
+      for (Index n : sf.nodes[f]) {
+        all = all && on_face[at(n)];
+        centre += mesh_.reference_position[at(n)] / Real(solver::kFaceNodes<D>);
+      }
+      if (!all) continue;
+      if (l.region) {
+        bool inside = true;
+        for (int k = 0; k < D; ++k)
+          if (k != normal &&
+              (centre[k] < l.region->min_m[at(k)] || centre[k] > l.region->max_m[at(k)]))
+            inside = false;
+        if (!inside) continue;
+      }
+      load.faces.push_back(sf.nodes[f]);
+      load.element.push_back(sf.element[f]);
+    }
+    if (load.faces.empty())
+      throw std::runtime_error(fmt::format(
+          "{}: line {}: part '{}': the pressure load selects no boundary face (none of the "
+          "part's faces on its bounding box's side has its centre in the load's box)",
+          l.where.file, l.where.line, name_));
+    loads_.push_back(std::move(load));
+  }
+
+  /// Nodal forces of the pressure loads at time t on the current geometry: per face
+  /// f = -p a, a the outward area vector ((t_y, -t_x) x 1 m in 2D, (x_2 - x_0) x (x_3 - x_1) / 2
+  /// in 3D), shared equally by its nodes (exact for straight segments and parallelograms).
+  /// Faces are visited in order, one thread: the sums are the same for any thread count.
+  void pressure_forces(Real t_s) {
+    for (auto& f : load_force_)
+      f.setZero();
+    constexpr int kF = solver::kFaceNodes<D>;
+    for (const PressureLoad& load : loads_) {
+      const Real p = tabulated(load.time_s, load.pressure_pa, t_s);
+      if (p == 0) continue;
+      for (std::size_t f = 0; f < load.faces.size(); ++f) {
+        if (mesh_.eroded[at(load.element[f])]) continue;
+        const auto& nodes = load.faces[f];
+        Vec<D> area;
+        if constexpr (D == 2) {
+          const Vec<D> t = mesh_.position[at(nodes[1])] - mesh_.position[at(nodes[0])];
+          area = Vec<D>(t[1], -t[0]);
+        } else {
+          const Vec<D>& x0 = mesh_.position[at(nodes[0])];
+          const Vec<D>& x1 = mesh_.position[at(nodes[1])];
+          const Vec<D>& x2 = mesh_.position[at(nodes[2])];
+          const Vec<D>& x3 = mesh_.position[at(nodes[3])];
+          area = Real(0.5) * (x2 - x0).cross(x3 - x1);
+        }
+        const Vec<D> share = (-p / Real(kF)) * area;
+        for (Index n : nodes)
+          load_force_[at(n)] += share;
+      }
+    }
   }
 
   /// Nodes of a boundary condition and, for dashpots, their boundary faces.
@@ -572,6 +666,15 @@ class FemPart final : public solver::Part<D> {
   std::vector<Vec<D>> imposed_velocity_;
   std::vector<Index> dashpot_of_node_;  // index into dashpot_matrix_, or -1
   std::vector<MatD<D>> dashpot_matrix_;
+
+  // Pressure loads ([[parts.fem.loads]]) and their nodal forces at the last force evaluation.
+  struct PressureLoad {
+    std::vector<Real> time_s, pressure_pa;
+    std::vector<std::array<Index, solver::kFaceNodes<D>>> faces;
+    std::vector<Index> element;
+  };
+  std::vector<PressureLoad> loads_;
+  std::vector<Vec<D>> load_force_;  // empty without loads
 
   // State between stages.
   std::vector<Vec<D>> acceleration_;

@@ -44,6 +44,12 @@ struct StableStep {
   Real dt_s = 0;
   Index entity_id = -1;
   std::string reason;  // e.g. "CFL, signal speed 7012 m/s"
+  // An accuracy bound already well inside the stability limit (the contacts' omega dt <= 1/2):
+  // the global step obeys it as it is, where stability limits are scaled by the safety factor.
+  bool absolute = false;
+
+  /// The step this limit allows under the scenario's safety factor.
+  Real allowed_s(Real safety_factor) const { return absolute ? dt_s : safety_factor * dt_s; }
 };
 
 /// A problem found in a part's state: a non-finite value, a negative density, ...

@@ -45,24 +45,27 @@ namespace {
 
 template <int D>
 struct StepLimit {
-  Real dt_s = std::numeric_limits<Real>::infinity();
+  Real dt_s = std::numeric_limits<Real>::infinity();       // the limit as its part states it
+  Real allowed_s = std::numeric_limits<Real>::infinity();  // the step it allows (safety applied)
   std::string who;   // "part 'x'" or the contact; empty when nothing limits the step
   std::string part;  // the limiting part's name, or "contact"
   StableStep detail;
 };
 
+/// The limit that allows the smallest step under `safety_factor` (1: the limits as stated,
+/// which a fixed step must respect).
 template <int D>
 StepLimit<D> smallest_stable_step(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                                  const contact::Coupling<D>* coupling = nullptr) {
+                                  const contact::Coupling<D>* coupling, Real safety_factor) {
   StepLimit<D> lim;
-  for (const auto& p : parts) {
-    const StableStep s = p->stable_step();
-    if (s.dt_s < lim.dt_s) lim = {s.dt_s, "part '" + p->name() + "'", p->name(), s};
-  }
-  if (coupling && !coupling->empty()) {
-    const StableStep s = coupling->stable_step(parts);
-    if (s.dt_s < lim.dt_s) lim = {s.dt_s, "the contacts", "contact", s};
-  }
+  auto consider = [&](const StableStep& s, std::string who, std::string part) {
+    if (s.allowed_s(safety_factor) < lim.allowed_s)
+      lim = {s.dt_s, s.allowed_s(safety_factor), std::move(who), std::move(part), s};
+  };
+  for (const auto& p : parts)
+    consider(p->stable_step(), "part '" + p->name() + "'", p->name());
+  if (coupling && !coupling->empty())
+    consider(coupling->stable_step(parts), "the contacts", "contact");
   return lim;
 }
 
@@ -485,7 +488,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     for (auto& p : parts)
       p->compute_forces(st.t);  // rates and sound speeds of the initial state
     coupling.apply(parts, 0);
-    check_fixed_step(c, smallest_stable_step(parts, &coupling));
+    check_fixed_step(c, smallest_stable_step(parts, &coupling, Real(1)));
     prepare_out_dir(opt.out_dir, opt.force);
     outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts,
                                         history_columns(parts, coupling, probes));
@@ -521,8 +524,9 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
 
   try {
     while (t < c.end_time_s - t_eps && (c.time.max_steps == 0 || r.steps < c.time.max_steps)) {
-      const StepLimit<D> lim = smallest_stable_step(parts, &coupling);
-      Real dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : c.time.safety_factor * lim.dt_s;
+      const StepLimit<D> lim = smallest_stable_step(
+          parts, &coupling, c.time.fixed_dt_s ? Real(1) : c.time.safety_factor);
+      Real dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : lim.allowed_s;
       // Nothing limits the step when no part has live entities left (every element of a
       // solid eroded): go straight to the next output time.
       if (!c.time.fixed_dt_s && lim.dt_s == std::numeric_limits<Real>::infinity())
@@ -635,7 +639,7 @@ std::vector<PartReport> check(const io::Config& c) {
     const StableStep s = coupling.stable_step(parts);
     reports.push_back({"contacts", "contact", static_cast<Index>(c.contacts.size()), 0, s});
   }
-  check_fixed_step(c, smallest_stable_step(parts, &coupling));
+  check_fixed_step(c, smallest_stable_step(parts, &coupling, Real(1)));
   return reports;
 }
 

@@ -197,6 +197,21 @@ struct FemBoundaryConfig {
   SourceLocation where;
 };
 
+/// A load on boundary faces of an FEM part ([[parts.fem.loads]]). type "pressure": a pressure
+/// history p(t) (linear between the table's points, zero outside), positive into the body,
+/// on the current (deformed) faces of one face of the part's bounding box, optionally only
+/// those whose centre lies in a box (its extent along the face normal is not used).
+enum class FemLoadType { Pressure };
+
+struct FemLoadConfig {
+  FemLoadType type = FemLoadType::Pressure;
+  Face face = Face::Bottom;
+  std::optional<RegionConfig> region;  // a box; unset: the whole face
+  std::vector<Real> time_s;            // strictly increasing
+  std::vector<Real> pressure_pa;       // same length
+  SourceLocation where;
+};
+
 /// Numerics of an FEM part ([parts.fem]).
 struct FemConfig {
   bool hourglass_stiffness = false;  // false: viscous form
@@ -206,7 +221,9 @@ struct FemConfig {
   Real initial_temperature_k = 293.15;
   std::optional<Real> erosion_plastic_strain;  // erode elements at this plastic strain
   bool erode_inverted = false;                 // inverted elements erode (else: exit 3)
+  Real erosion_step_ratio = 0;  // erode elements whose step < this x the part's initial step
   std::vector<FemBoundaryConfig> boundaries;
+  std::vector<FemLoadConfig> loads;
   std::string mesh_file;                 // Gmsh .msh 4.1; empty: structured mesh of the region box
   std::string mesh_group;                // physical group of the elements in mesh_file; empty: all
   std::shared_ptr<const GmshMesh> mesh;  // mesh_file as read when the scenario was loaded

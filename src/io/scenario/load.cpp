@@ -731,12 +731,12 @@ class Builder {
       // Particles against a solid's surface, or SPH against DEM particles.
       std::array<std::string, 2> m = methods;
       std::sort(m.begin(), m.end());
-      const bool supported =
-          (m[0] == "dem" && (m[1] == "fem" || m[1] == "sph")) || (m[0] == "fem" && m[1] == "sph");
+      const bool supported = (m[0] == "dem" && (m[1] == "fem" || m[1] == "sph")) ||
+                             (m[0] == "fem" && (m[1] == "sph" || m[1] == "fem"));
       if (!supported)
         error(pw, key + ".parts",
-              fmt::format("contacts join sph or dem particles to an fem surface, or sph to dem "
-                          "particles; '{}' and '{}' are {} and {}",
+              fmt::format("contacts join sph or dem particles to an fem surface, sph to dem "
+                          "particles, or two fem surfaces; '{}' and '{}' are {} and {}",
                           c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, methods[0],
                           methods[1]));
       for (const auto& other : c.contacts)
@@ -779,6 +779,7 @@ class Builder {
     f.initial_temperature_k = num(ft, "initial_temperature_k");
     f.erosion_plastic_strain = opt_num(ft, "erosion_plastic_strain");
     f.erode_inverted = ft.get("erode_inverted")->as_boolean()->get();
+    f.erosion_step_ratio = num(ft, "erosion_step_ratio");
     // A solid starts unstressed at its reference density; only velocities can be set.
     const auto& it_init = table(t, "initial");
     for (const char* k : {"density_kg_m3", "pressure_pa"})
@@ -871,6 +872,88 @@ class Builder {
       }
     }
     if (!f.mesh_file.empty()) read_fem_mesh(c, ft, fw, key, p);
+    if (const toml::node* ln = ft.get("loads")) read_fem_loads(*ln->as_array(), fw, key, dim, p);
+  }
+
+  // [[parts.fem.loads]]: a face of the part's box, an optional box on it, a pressure table.
+  void read_fem_loads(const toml::array& la, const SourceLocation& fw, const std::string& key,
+                      int dim, PartConfig& p) {
+    static const char* faces[] = {"left", "right", "bottom", "top", "back", "front"};
+    for (std::size_t j = 0; j < la.size(); ++j) {
+      const auto& lt = *la.get(j)->as_table();
+      const SourceLocation lw = where_of(lt, fw);
+      const std::string lk = fmt::format("{}.fem.loads[{}]", key, j);
+      FemLoadConfig l;
+      l.where = lw;
+      l.type = FemLoadType::Pressure;
+      const std::string face = str(lt, "face");
+      const int fi =
+          static_cast<int>(std::find(std::begin(faces), std::end(faces), face) - std::begin(faces));
+      if (fi / 2 >= dim) {
+        error(loc(lt, "face", lw), lk + ".face",
+              fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+        continue;
+      }
+      l.face = static_cast<Face>(fi);
+      const int normal = fi / 2;
+      if (const toml::node* rn = lt.get("region")) {
+        const auto& rt = *rn->as_table();
+        const SourceLocation rw = where_of(rt, lw);
+        if (str(rt, "type") != "box") {
+          error(loc(rt, "type", rw), lk + ".region.type",
+                "expected \"box\": a load selects the faces whose centre lies in a box");
+          continue;
+        }
+        l.region = read_region(rt, rw, lk + ".region", dim);
+        // The box must meet the part's face (along the axes other than the face normal).
+        if (p.region.type == RegionType::Box)
+          for (int d = 0; d < dim; ++d) {
+            const auto u = static_cast<std::size_t>(d);
+            if (d == normal) continue;
+            if (!(l.region->max_m[u] > p.region.min_m[u] && l.region->min_m[u] < p.region.max_m[u]))
+              error(
+                  loc(rt, "min_m", rw), lk + ".region",
+                  fmt::format("the box ({} .. {}) does not meet the part's {} face, which spans "
+                              "{} .. {}",
+                              vec_text(l.region->min_m, dim), vec_text(l.region->max_m, dim), face,
+                              vec_text(p.region.min_m, dim), vec_text(p.region.max_m, dim)));
+          }
+      }
+      auto reals = [&](const char* name) {
+        std::vector<Real> v;
+        if (const toml::node* n = lt.get(name))
+          for (const auto& e : *n->as_array())
+            v.push_back(e.value<double>().value_or(0.0));
+        return v;
+      };
+      l.time_s = reals("time_s");
+      l.pressure_pa = reals("pressure_pa");
+      const SourceLocation tw = loc(lt, "time_s", lw);
+      if (l.time_s.size() < 2 || l.time_s.size() != l.pressure_pa.size()) {
+        error(tw, lk + ".time_s",
+              fmt::format("expected time_s and pressure_pa of the same length, at least 2, got "
+                          "{} and {}",
+                          l.time_s.size(), l.pressure_pa.size()));
+        continue;
+      }
+      bool ok = true;
+      for (std::size_t q = 0; q < l.time_s.size(); ++q)
+        if (!std::isfinite(l.time_s[q]) || (q > 0 && !(l.time_s[q] > l.time_s[q - 1]))) {
+          error(tw, fmt::format("{}.time_s[{}]", lk, q),
+                fmt::format("expected finite times in strictly increasing order, got {} s after "
+                            "{} s",
+                            l.time_s[q], q > 0 ? l.time_s[q - 1] : l.time_s[q]));
+          ok = false;
+          break;
+        }
+      for (std::size_t q = 0; q < l.pressure_pa.size(); ++q)
+        if (!std::isfinite(l.pressure_pa[q])) {
+          error(loc(lt, "pressure_pa", lw), fmt::format("{}.pressure_pa[{}]", lk, q),
+                "expected a finite pressure");
+          ok = false;
+        }
+      if (ok) p.fem.loads.push_back(l);
+    }
   }
 
   // Mesh files are read when the scenario is, so that a malformed mesh is an input error

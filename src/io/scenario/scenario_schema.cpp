@@ -728,6 +728,41 @@ const TableSchema& fem_boundary_schema() {
   return s;
 }
 
+TableSchema make_fem_load() {
+  TableSchema t{"parts.fem.loads",
+                "A load on the boundary faces of one face of the part's bounding box, applied as "
+                "nodal forces on the current (deformed) faces every step; its work is the part's "
+                "external work. Faces of eroded elements are no longer loaded.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(choice("type", {"pressure"},
+                      "pressure: a pressure history p(t), positive pushing into the body, on "
+                      "each loaded face: f = -p A n (A the face's current area, 2D: length x "
+                      "1 m; n its outward normal), shared equally by the face's nodes.")),
+      required(choice("face", {"left", "right", "bottom", "top", "back", "front"},
+                      "The face of the part's bounding box whose boundary faces are loaded: "
+                      "left/right = x min/max, bottom/top = y min/max, back/front = z min/max.")),
+      absent_means_unset(sub("region", KeyType::Table, region_schema(),
+                             "Only the faces whose centre (at t = 0) lies in this box are "
+                             "loaded; the box's extent along the face normal is not used. "
+                             "Unset: the whole face.")),
+      required(of_type(
+          real("time_s", "s", "Times of the pressure table, strictly increasing (at least 2)."),
+          KeyType::RealArray)),
+      required(of_type(real("pressure_pa", "Pa",
+                            "Pressure at each time of time_s; linear in between, zero before the "
+                            "first and after the last time."),
+                       KeyType::RealArray)),
+  };
+  return t;
+}
+const TableSchema& fem_load_schema() {
+  static const TableSchema s = make_fem_load();
+  return s;
+}
+
 TableSchema make_fem() {
   TableSchema t{"parts.fem",
                 "Explicit finite-element numerics of the part (paper section III-B): one-point "
@@ -761,6 +796,15 @@ TableSchema make_fem() {
                                 "goes on; false: the run stops (exit 3) naming it."),
                            KeyType::Bool),
                    "false"),
+      with_default(
+          at_most(at_least(real("erosion_step_ratio", "1",
+                                "Elements whose stable step falls below this fraction of the "
+                                "part's initial stable step erode (as LS-DYNA's ERODE = 1 with "
+                                "DTMIN): a crushed element no longer holds the whole model's "
+                                "step down. 0: off."),
+                           0),
+                  1),
+          "0"),
       text("mesh_file",
            "A Gmsh mesh (.msh format 4.1, ASCII), relative to the scenario file: 4-node "
            "quadrangles (2D) or 8-node hexahedra (3D). Unset: a structured mesh of the part's "
@@ -770,6 +814,8 @@ TableSchema make_fem() {
            "element of the scenario's dimension."),
       sub("boundary", KeyType::TableArray, fem_boundary_schema(),
           "Boundary conditions. Faces without one are free (traction-free)."),
+      sub("loads", KeyType::TableArray, fem_load_schema(),
+          "Loads on boundary faces (an equivalent blast pressure, a surcharge)."),
   };
   return t;
 }
@@ -827,7 +873,9 @@ TableSchema make_contact() {
   TableSchema t{"contacts",
                 "Contacts between parts (paper section III-D): penalty forces, equal and "
                 "opposite, between the particles of one part and the surface of an FEM part "
-                "(sph-fem, dem-fem), or between the particles of an SPH and a DEM part.",
+                "(sph-fem, dem-fem), between the particles of an SPH and a DEM part, or "
+                "between the surfaces of two FEM parts (fem-fem: nodes of each against the "
+                "faces of the other).",
                 {},
                 {},
                 {}};
@@ -837,7 +885,9 @@ TableSchema make_contact() {
       with_default(positive(real("penalty_scale", "1",
                                  "Scale s of the penalty stiffness: particle-surface k = s K A^2 / "
                                  "V of the face's element (K its bulk modulus, A the face area, V "
-                                 "its volume; LS-DYNA's segment stiffness), particle-particle "
+                                 "its volume; LS-DYNA's segment stiffness), fem-fem the "
+                                 "smaller of that of the face and of the node's own stiffest "
+                                 "face, particle-particle "
                                  "k = s E r (3D) or s E (2D) with the grain's Young's modulus. "
                                  "The paper uses 0.1 for sph-fem, 1 for dem-fem.")),
                    "1.0"),

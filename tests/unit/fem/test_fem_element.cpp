@@ -371,5 +371,33 @@ TEST(FemErosion, InvertedElementErodesOnlyWhenAsked) {
     EXPECT_EQ(f.squaredNorm(), 0.0);
 }
 
+/// erosion_min_step_s (LS-DYNA's ERODE with DTMIN): a unit-square Q4 at rest, squashed to height
+/// h with its nodes at rest. For an a x h rectangle b_I = (+-1/2a, +-1/2h), so
+/// L_e = 1 / sqrt(1/a^2 + 1/h^2), and c = sqrt(M / rho) falls as sqrt(V/V_0) = sqrt(h): the
+/// step L_e / c over the one at rest is sqrt(2h / (1 + h^2)), which is 1/2 at h = 4 - sqrt(15).
+bool squashed_q4_erodes(Real h, Real ratio) {
+  StructuredMeshSpec<2> spec;
+  spec.cells = {1, 1};
+  ExplicitMesh<2> mesh = structured_mesh<2>(spec);
+  SolidMaterial material;
+  material.strength = materials::steel_elastic();
+  material.density_kg_m3 = 7850;
+  initialise<2>(mesh, material);
+  material.erosion_min_step_s = ratio * stable_time_step<2>(mesh, material);
+  for (Vec<2>& x : mesh.position)
+    x[1] *= h;
+  const ForceReport r = compute_internal_forces<2>(mesh, material, 1e-9);
+  EXPECT_EQ(r.newly_eroded, mesh.eroded[0]);
+  return mesh.eroded[0] != 0;
+}
+
+TEST(FemErosion, ElementBelowTheStepFloorErodes) {
+  const Real h_star = 4 - std::sqrt(Real(15));  // 0.127
+  EXPECT_FALSE(squashed_q4_erodes(1.0, 0.5));
+  EXPECT_FALSE(squashed_q4_erodes(h_star * 1.001, 0.5));
+  EXPECT_TRUE(squashed_q4_erodes(h_star * 0.999, 0.5));
+  EXPECT_FALSE(squashed_q4_erodes(0.2, 0.0));  // off by default
+}
+
 }  // namespace
 }  // namespace crater::fem

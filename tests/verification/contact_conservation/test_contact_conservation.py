@@ -336,5 +336,99 @@ class SphDem(unittest.TestCase):
         self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
 
 
+FEM_FEM = """
+[scenario]
+name = "fem-fem-{tag}"
+description = "a steel block on another"
+dimension = {dim}
+end_time_s = {end}
+[output]
+interval_s = {frame}
+history_every = 1
+[domain]
+gravity_m_s2 = [0, {g}{z0}]
+min_m = [-0.05, -0.01{zlo}]
+max_m = [0.05, 0.1{zhi}]
+[[materials]]
+name = "steel"
+model = "elastic"
+rho0_kg_m3 = 7850
+youngs_modulus_pa = 200e9
+poisson_ratio = 0.3
+[[parts]]
+name = "top"
+method = "fem"
+material = "steel"
+spacing_m = 0.005
+region = {{ type = "box", min_m = [-0.01, {y0}{zlo}], max_m = [0.01, {y1}{zhi}] }}
+initial = {{ velocity_m_s = [{vx}, {vy}{z0}] }}
+[[parts]]
+name = "base"
+method = "fem"
+material = "steel"
+spacing_m = 0.005
+region = {{ type = "box", min_m = [-0.02, 0.0{zlo}], max_m = [0.02, 0.02{zhi}] }}
+{base_bc}
+[[contacts]]
+parts = ["top", "base"]
+friction = 0.3
+"""
+
+
+def fem_fem_case(work, tag, dim=2, end=6e-5, frame=1.5e-5, g=0.0, y0=0.0201, vx=2.0, vy=-10.0,
+                 fixed=False):
+    z = dim == 3
+    text = FEM_FEM.format(
+        tag=tag, dim=dim, end=end, frame=frame, g=g, y0=y0, y1=y0 + 0.02, vx=vx, vy=vy,
+        z0=", 0" if z else "", zlo=", -0.01" if z else "", zhi=", 0.01" if z else "",
+        base_bc='[[parts.fem.boundary]]\ntype = "fixed"\nface = "bottom"' if fixed else "")
+    path = work / f"{tag}.toml"
+    path.write_text(text)
+    return path
+
+
+class FemFem(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("contact_fem_fem")
+
+    def check_momentum(self, dim):
+        out = self.work / f"impact{dim}d"
+        s = run_scenario(fem_fem_case(self.work, f"impact{dim}d", dim=dim), out)
+        drift, p0 = momentum_drift(out, (("top", "node_mass"), ("base", "node_mass")), 5)
+        _, a, _, _ = read_vtu(out / "top_000004.vtu")
+        top = (a["velocity"] * a["node_mass"][:, None]).sum(axis=0) / a["node_mass"].sum()
+        print(f"{dim}D block on a free block: momentum drift {drift:.1e} of |p0| = "
+              f"{np.linalg.norm(p0):.3f} kg m/s; top block's velocity after {top[:2]} m/s; "
+              f"energy balance {s['energy']['balance_error']:.2e}; max overlap "
+              f"{s['contacts']['contact_top-base_max_overlap_m']:.1e} m")
+        self.assertGreater(top[1], 0)  # it bounced
+        self.assertLess(top[0], 2.0)   # friction slowed the sliding
+        self.assertLess(drift, 1e-10)
+        self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
+
+    def test_block_on_free_block_conserves_momentum_2d(self):
+        self.check_momentum(2)
+
+    def test_block_on_free_block_conserves_momentum_3d(self):
+        self.check_momentum(3)
+
+    def test_block_resting_on_block_carries_its_weight(self):
+        out = self.work / "resting"
+        s = run_scenario(fem_fem_case(self.work, "resting", end=2e-3, frame=1e-3, g=-9.81,
+                                      y0=0.02, vx=0.0, vy=0.0, fixed=True), out)
+        with open(out / "history.csv") as f:
+            rows = list(csv.DictReader(f))
+        t = np.array([float(r["time_s"]) for r in rows])
+        fy = np.array([float(r["force_top-base_y"]) for r in rows])
+        late = t >= 1e-3
+        weight = 7850 * 0.02 * 0.02 * 9.81
+        ratio = -fy[late].mean() / weight
+        print(f"base force / m g = {ratio:.5f} (mean over 1-2 ms, {late.sum()} rows); range "
+              f"{-fy[late].max() / weight:.3f} .. {-fy[late].min() / weight:.3f}; energy "
+              f"balance {s['energy']['balance_error']:.1e}")
+        self.assertLess(abs(ratio - 1), 0.01)
+
+
 if __name__ == "__main__":
     unittest.main(argv=[sys.argv[0], "-v"])
