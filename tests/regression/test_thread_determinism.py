@@ -52,6 +52,15 @@ class ThreadDeterminism(unittest.TestCase):
         self.assertIn("surface_profile.csv", files)
         self.assertIn("plate.pvd", files)
 
+    def test_paper_fem_only_demo(self):
+        # Pressure loads and FEM-FEM contacts (plate between four Drucker-Prager soil parts):
+        # through the equivalent pressure's peak (0.11-0.25 ms) to 0.3 ms.
+        files = assert_bit_identical_runs("paper-fem-only", scratch("det_paper_fem_only"),
+                                          sets=["scenario.end_time_s=3e-4",
+                                                "output.interval_s=1e-4"])
+        self.assertIn("plate.pvd", files)
+        self.assertIn("soil_top.pvd", files)
+
     def test_outflow_2d(self):
         # domain.outflow = "remove": SPH particles and DEM grains (with contacts and bonds) are
         # removed as they leave the box; the survivors are compacted in index order.
