@@ -36,15 +36,7 @@ const std::vector<std::vector<int>>& local_faces() {
 template <int D>
 Vec<D> face_area_vector(const ExplicitMesh<D>& mesh, Index e, const std::vector<Index>& nodes,
                         const std::vector<Vec<D>>& x) {
-  Vec<D> a;
-  if constexpr (D == 2) {
-    const Vec<D> t = x[at(nodes[1])] - x[at(nodes[0])];
-    a = Vec<D>(t[1], -t[0]);  // length x unit normal (x 1 m of depth)
-  } else {
-    const Vec<D> d1 = x[at(nodes[2])] - x[at(nodes[0])];
-    const Vec<D> d2 = x[at(nodes[3])] - x[at(nodes[1])];
-    a = Real(0.5) * d1.cross(d2);
-  }
+  Vec<D> a = numbered_face_area<D>(x, nodes);
   // Orient it away from the element's centre.
   Vec<D> centre = Vec<D>::Zero(), face_centre = Vec<D>::Zero();
   for (Index n : mesh.elements[at(e)])
@@ -171,15 +163,7 @@ SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
       std::vector<Index> as_vector(nodes.begin(), nodes.end());
       const Vec<D> outward = face_area_vector(mesh, c.element, as_vector, mesh.position);
       // The numbering's own normal, reversed when it points inward.
-      Vec<D> own;
-      const auto& x = mesh.position;
-      if constexpr (D == 2) {
-        const Vec<D> t = x[at(nodes[1])] - x[at(nodes[0])];
-        own = Vec<D>(t[1], -t[0]);
-      } else {
-        own = Real(0.5) *
-              (x[at(nodes[2])] - x[at(nodes[0])]).cross(x[at(nodes[3])] - x[at(nodes[1])]);
-      }
+      const Vec<D> own = numbered_face_area<D>(mesh.position, nodes);
       if (own.dot(outward) < 0) {
         if constexpr (D == 2) {
           std::swap(nodes[0], nodes[1]);

@@ -3,6 +3,7 @@
 // the mesh file; with the boundary faces (segments in 2D, quadrilaterals in 3D) that lie in it.
 #pragma once
 
+#include <Eigen/Geometry>
 #include <map>
 #include <string>
 #include <vector>
@@ -58,6 +59,20 @@ MeshSource<D> mesh_from_gmsh(const io::GmshMesh& gmsh, const std::string& file,
 /// The nodes on a face of the mesh's bounding box (within 1e-9 of its extent).
 template <int D>
 NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face);
+
+/// Area vector of a face in its node numbering's sense: (t_y, -t_x) x 1 m of depth in 2D,
+/// (x_2 - x_0) x (x_3 - x_1) / 2 in 3D (exact for segments and planar quadrilaterals).
+template <int D, class Nodes>
+Vec<D> numbered_face_area(const std::vector<Vec<D>>& x, const Nodes& nodes) {
+  if constexpr (D == 2) {
+    const Vec<D> t = x[static_cast<std::size_t>(nodes[1])] - x[static_cast<std::size_t>(nodes[0])];
+    return Vec<D>(t[1], -t[0]);
+  } else {
+    const Vec<D> d1 = x[static_cast<std::size_t>(nodes[2])] - x[static_cast<std::size_t>(nodes[0])];
+    const Vec<D> d2 = x[static_cast<std::size_t>(nodes[3])] - x[static_cast<std::size_t>(nodes[1])];
+    return Real(0.5) * d1.cross(d2);
+  }
+}
 
 /// The surface of the live (not eroded) elements: faces no other live element shares, numbered
 /// so that the outward normal is (t_y, -t_x), t = x_1 - x_0 (2D) or (x_2 - x_0) x (x_3 - x_1)

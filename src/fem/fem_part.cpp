@@ -579,18 +579,7 @@ class FemPart final : public solver::Part<D> {
       for (std::size_t f = 0; f < load.faces.size(); ++f) {
         if (mesh_.eroded[at(load.element[f])]) continue;
         const auto& nodes = load.faces[f];
-        Vec<D> area;
-        if constexpr (D == 2) {
-          const Vec<D> t = mesh_.position[at(nodes[1])] - mesh_.position[at(nodes[0])];
-          area = Vec<D>(t[1], -t[0]);
-        } else {
-          const Vec<D>& x0 = mesh_.position[at(nodes[0])];
-          const Vec<D>& x1 = mesh_.position[at(nodes[1])];
-          const Vec<D>& x2 = mesh_.position[at(nodes[2])];
-          const Vec<D>& x3 = mesh_.position[at(nodes[3])];
-          area = Real(0.5) * (x2 - x0).cross(x3 - x1);
-        }
-        const Vec<D> share = (-p / Real(kF)) * area;
+        const Vec<D> share = (-p / Real(kF)) * numbered_face_area<D>(mesh_.position, nodes);
         for (Index n : nodes)
           load_force_[at(n)] += share;
       }
