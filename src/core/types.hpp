@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <type_traits>
 
@@ -24,5 +25,19 @@ using IVec = Eigen::Matrix<std::int64_t, D, 1>;
 /// A moment or angular velocity: the z component in 2D (a scalar), a vector in 3D.
 template <int D>
 using AxialVec = std::conditional_t<D == 2, Real, Eigen::Matrix<Real, 3, 1>>;
+
+/// x^(1/D): the side of a D-dimensional cube of measure x (sqrt in 2D, cbrt in 3D; cheaper and
+/// exactly rounded where std::pow(x, 1.0 / D) is neither).
+template <int D>
+inline Real dth_root(Real x) {
+  static_assert(D >= 1 && D <= 3);
+  if constexpr (D == 1) {
+    return x;
+  } else if constexpr (D == 2) {
+    return std::sqrt(x);
+  } else {
+    return std::cbrt(x);
+  }
+}
 
 }  // namespace crater

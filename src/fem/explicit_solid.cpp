@@ -126,7 +126,7 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
     mesh.stress[ue] = sigma;
     mesh.volume[ue] = g.volume;
 
-    const Real size = std::pow(g.volume, Real(1) / Real(D));
+    const Real size = dth_root<D>(g.volume);
     const Real q = bulk_viscosity_pressure(material.bulk_viscosity, rho, c, size, d.trace());
     const Eigen::Matrix<Real, D, D> sigma_eff =
         sigma.template topLeftCorner<D, D>() - q * Eigen::Matrix<Real, D, D>::Identity();

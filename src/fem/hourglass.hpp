@@ -59,12 +59,14 @@ inline HourglassForces<D> hourglass_forces(const HourglassParams& params,
   }
   HourglassState<D> q;
   if (params.form == HourglassForm::kViscous) {
-    const Real a = params.coefficient * density * wave_speed *
-                   std::pow(volume, Real(D - 1) / Real(D)) / Real(4);
+    // volume^((D-1)/D): a face's measure.
+    const Real a =
+        params.coefficient * density * wave_speed * (volume / dth_root<D>(volume)) / Real(4);
     q = a * g;
   } else {
-    const Real a = params.coefficient * density * wave_speed * wave_speed *
-                   std::pow(volume, Real(D - 2) / Real(D)) / Real(4);
+    // volume^((D-2)/D): 1 in 2D, an edge's length in 3D.
+    const Real edge = D == 2 ? Real(1) : dth_root<D>(volume);
+    const Real a = params.coefficient * density * wave_speed * wave_speed * edge / Real(4);
     state += (a * dt) * g;
     q = state;
   }

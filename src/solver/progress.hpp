@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -13,8 +14,12 @@ namespace crater::solver {
 
 class Progress {
  public:
-  Progress(Real end_time_s, bool quiet)
+  /// first_step, first_t_s: where this run starts (non-zero on a resumed run), so that steps/s
+  /// and the ETA count only the work done by this process.
+  Progress(Real end_time_s, bool quiet, Index first_step, Real first_t_s)
       : end_s_(end_time_s),
+        first_step_(first_step),
+        first_t_s_(first_t_s),
         quiet_(quiet),
         tty_(::isatty(2) == 1),
         start_(Clock::now()),
@@ -41,8 +46,9 @@ class Progress {
   void print(Index step, Real t_s, Real dt_s, Clock::time_point now, bool done) {
     const double wall = seconds(now - start_);
     const double frac = end_s_ > 0 ? std::min(1.0, t_s / end_s_) : 1.0;
-    const double rate = wall > 0 ? static_cast<double>(step) / wall : 0.0;
-    const double eta = frac > 0 ? wall * (1 - frac) / frac : 0.0;
+    const double rate = wall > 0 ? static_cast<double>(step - first_step_) / wall : 0.0;
+    const double done_s = t_s - first_t_s_;
+    const double eta = done_s > 0 ? wall * std::max(0.0, end_s_ - t_s) / done_s : 0.0;
     const std::string line =
         fmt::format("{:5.1f} %  t = {:.4e} s  step {}  dt = {:.3e} s  {:.0f} steps/s  {}",
                     100 * frac, t_s, step, dt_s, rate,
@@ -55,6 +61,8 @@ class Progress {
   }
 
   Real end_s_;
+  Index first_step_;
+  Real first_t_s_;
   bool quiet_;
   bool tty_;
   Clock::time_point start_, last_;

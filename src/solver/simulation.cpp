@@ -497,7 +497,6 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   for (const auto& w : c.warnings)
     spdlog::warn("{}", w);
 
-  Progress progress(c.end_time_s, opt.quiet);
   RunResult r;
   r.threads = parallel::max_threads();
   SignalGuard signals;
@@ -516,6 +515,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   }
   e = st.e0;
   r.steps = st.steps;
+  Progress progress(c.end_time_s, opt.quiet, st.steps, t);
   const Real t_eps = 1e-12 * c.end_time_s;
   auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

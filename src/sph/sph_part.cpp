@@ -329,9 +329,8 @@ class SphPart final : public solver::Part<D> {
   /// (m / rho)^(1/D) / 2, moving at the predicted velocity.
   std::optional<solver::ContactPoints<D>> contact_points() const override {
     contact_radius_.resize(static_cast<std::size_t>(f_.size()));
-    parallel::for_each(f_.size(), [&](Index i) {
-      contact_radius_[i] = Real(0.5) * std::pow(m_[i] / rho_[i], Real(1) / Real(D));
-    });
+    parallel::for_each(
+        f_.size(), [&](Index i) { contact_radius_[i] = Real(0.5) * dth_root<D>(m_[i] / rho_[i]); });
     solver::ContactPoints<D> p;
     p.position = &x_;
     p.velocity = &v_;

@@ -87,6 +87,38 @@ TEST(JohnsonCookLaw, RadialReturnLandsOnTheSurfaceAlongTheTrialDeviator) {
   EXPECT_EQ((e.deviator - s * 1e-2).norm(), 0);
 }
 
+// The return's Newton changes variable (x or ln x) at the rate floor's kink x = dt eps_dot0: the
+// roots on either side of it, at it, and far beyond must all land on eq. 41.
+TEST(JohnsonCookLaw, RadialReturnLandsOnTheSurfaceOnBothSidesOfTheRateKink) {
+  const JohnsonCookParams p = paper_steel_johnson_cook();
+  const Real mu = shear_modulus(p.elastic);
+  for (const Real dt : {9e-8, 1e-6}) {
+    for (const Real eps0 : {0.0, 0.01, 0.5}) {
+      for (const Real over : {1e-4, 1e-3, 1e-2, 0.1, 0.5, 2.0, 20.0}) {
+        SCOPED_TRACE(::testing::Message() << "dt " << dt << " eps0 " << eps0 << " over " << over);
+        const JohnsonCookState state{.plastic_strain = eps0, .temperature_k = 293.15};
+        const Real q_tr = johnson_cook_flow_stress(p, eps0, 0, 293.15) * (1 + over);
+        Mat3 s = Mat3::Zero();
+        s(0, 1) = s(1, 0) = q_tr / std::sqrt(3.0);
+        const RadialReturn r = johnson_cook_radial_return(p, s, state, dt, 7850);
+        ASSERT_TRUE(r.yielded);
+        const Real dep = r.plastic_strain_increment;
+        ASSERT_GT(dep, 0);
+        const Real q = q_tr - 3 * mu * dep;
+        EXPECT_NEAR(q, johnson_cook_flow_stress(p, eps0 + dep, dep / dt, 293.15), 1e-12 * q_tr);
+      }
+    }
+  }
+  // Without hardening and rate, the return is the perfectly plastic one in closed form.
+  JohnsonCookParams flat = p;
+  flat.b_pa = 0;
+  flat.c = 0;
+  Mat3 s = Mat3::Zero();
+  s(0, 1) = s(1, 0) = 3 * flat.a_pa / std::sqrt(3.0);
+  const RadialReturn r = johnson_cook_radial_return(flat, s, JohnsonCookState{}, 1e-7, 7850);
+  EXPECT_NEAR(r.plastic_strain_increment, 2 * flat.a_pa / (3 * mu), 1e-14);
+}
+
 TEST(JohnsonCookLaw, AdiabaticHeatingIsTaylorQuinneyFractionOfPlasticWork) {
   JohnsonCookParams p = paper_steel_johnson_cook();
   p.thermal_softening = true;
