@@ -380,6 +380,31 @@ void check_cross_against_brute_force() {
   }
 }
 
+// The other way round: the candidates spread far beyond the queries (a charge in a soil bed),
+// so that the search runs on subsets of both sets and maps the indices back.
+template <int D>
+void check_small_queries_in_a_large_bed() {
+  std::uint64_t seed = 900 + D;
+  for (Real r : {0.01, 0.05, 0.3}) {
+    SCOPED_TRACE(::testing::Message() << "D=" << D << " r=" << r);
+    const auto a = random_points<D>(300, 0.1, 0.3, seed++);
+    const auto b = random_points<D>(6000, -1.0, 1.0, seed++);
+    NeighborList nl;
+    build_cross_list<D>(sp(a), sp(b), r, nl);
+    ASSERT_EQ(nl.size(), 300);
+    EXPECT_EQ(rows_of(nl), brute_cross<D>(a, b, r));
+    NeighborList back;
+    build_cross_list<D>(sp(b), sp(a), r, back);
+    ASSERT_EQ(back.size(), 6000);
+    EXPECT_EQ(rows_of(back), brute_cross<D>(b, a, r));
+  }
+}
+
+TEST(NeighborCrossList, SmallQueriesInALargeBed) {
+  check_small_queries_in_a_large_bed<2>();
+  check_small_queries_in_a_large_bed<3>();
+}
+
 TEST(NeighborCrossList, MatchesBruteForce2D) {
   check_cross_against_brute_force<2>();
 }
