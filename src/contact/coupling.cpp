@@ -551,7 +551,8 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
   std::vector<Push> push(at(np));
   parallel::for_each(np, [&](Index i) {
     const SurfaceHit& h = hits[at(i)];
-    Real* offset = pts.surface_offset ? &(*pts.surface_offset)[at(i)] : nullptr;
+    Real* offset =
+        pts.surface_offset && pts.surface_overlap ? &(*pts.surface_offset)[at(i)] : nullptr;
     if (h.face < 0) {
       if (offset) *offset = -1;
       return;
@@ -569,10 +570,20 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
     if (pts.angular_velocity) v += spin_velocity<D>((*pts.angular_velocity)[at(i)], arm);
     Real pushed = h.overlap;
     if (offset) {
-      if (*offset < 0)  // first touch: what the approach over the step cannot explain is ignored
-        *offset = std::max(Real(0), h.overlap - std::abs((v - v_face).dot(h.n)) * dt);
-      else
+      const Real approach = std::abs((v - v_face).dot(h.n)) * dt;
+      Real& last = (*pts.surface_overlap)[at(i)];
+      if (*offset < 0) {
+        // First touch: what the approach over the step cannot explain is ignored.
+        *offset = std::max(Real(0), h.overlap - approach);
+      } else {
+        // In contact already: a jump of the overlap beyond twice the approach is a face that
+        // appeared under the particle (the element in front of it eroded) or a deeper face
+        // taking over; it joins the offset. (Twice: the approach is measured with the
+        // velocity at the end of the step, the overlap grew with the one inside it.)
+        *offset += std::max(Real(0), h.overlap - last - 2 * approach);
         *offset = std::min(*offset, h.overlap);
+      }
+      last = h.overlap;
       pushed = h.overlap - *offset;
     }
     Push& out = push[at(i)];

@@ -14,8 +14,12 @@
 //     t = 0; one a face appears around when the element beside it erodes) keeps the excess as
 //     an offset, the force acts on delta - offset, and the offset shrinks to delta as the
 //     particle backs out (LS-DYNA's treatment of initial penetrations in eroding contacts).
-//     Without it the penalty spring releases energy it never stored. One offset per particle
-//     (solver::ContactPoints::surface_offset): a particle meets one solid's surface at a time.
+//     The same holds for a particle already in contact whose overlap jumps by more than
+//     2 |v_n| dt in one step: its face eroded and the face behind it (an element deeper)
+//     took over; the jump joins the offset. Without this the penalty spring releases energy it
+//     never stored. One offset and the last overlap per particle
+//     (solver::ContactPoints::surface_offset, surface_overlap): a particle meets one solid's
+//     surface at a time.
 //   surface-surface (fem-fem): penalty node-to-segment, both ways: every node of either part's
 //     surface (with mass) against the faces of the other's. A node x is in contact with a face
 //     when it lies behind it, s = (x - c).n_f < 0 with c the closest point of the face, by less

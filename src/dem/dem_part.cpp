@@ -177,7 +177,8 @@ class DemPart final : public solver::Part<D> {
         static_power_(f_.add_scalar("absorbing_wall_static_power", "W", kNone)),
         contact_force_(f_.add_vector("coupling_force", "N", kRestart)),
         contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)),
-        surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)) {
+        surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)),
+        surface_overlap_(f_.add_scalar("coupling_surface_overlap", "m", kRestart)) {
     const auto& mat = c.materials[pc.material];
     rho_ = mat.rho0_kg_m3;
     const ElasticMaterial grain{
@@ -460,6 +461,7 @@ class DemPart final : public solver::Part<D> {
     p.radius = &r_;
     p.angular_velocity = &w_;
     p.surface_offset = &surface_offset_;
+    p.surface_overlap = &surface_overlap_;
     return p;
   }
 
@@ -1466,10 +1468,11 @@ class DemPart final : public solver::Part<D> {
   std::vector<Real>& static_power_;
   std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
   std::vector<AngularVec<D>>& contact_torque_;
-  std::vector<Real>& surface_offset_;  // solver::ContactPoints::surface_offset
-  Real contact_work_ = 0;              // work of those forces on the grains [J]
-  Real wall_reflections_ = 0;          // grains put back from beyond a wall (reflect_at_walls)
-  bool contact_pending_ = false;       // moved since they were set
+  std::vector<Real>& surface_offset_;   // solver::ContactPoints::surface_offset
+  std::vector<Real>& surface_overlap_;  // solver::ContactPoints::surface_overlap
+  Real contact_work_ = 0;               // work of those forces on the grains [J]
+  Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
+  bool contact_pending_ = false;        // moved since they were set
   AbsorbingWallParams absorbing_;
 
   // Contact history packed at rebuilds: kMaxContacts slots per grain (partner id, tangential

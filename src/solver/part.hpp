@@ -85,8 +85,10 @@ struct ContactPoints {
   const std::vector<Real>* radius = nullptr;                   // contact radius [m]
   const std::vector<AxialVec<D>>* angular_velocity = nullptr;  // rotating particles (DEM) only
   // Per particle, kept by the part for the contacts (src/contact/coupling.hpp): the overlap
-  // with a surface that is ignored (found at first touch), or -1 when not touching one.
+  // with a surface that is ignored (found at first touch or where a face appeared under the
+  // particle), or -1 when not touching one; and the overlap at the last step [m].
   std::vector<Real>* surface_offset = nullptr;
+  std::vector<Real>* surface_overlap = nullptr;
 };
 
 /// Nodes of a surface face: 2 (a segment, 2D) or 4 (a quadrilateral, 3D).

@@ -147,7 +147,8 @@ class SphPart final : public solver::Part<D> {
         eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
         dt_cv_(f_.add_scalar("dt_signal", "s", kNone)),
         fc_(f_.add_vector("contact_force", "N", kRestart)),
-        surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)) {
+        surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)),
+        surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)) {
     const auto& mat = c.materials[pc.material];
     // Particles: the part's lattice, except where a zone with its own spacing lays its own
     // (equal-mass particles across a density jump, as a shock tube wants); each particle
@@ -337,6 +338,7 @@ class SphPart final : public solver::Part<D> {
     p.mass = &m_;
     p.radius = &contact_radius_;
     p.surface_offset = &surface_offset_;
+    p.surface_overlap = &surface_overlap_;
     return p;
   }
 
@@ -859,8 +861,9 @@ class SphPart final : public solver::Part<D> {
   std::vector<Real>& rhoh_;
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
-  std::vector<Vec<D>>& fc_;            // force of the contacts with other parts (in a_ too)
-  std::vector<Real>& surface_offset_;  // solver::ContactPoints::surface_offset
+  std::vector<Vec<D>>& fc_;             // force of the contacts with other parts (in a_ too)
+  std::vector<Real>& surface_offset_;   // solver::ContactPoints::surface_offset
+  std::vector<Real>& surface_overlap_;  // solver::ContactPoints::surface_overlap
   mutable std::vector<Real> contact_radius_;
   Real contact_work_ = 0;  // work of the contact forces on the part [J]
   Real last_dt_ = 0;
