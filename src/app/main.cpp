@@ -75,8 +75,11 @@ int cmd_run(const std::string& scenario, const std::vector<std::string>& sets,
   spdlog::info("scenario '{}', {}D, end time {:.6g} s -> {}", c.name, c.dimension, c.end_time_s,
                opt.out_dir.string());
   const auto r = solver::run_scenario(c, opt);
-  spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s on {} thread(s)", r.steps, r.time_s,
-               r.wall_s, r.threads);
+  spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s on {} thread(s){}", r.steps, r.time_s,
+               r.wall_s, r.threads,
+               r.first_step > 0 ? fmt::format(" ({} of them after resuming at step {})",
+                                              r.steps - r.first_step, r.first_step)
+                                : std::string());
   return kExitOk;
 }
 

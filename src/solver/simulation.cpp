@@ -341,7 +341,10 @@ void write_summary(const io::Config& c, const fs::path& dir,
   // Everything above is identical for any thread count; this block is not.
   j.key("run").begin_object();
   j.field("wall_time_s", r.wall_s).field("threads", r.threads);
-  j.field("steps_per_s", r.wall_s > 0 ? static_cast<double>(r.steps) / r.wall_s : 0.0);
+  // This process's steps over its own wall time (a resumed run counts from where it resumed).
+  j.field("steps_per_s",
+          r.wall_s > 0 ? static_cast<double>(r.steps - r.first_step) / r.wall_s : 0.0);
+  if (r.first_step > 0) j.field("resumed_at_step", static_cast<double>(r.first_step));
   j.end_object();
   j.end_object();
   io::write_file_atomic(dir / "summary.json", j.str());
@@ -515,6 +518,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   }
   e = st.e0;
   r.steps = st.steps;
+  r.first_step = st.steps;
   Progress progress(c.end_time_s, opt.quiet, st.steps, t);
   const Real t_eps = 1e-12 * c.end_time_s;
   auto elapsed = [&] {

@@ -37,6 +37,7 @@ struct PartReport {
 /// What happened; also written to summary.json.
 struct RunResult {
   Index steps = 0;
+  Index first_step = 0;  // where this process started: non-zero on a resumed run
   Real time_s = 0;
   double wall_s = 0;
   int threads = 1;
