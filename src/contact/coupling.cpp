@@ -294,15 +294,20 @@ solver::StableStep Coupling<D>::stable_step(
       measure_load(p, parts);
     auto summed = [&](const std::vector<Real>& load, const std::vector<Real>& mass,
                       const char* what) {
-      for (std::size_t i = 0; i < load.size() && i < mass.size(); ++i) {
-        if (!(load[i] > 0) || !(mass[i] > 0)) continue;
-        consider(spring_step(load[i], mass[i], p.config.damping_ratio), static_cast<Index>(i), [&] {
-          return fmt::format(
-              "contact '{}': {} {} held by penalty springs summing to "
-              "{:.3g} N/m",
-              p.name, what, i, load[i]);
-        });
-      }
+      const Index n = static_cast<Index>(std::min(load.size(), mass.size()));
+      auto step_of = [&](Index i) {
+        return load[at(i)] > 0 && mass[at(i)] > 0
+                   ? spring_step(load[at(i)], mass[at(i)], p.config.damping_ratio)
+                   : std::numeric_limits<Real>::infinity();
+      };
+      const Real dt = parallel::min_over(n, std::numeric_limits<Real>::infinity(), step_of);
+      if (!(dt < best.dt_s)) return;
+      // The first body that sets it (min is exact: the same one for any thread count).
+      const Index i = parallel::select(n, [&](Index j) { return step_of(j) == dt; }).front();
+      consider(dt, i, [&] {
+        return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m",
+                           p.name, what, i, load[at(i)]);
+      });
     };
     summed(p.load_points, *pts->mass, "particle");
     summed(p.load_other, *other_mass,
@@ -314,6 +319,7 @@ solver::StableStep Coupling<D>::stable_step(
 
 template <int D>
 struct Coupling<D>::SurfaceHit {
+  Index particle = -1;
   Index face = -1;
   FacePoint<D> where;
   Vec<D> n = Vec<D>::Zero();  // contact normal, from the surface to the particle
@@ -328,8 +334,7 @@ std::vector<typename Coupling<D>::SurfaceHit> Coupling<D>::surface_hits(
   const auto& faces = *surf.faces;
   const Index nf = static_cast<Index>(faces.size());
   const Index np = static_cast<Index>(pts.position->size());
-  std::vector<SurfaceHit> hits(at(np));
-  if (nf == 0 || np == 0) return hits;
+  if (nf == 0 || np == 0) return {};
 
   // Candidates: faces whose centre is within r_max + the largest face half-size.
   std::vector<Vec<D>> centre(at(nf));
@@ -346,14 +351,20 @@ std::vector<typename Coupling<D>::SurfaceHit> Coupling<D>::surface_hits(
   neighbors::NeighborList candidates;
   neighbors::build_cross_list<D>(std::span<const Vec<D>>(*pts.position),
                                  std::span<const Vec<D>>(centre), r_max + half_size, candidates);
-  parallel::for_each(np, [&](Index i) {
+  // Only the particles with a candidate face (a few per cent of a soil bed) are looked at.
+  const std::vector<Index> near =
+      parallel::select(np, [&](Index i) { return !candidates.of(i).empty(); });
+  std::vector<SurfaceHit> found(near.size());
+  parallel::for_each(static_cast<Index>(near.size()), [&](Index k) {
+    const Index i = near[at(k)];
     const Vec<D>& x = (*pts.position)[at(i)];
     const Real r = (*pts.radius)[at(i)];
     SurfaceHit best;
+    best.particle = i;
     for (Index f : candidates.of(i)) {
       std::array<Vec<D>, kF> fx;
-      for (int k = 0; k < kF; ++k)
-        fx[at(k)] = xn[at(faces[at(f)][at(k)])];
+      for (int q = 0; q < kF; ++q)
+        fx[at(q)] = xn[at(faces[at(f)][at(q)])];
       const FacePoint<D> fp = closest_on_face<D>(x, fx);
       const Vec<D> nf_out = face_normal<D>(fx);
       const Vec<D> d = x - fp.point;
@@ -376,8 +387,13 @@ std::vector<typename Coupling<D>::SurfaceHit> Coupling<D>::surface_hits(
         best.n = n;
       }
     }
-    hits[at(i)] = best;
+    found[at(k)] = best;
   });
+  const std::vector<Index> touching = parallel::select(
+      static_cast<Index>(found.size()), [&](Index k) { return found[at(k)].face >= 0; });
+  std::vector<SurfaceHit> hits(touching.size());
+  for (std::size_t k = 0; k < touching.size(); ++k)
+    hits[k] = found[at(touching[k])];
   return hits;
 }
 
@@ -407,8 +423,12 @@ std::vector<typename Coupling<D>::ParticlePair> Coupling<D>::particle_pairs(
       all[base + q] = {i, j, overlap, dist, d};
     }
   });
-  std::erase_if(all, [](const ParticlePair& pp) { return pp.a < 0; });
-  return all;
+  const std::vector<Index> kept =
+      parallel::select(static_cast<Index>(all.size()), [&](Index q) { return all[at(q)].a >= 0; });
+  std::vector<ParticlePair> pairs(kept.size());
+  parallel::for_each(static_cast<Index>(kept.size()),
+                     [&](Index q) { pairs[at(q)] = all[at(kept[at(q)])]; });
+  return pairs;
 }
 
 template <int D>
@@ -431,9 +451,8 @@ void Coupling<D>::measure_load(const Pairing& p,
   if (p.kind == Kind::ParticleSurface) {
     const auto surf = parts[p.other]->contact_surface();
     p.load_other.assign(surf->node_position->size(), 0);
-    const auto hits = surface_hits(*pts, *surf);
-    for (std::size_t i = 0; i < hits.size(); ++i)
-      if (hits[i].face >= 0) add_surface_load(p, *surf, i, hits[i]);
+    for (const SurfaceHit& h : surface_hits(*pts, *surf))
+      add_surface_load(p, *surf, h);
   } else {
     const auto grains = parts[p.other]->contact_points();
     p.load_other.assign(grains->position->size(), 0);
@@ -509,9 +528,9 @@ Real Coupling<D>::grain_stiffness(const Pairing& p, const solver::ContactPoints<
 
 template <int D>
 void Coupling<D>::add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf,
-                                   std::size_t i, const SurfaceHit& h) const {
+                                   const SurfaceHit& h) const {
   const Real k = surface_stiffness(p, surf, h.face);
-  p.load_points[i] += k;
+  p.load_points[at(h.particle)] += k;
   const auto& face = (*surf.faces)[at(h.face)];
   for (int q = 0; q < solver::kFaceNodes<D>; ++q)
     p.load_other[at(face[at(q)])] += k * h.where.weight[at(q)];
@@ -544,19 +563,24 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
   if (faces.empty() || np == 0) return;
 
   const std::vector<SurfaceHit> hits = surface_hits(pts, surf);
+  const bool offsets = pts.surface_offset && pts.surface_overlap;
+  if (offsets) {
+    // A particle touching no face has no offset (it starts afresh at its next touch).
+    std::vector<char> touching(at(np), 0);
+    for (const SurfaceHit& h : hits)
+      touching[at(h.particle)] = 1;
+    parallel::for_each(np, [&](Index i) {
+      if (!touching[at(i)]) (*pts.surface_offset)[at(i)] = -1;
+    });
+  }
   struct Push {
     Vec<D> force = Vec<D>::Zero();
     Real normal = 0;
   };
-  std::vector<Push> push(at(np));
-  parallel::for_each(np, [&](Index i) {
-    const SurfaceHit& h = hits[at(i)];
-    Real* offset =
-        pts.surface_offset && pts.surface_overlap ? &(*pts.surface_offset)[at(i)] : nullptr;
-    if (h.face < 0) {
-      if (offset) *offset = -1;
-      return;
-    }
+  std::vector<Push> push(hits.size());
+  parallel::for_each(static_cast<Index>(hits.size()), [&](Index q) {
+    const SurfaceHit& h = hits[at(q)];
+    const Index i = h.particle;
     const auto& face = faces[at(h.face)];
     Real m_face = 0;
     Vec<D> v_face = Vec<D>::Zero();
@@ -569,7 +593,8 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
     const Vec<D> arm = -r * h.n;
     if (pts.angular_velocity) v += spin_velocity<D>((*pts.angular_velocity)[at(i)], arm);
     Real pushed = h.overlap;
-    if (offset) {
+    if (offsets) {
+      Real* offset = &(*pts.surface_offset)[at(i)];
       const Real approach = std::abs((v - v_face).dot(h.n)) * dt;
       Real& last = (*pts.surface_overlap)[at(i)];
       if (*offset < 0) {
@@ -586,17 +611,17 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
       last = h.overlap;
       pushed = h.overlap - *offset;
     }
-    Push& out = push[at(i)];
+    Push& out = push[at(q)];
     out.force = penalty_force<D>(surface_stiffness(p, surf, h.face), pushed, h.n, v - v_face,
                                  reduced_mass((*pts.mass)[at(i)], m_face), p.config.damping_ratio,
                                  p.config.friction, out.normal);
   });
 
   // Scatter in particle order: the same sums for any thread count.
-  for (Index i = 0; i < np; ++i) {
-    const SurfaceHit& h = hits[at(i)];
-    if (h.face < 0) continue;
-    const Push& f = push[at(i)];
+  for (std::size_t q = 0; q < hits.size(); ++q) {
+    const SurfaceHit& h = hits[q];
+    const Index i = h.particle;
+    const Push& f = push[q];
     ++p.active;
     p.max_overlap_m = std::max(p.max_overlap_m, h.overlap);
     p.normal_force_n += f.normal;
@@ -609,7 +634,7 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
     const auto& face = faces[at(h.face)];
     for (int k = 0; k < kF; ++k)
       f_nodes[at(face[at(k)])] -= h.where.weight[at(k)] * f.force;
-    add_surface_load(p, surf, at(i), h);
+    add_surface_load(p, surf, h);
   }
 }
 

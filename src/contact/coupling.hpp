@@ -111,7 +111,8 @@ class Coupling {
     mutable bool load_known = false;
   };
 
-  // A particle against a face (particle-surface): which face, where, the normal, the overlap.
+  // A particle against a face (particle-surface): which particle and face, where, the normal,
+  // the overlap. surface_hits gives the particles that touch a face, ascending.
   struct SurfaceHit;
   std::vector<SurfaceHit> surface_hits(const solver::ContactPoints<D>& pts,
                                        const solver::ContactSurface<D>& surf) const;
@@ -125,7 +126,7 @@ class Coupling {
                                            const solver::ContactPoints<D>& b) const;
   Real surface_stiffness(const Pairing& p, const solver::ContactSurface<D>& surf, Index face) const;
   Real grain_stiffness(const Pairing& p, const solver::ContactPoints<D>& grains, Index j) const;
-  void add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf, std::size_t i,
+  void add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf,
                         const SurfaceHit& h) const;
   void add_particle_load(const Pairing& p, const solver::ContactPoints<D>& grains,
                          const ParticlePair& pp) const;

@@ -851,10 +851,11 @@ class DemPart final : public solver::Part<D> {
   void pack_history(std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
                     std::vector<AngularVec<D>>& roll) const {
     const Index n = f_.size();
-    partner.assign(static_cast<std::size_t>(n) * kMaxContacts, kNoContact);
-    xi.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
+    // Sized here, filled below per grain (its slots past the last contact emptied there).
+    partner.resize(static_cast<std::size_t>(n) * kMaxContacts);
+    xi.resize(static_cast<std::size_t>(n) * kMaxContacts);
     if (rolling_.friction > 0)
-      roll.assign(static_cast<std::size_t>(n) * kMaxContacts, angular_zero<D>());
+      roll.resize(static_cast<std::size_t>(n) * kMaxContacts);
     else
       roll.clear();
     const bool pairs = static_cast<Index>(pair_begin_.size()) == n + 1;
@@ -881,6 +882,11 @@ class DemPart final : public solver::Part<D> {
         if (!(wall_live_[static_cast<std::size_t>(i)] >> w & 1u)) continue;
         put(-1 - static_cast<std::int64_t>(cfg_.walls[w]), wall_xi_[at],
             wall_roll_.empty() ? angular_zero<D>() : wall_roll_[at]);
+      }
+      for (; k < static_cast<std::size_t>(kMaxContacts); ++k) {
+        partner[base + k] = kNoContact;
+        xi[base + k] = Vec<D>::Zero();
+        if (!roll.empty()) roll[base + k] = angular_zero<D>();
       }
     });
   }
@@ -1428,10 +1434,12 @@ class DemPart final : public solver::Part<D> {
   static void permute_blocks(std::vector<T>& slots, std::span<const Index> order) {
     if (slots.empty()) return;
     const std::vector<T> copy = slots;
-    for (std::size_t i = 0; i < order.size(); ++i)
-      for (int k = 0; k < kMaxContacts; ++k)
-        slots[i * kMaxContacts + static_cast<std::size_t>(k)] =
-            copy[static_cast<std::size_t>(order[i]) * kMaxContacts + static_cast<std::size_t>(k)];
+    parallel::for_each(static_cast<Index>(order.size()), [&](Index i) {
+      const auto to = static_cast<std::size_t>(i) * kMaxContacts;
+      const auto from = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]) * kMaxContacts;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(kMaxContacts); ++k)
+        slots[to + k] = copy[from + k];
+    });
   }
 
   std::string name_;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "parallel/parallel.hpp"
 
 namespace crater::fields {
 
@@ -84,9 +85,11 @@ class FieldSet {
     for (auto& c : columns_)
       std::visit(
           [&](auto& v) {
-            auto copy = v;
-            for (std::size_t i = 0; i < order.size(); ++i)
-              v[i] = copy[static_cast<std::size_t>(order[i])];
+            const auto copy = v;
+            parallel::for_each(static_cast<Index>(order.size()), [&](Index i) {
+              v[static_cast<std::size_t>(i)] =
+                  copy[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
+            });
           },
           c.data);
   }

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "neighbors/cell_grid.hpp"
+#include "parallel/parallel.hpp"
 
 namespace crater::neighbors {
 
@@ -178,11 +179,12 @@ void check_radius(Real radius) {
 // Cross lists name the set; self lists get the message of make_grid_spec.
 template <int D>
 void check_finite(std::span<const Vec<D>> x, const char* set) {
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!x[i].allFinite()) {
-      throw std::invalid_argument("neighbour search: non-finite coordinate at point " +
-                                  std::to_string(i) + " of the " + set + " set");
-    }
+  const std::vector<Index> bad = parallel::select(static_cast<Index>(x.size()), [&](Index i) {
+    return !x[static_cast<std::size_t>(i)].allFinite();
+  });
+  if (!bad.empty()) {
+    throw std::invalid_argument("neighbour search: non-finite coordinate at point " +
+                                std::to_string(bad.front()) + " of the " + set + " set");
   }
 }
 
@@ -668,17 +670,28 @@ std::vector<Index> inside(std::span<const Vec<D>> x, const Eigen::AlignedBox<Rea
                           Real reach) {
   const Vec<D> lo = box.min() - Vec<D>::Constant(reach);
   const Vec<D> hi = box.max() + Vec<D>::Constant(reach);
-  std::vector<Index> kept;
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if ((x[i].array() >= lo.array()).all() && (x[i].array() <= hi.array()).all())
-      kept.push_back(static_cast<Index>(i));
-  return kept;
+  return parallel::select(static_cast<Index>(x.size()), [&](Index i) {
+    const Vec<D>& p = x[static_cast<std::size_t>(i)];
+    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+  });
 }
 
+// Bounding box of x (min and max are exact: any order of the blocks gives the same box).
 template <int D>
 Eigen::AlignedBox<Real, D> bounds(std::span<const Vec<D>> x) {
+  const Index n = static_cast<Index>(x.size());
+  const Index blocks = (n + parallel::kReduceBlock - 1) / parallel::kReduceBlock;
+  std::vector<Eigen::AlignedBox<Real, D>> part(static_cast<std::size_t>(blocks));
+#pragma omp parallel for schedule(static) if (n >= parallel::parallel_min())
+  for (Index b = 0; b < blocks; ++b) {
+    Eigen::AlignedBox<Real, D> box;
+    const Index end = std::min(n, (b + 1) * parallel::kReduceBlock);
+    for (Index i = b * parallel::kReduceBlock; i < end; ++i)
+      box.extend(x[static_cast<std::size_t>(i)]);
+    part[static_cast<std::size_t>(b)] = box;
+  }
   Eigen::AlignedBox<Real, D> box;
-  for (const Vec<D>& p : x)
+  for (const auto& p : part)
     box.extend(p);
   return box;
 }
@@ -730,14 +743,22 @@ void build_cross_list(std::span<const Vec<D>> a, std::span<const Vec<D>> b, Real
   NeighborList sub;
   build_cross_list_of<D>(std::span<const Vec<D>>(xa), std::span<const Vec<D>>(xb), radius, sub);
   // Rows of the queries left out are empty; the others take their sub-row, mapped back.
-  out.offsets.assign(static_cast<std::size_t>(na + 1), 0);
-  for (std::size_t k = 0; k < sub_a.size(); ++k)
-    out.offsets[static_cast<std::size_t>(sub_a[k]) + 1] = sub.offsets[k + 1] - sub.offsets[k];
-  for (Index i = 0; i < na; ++i)
-    out.offsets[static_cast<std::size_t>(i) + 1] += out.offsets[static_cast<std::size_t>(i)];
+  // A query's offset is that of the first kept query at or after it: fill each gap of left-out
+  // queries (k - 1 and k are consecutive kept queries) with the offset where query k starts.
+  out.offsets.resize(static_cast<std::size_t>(na + 1));
+  const Index nk = static_cast<Index>(sub_a.size());
+  parallel::for_each(nk + 1, [&](Index k) {
+    const Index from = k == 0 ? 0 : sub_a[static_cast<std::size_t>(k) - 1] + 1;
+    const Index to = k == nk ? na : sub_a[static_cast<std::size_t>(k)];
+    const Index offset = sub.offsets[static_cast<std::size_t>(k)];
+    for (Index i = from; i <= to; ++i)
+      out.offsets[static_cast<std::size_t>(i)] = offset;
+  });
   out.indices.resize(sub.indices.size());
-  for (std::size_t k = 0; k < sub.indices.size(); ++k)
-    out.indices[k] = sub_b[static_cast<std::size_t>(sub.indices[k])];
+  parallel::for_each(static_cast<Index>(sub.indices.size()), [&](Index k) {
+    out.indices[static_cast<std::size_t>(k)] =
+        sub_b[static_cast<std::size_t>(sub.indices[static_cast<std::size_t>(k)])];
+  });
 }
 
 template void build_neighbor_list<2>(std::span<const Vec<2>>, Real, Pairs, NeighborList&);

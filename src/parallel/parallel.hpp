@@ -72,6 +72,33 @@ T deterministic_sum(Index n, F&& f) {
   return s;
 }
 
+/// The indices i in [0, n) with keep(i), ascending (a stream compaction: each fixed block counts
+/// its kept indices, the counts become offsets, each block writes its own range).
+template <class F>
+std::vector<Index> select(Index n, F&& keep) {
+  const Index blocks = (n + kReduceBlock - 1) / kReduceBlock;
+  std::vector<Index> start(static_cast<std::size_t>(blocks) + 1, 0);
+#pragma omp parallel for schedule(static) if (n >= parallel_min())
+  for (Index b = 0; b < blocks; ++b) {
+    Index kept = 0;
+    const Index end = std::min(n, (b + 1) * kReduceBlock);
+    for (Index i = b * kReduceBlock; i < end; ++i)
+      kept += keep(i) ? 1 : 0;
+    start[static_cast<std::size_t>(b) + 1] = kept;
+  }
+  for (std::size_t b = 0; b < static_cast<std::size_t>(blocks); ++b)
+    start[b + 1] += start[b];
+  std::vector<Index> out(static_cast<std::size_t>(start.back()));
+#pragma omp parallel for schedule(static) if (n >= parallel_min())
+  for (Index b = 0; b < blocks; ++b) {
+    Index k = start[static_cast<std::size_t>(b)];
+    const Index end = std::min(n, (b + 1) * kReduceBlock);
+    for (Index i = b * kReduceBlock; i < end; ++i)
+      if (keep(i)) out[static_cast<std::size_t>(k++)] = i;
+  }
+  return out;
+}
+
 /// Minimum of f(i) over [0, n) (min is associative and exact, so any order gives the same bits).
 template <class F>
 Real min_over(Index n, Real init, F&& f) {

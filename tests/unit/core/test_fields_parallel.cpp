@@ -110,6 +110,28 @@ TEST(Parallel, DeterministicSumIsBitIdenticalAcrossThreadCounts) {
   EXPECT_NEAR(s1, static_cast<Real>(ref), 1e-9 * std::abs(static_cast<Real>(ref)) + 1e3);
 }
 
+TEST(Parallel, SelectKeepsTheIndicesInOrderForAnyThreadCount) {
+  // Several reduction blocks, a ragged last one, runs of kept and dropped indices.
+  std::mt19937_64 rng(11);
+  std::bernoulli_distribution keep(0.03);
+  const Index n = 3 * crater::parallel::kReduceBlock + 517;
+  std::vector<char> flag(static_cast<std::size_t>(n));
+  for (auto& f : flag)
+    f = keep(rng);
+  for (Index i = 5000; i < 9000; ++i)
+    flag[static_cast<std::size_t>(i)] = 1;
+  std::vector<Index> expected;
+  for (Index i = 0; i < n; ++i)
+    if (flag[static_cast<std::size_t>(i)]) expected.push_back(i);
+  for (int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    EXPECT_EQ(crater::parallel::select(n, [&](Index i) { return flag[i] != 0; }), expected);
+  }
+  EXPECT_TRUE(crater::parallel::select(0, [](Index) { return true; }).empty());
+  EXPECT_EQ(crater::parallel::select(3, [](Index i) { return i != 1; }),
+            (std::vector<Index>{0, 2}));
+}
+
 TEST(Parallel, MinMaxOver) {
   std::vector<Real> v{3, -1, 7, 2};
   EXPECT_EQ(crater::parallel::min_over(4, 1e300, [&](Index i) { return v[i]; }), -1);
