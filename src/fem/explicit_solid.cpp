@@ -95,7 +95,8 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
     const Mat3 old_stress = mesh.stress[ue];
     Mat3 sigma = old_stress;
     if (dt > 0) {
-      const Mat3 rotated = jaumann_rotate(old_stress, spin(l), dt);
+      const Mat3 rotated = D == 2 ? jaumann_rotate_plane(old_stress, spin(l)(0, 1), dt)
+                                  : jaumann_rotate(old_stress, spin(l), dt);
       const materials::StressUpdate up = materials::update_stress_of(
           law, rotated, d * dt,
           materials::MaterialPointState{.plastic_strain = mesh.plastic_strain[ue],

@@ -215,6 +215,23 @@ TEST(FemKinematics, JaumannRotationOfARigidSpinIsTheRotation) {
   EXPECT_NEAR(s.norm(), sigma.norm(), 1e-12 * sigma.norm());
 }
 
+TEST(FemKinematics, PlaneJaumannRotationIsTheGeneralOneForAPlaneSpin) {
+  // Random symmetric stresses and in-plane spins over a range of w dt: the written-out plane
+  // rotation agrees with the general Hughes-Winget form to round-off.
+  std::srand(3);
+  for (int k = 0; k < 200; ++k) {
+    materials::Mat3 a = materials::Mat3::Random() * 300e6;
+    const materials::Mat3 sigma = a + a.transpose();
+    materials::Mat3 l = materials::Mat3::Zero();
+    l.topLeftCorner<2, 2>() = Eigen::Matrix2d::Random() * std::pow(10.0, k % 7);
+    const Real dt = 1e-3;
+    const materials::Mat3 general = jaumann_rotate(sigma, spin(l), dt);
+    const materials::Mat3 plane = jaumann_rotate_plane(sigma, spin(l)(0, 1), dt);
+    EXPECT_LT((plane - general).norm(), 1e-14 * sigma.norm()) << "case " << k;
+    EXPECT_EQ(plane(0, 1), plane(1, 0));
+  }
+}
+
 template <int D>
 void expect_hourglass_resists_only_hourglass_modes(HourglassForm form) {
   const NodeArray<D> x = distorted_element<D>(0.01);
