@@ -15,15 +15,18 @@
 # Each repetition runs
 #   crater run FILE --out TMPDIR --force --quiet --threads N --set output.vtu=false \
 #              --set time.max_steps=STEPS [--set ...]
-# and reads summary.json: parts[0].count, steps, run.wall_time_s. It prints
+# and reads summary.json: parts[0].count, steps, run.wall_time_s, run.loop_time_s. It prints
 #   particle_steps_per_s = particles x steps / run.wall_time_s
+#   loop_particle_steps_per_s = particles x steps / run.loop_time_s
 # (for FEM parts "particles" are the elements: element-steps per second)
 # and the whole-process wall time (exec to exit, measured here). run.wall_time_s includes the
-# setup (lattice, first neighbour list and forces, summary); with these step counts that is
-# 0.2-3 % of the run (docs/performance.md). steal_s is the CPU time the hypervisor took from
-# this VM during the repetition (all CPUs); repetitions with a large steal_s are not
-# representative. The last line of each configuration is
-#   case=... threads=N particles=P steps=S particle_steps_per_s=<median> process_s=<median>
+# setup (lattice or packing, first neighbour list and forces, summary); run.loop_time_s is the
+# time loop alone, what LAMMPS and LIGGGHTS print as "Loop time" (the peers' figures). The DEM
+# cases run the peers' 2000 steps. steal_s is the CPU time the hypervisor took from this VM
+# during the repetition (all CPUs); repetitions with a large steal_s are not representative.
+# The last line of each configuration is
+#   case=... threads=N particles=P steps=S particle_steps_per_s=<median>
+#            loop_particle_steps_per_s=<median> process_s=<median>
 set -euo pipefail
 HERE="$(cd "$(dirname "$0")" && pwd)"
 ROOT="$(cd "$HERE/.." && pwd)"
@@ -41,8 +44,8 @@ CASES=(
   "tnt3d-65k|$SC/sph_tnt_3d.toml|60|parts.charge.spacing_m=0.004"
   "tnt3d-34k|$SC/sph_tnt_3d.toml|100|parts.charge.spacing_m=0.005"
   "dambreak2d|$SC/sph_dam_break_2d.toml|500|"
-  "dem3d-45k|$SC/dem_bed_3d.toml|500|"
-  "dem2d-45k|$SC/dem_bed_2d.toml|500|"
+  "dem3d-45k|$SC/dem_bed_3d.toml|2000|"
+  "dem2d-45k|$SC/dem_bed_2d.toml|2000|"
   "dem2d-160k|$SC/dem_bed_2d.toml|300|parts.bed.region.max_m=[2.0,2.0] domain.max_m=[2.0,2.4]"
   "fem-plate-16k|$SC/fem_plate_2d.toml|1000|"
   "fem-block-104k|$SC/fem_block_3d.toml|100|"
@@ -64,9 +67,9 @@ run_case() {
   local sets=(--set output.vtu=false --set "time.max_steps=$steps")
   local kv
   for kv in "$@"; do sets+=(--set "$kv"); done
-  local th r out t0 t1 started line pss=() proc=() parts="" nsteps="" wall p status allc thr tsim
+  local th r out t0 t1 started line pss=() proc=() lps=() parts="" nsteps="" wall p status allc thr tsim loop lp
   for th in $THREADS; do
-    pss=(); proc=()
+    pss=(); proc=(); lps=()
     echo "# case=$name threads=$th file=${file#"$ROOT"/} steps=$steps sets=[$*] load: $(cut -d' ' -f1-3 /proc/loadavg)"
     for r in $(seq 1 "$REPS"); do
       out=$(mktemp -d /tmp/crater_bench.XXXXXX)
@@ -89,11 +92,13 @@ s = json.load(open(sys.argv[1]))
 n = s["parts"][0]["count"]
 st = s["steps"]
 w = s["run"]["wall_time_s"]
+loop = s["run"]["loop_time_s"]
 allc = "+".join(str(p["count"]) for p in s["parts"]) if len(s["parts"]) > 1 else "-"
-print(n, st, w, "%.6g" % (n * st / w), s["status"], allc, s["run"]["threads"], "%.4g" % s["time_s"])
+print(n, st, w, "%.6g" % (n * st / w), s["status"], allc, s["run"]["threads"], "%.4g" % s["time_s"],
+      loop, "%.6g" % (n * st / loop))
 PYEOF
 )
-      read -r parts nsteps wall p status allc thr tsim <<< "$line"
+      read -r parts nsteps wall p status allc thr tsim loop lp <<< "$line"
       if [ "$status" != completed ] || [ "$nsteps" != "$steps" ] || [ "$thr" != "$th" ]; then
         echo "ERROR: status=$status steps=$nsteps (wanted $steps) threads=$thr; see $out" >&2
         return 1
@@ -101,11 +106,11 @@ PYEOF
       local ps stolen
       ps=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.3f", b-a}')
       stolen=$(awk -v a="$st0" -v b="$(steal_ticks)" -v t="$TCK" 'BEGIN{printf "%.2f", (b-a)/t}')
-      echo "rep=$r start=$started threads=$th particles=$parts steps=$nsteps wall_time_s=$wall process_s=$ps sim_time_s=$tsim steal_s=$stolen particle_steps_per_s=$p$([ "$allc" = - ] || echo " part_counts=$allc")"
-      pss+=("$p"); proc+=("$ps")
+      echo "rep=$r start=$started threads=$th particles=$parts steps=$nsteps wall_time_s=$wall loop_time_s=$loop process_s=$ps sim_time_s=$tsim steal_s=$stolen particle_steps_per_s=$p loop_particle_steps_per_s=$lp$([ "$allc" = - ] || echo " part_counts=$allc")"
+      pss+=("$p"); proc+=("$ps"); lps+=("$lp")
       if [ "$KEEP" = 1 ]; then echo "# kept $out"; else rm -rf "$out"; fi
     done
-    echo "case=$name threads=$th particles=$parts steps=$steps particle_steps_per_s=$(median "${pss[@]}") process_s=$(median "${proc[@]}")"
+    echo "case=$name threads=$th particles=$parts steps=$steps particle_steps_per_s=$(median "${pss[@]}") loop_particle_steps_per_s=$(median "${lps[@]}") process_s=$(median "${proc[@]}")"
   done
 }
 

@@ -341,6 +341,8 @@ void write_summary(const io::Config& c, const fs::path& dir,
   // Everything above is identical for any thread count; this block is not.
   j.key("run").begin_object();
   j.field("wall_time_s", r.wall_s).field("threads", r.threads);
+  // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.
+  j.field("loop_time_s", r.loop_s);
   // This process's steps over its own wall time (a resumed run counts from where it resumed).
   j.field("steps_per_s",
           r.wall_s > 0 ? static_cast<double>(r.steps - r.first_step) / r.wall_s : 0.0);
@@ -525,6 +527,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   };
   double last_checkpoint_s = 0;
+  const double loop_start_s = elapsed();
 
   try {
     while (t < c.end_time_s - t_eps && (c.time.max_steps == 0 || r.steps < c.time.max_steps)) {
@@ -600,6 +603,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
       if (sig != 0 && !last) {
         r.time_s = t;
         r.wall_s = elapsed();
+        r.loop_s = r.wall_s - loop_start_s;
         e = sum_energies(parts);
         write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
                       "interrupted",
@@ -615,6 +619,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     out.frame(parts, t, "failure");
     r.time_s = t;
     r.wall_s = elapsed();
+    r.loop_s = r.wall_s - loop_start_s;
     out.flush();
     write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, sum_energies(parts),
                   st.err, "failed", ne.what(), &coupling);
@@ -622,6 +627,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   }
   r.time_s = t;
   r.wall_s = elapsed();
+  r.loop_s = r.wall_s - loop_start_s;
   progress.finish(r.steps, t, st.dt);
   e = sum_energies(parts);
   out.flush();

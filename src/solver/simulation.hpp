@@ -40,6 +40,7 @@ struct RunResult {
   Index first_step = 0;  // where this process started: non-zero on a resumed run
   Real time_s = 0;
   double wall_s = 0;
+  double loop_s = 0;  // the time loop alone: wall_s without the setup and the final output
   int threads = 1;
 };
 
