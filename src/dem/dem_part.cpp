@@ -125,14 +125,6 @@ Real angular_kinetic(Real inertia, const AngularVec<D>& w) {
 }
 
 template <int D>
-Real angular_dot(const AngularVec<D>& a, const AngularVec<D>& b) {
-  if constexpr (D == 2)
-    return a * b;
-  else
-    return a.dot(b);
-}
-
-template <int D>
 bool angular_finite(const AngularVec<D>& w) {
   if constexpr (D == 2)
     return std::isfinite(w);

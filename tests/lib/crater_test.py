@@ -37,14 +37,15 @@ def crater(*args, timeout=900, check=True):
     return proc
 
 
-def run_scenario(scenario, out_dir, threads=None, sets=(), extra=()):
-    """Runs a scenario quietly into out_dir (overwriting); returns the parsed summary.json."""
+def run_scenario(scenario, out_dir, threads=None, sets=(), extra=(), timeout=900):
+    """Runs a scenario quietly into out_dir (overwriting); returns the parsed summary.json.
+    timeout [s] bounds the run (crater())."""
     args = ["run", scenario, "--out", out_dir, "--force", "--quiet"]
     if threads is not None:
         args += ["--threads", threads]
     for s in sets:
         args += ["--set", s]
-    crater(*args, *extra)
+    crater(*args, *extra, timeout=timeout)
     with open(Path(out_dir) / "summary.json") as f:
         return json.load(f)
 

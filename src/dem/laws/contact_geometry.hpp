@@ -67,6 +67,16 @@ inline Real angular_norm(const AngularVec<D>& w) {
   }
 }
 
+/// a . b of two AngularVecs (the product in 2D).
+template <int D>
+inline Real angular_dot(const AngularVec<D>& a, const AngularVec<D>& b) {
+  if constexpr (D == 2) {
+    return a * b;
+  } else {
+    return a.dot(b);
+  }
+}
+
 /// \omega \times r. In 2D, \omega = \omega_3 e_z and r in the plane: (-\omega_3 r_y, \omega_3 r_x).
 template <int D>
 inline Vec<D> spin_cross(const AngularVec<D>& omega, const Vec<D>& r) {

@@ -76,7 +76,7 @@ struct RollingTorque {
   AngularVec<D> torque_on_1 = angular_zero<D>();  // M^k + M^d [N m]; body 2 gets the opposite
   AngularVec<D> history = angular_zero<D>();      // updated M^k [N m], to store
   Real elastic_energy = 0;                        // |M^k|^2 / (2 k_r) [J]
-  Real dissipated_power = 0;                      // damper + plastic cut-back, >= 0 [W]
+  Real dissipated_power = 0;                      // damper + plastic slip [W]
   bool at_limit = false;                          // |M^k| = M_m (fully mobilised)
 };
 
@@ -104,7 +104,10 @@ inline RollingTorque<D> rolling_resistance(const RollingResistanceParams& p,
     out.history = (limit / trial_norm) * trial;
     out.torque_on_1 = out.history;
     out.at_limit = true;
-    out.dissipated_power = Real(0.5) * (trial_norm * trial_norm - limit * limit) / (k_r * dt);
+    // As the tangential spring (tangential_history.hpp): the mean of the step's first and last
+    // spring moment over the step's rotation, less the change of the stored energy.
+    out.dissipated_power =
+        angular_dot<D>(previous + out.history, trial - out.history) / (Real(2) * k_r * dt);
   } else {
     const Real c_r = p.damping_ratio * Real(2) * std::sqrt(load.inertia_eff * k_r);
     out.history = trial;
