@@ -705,24 +705,36 @@ class DemPart final : public solver::Part<D> {
       // leave its force_ and torque_ (undoing grain_pass), so that the next half kick owes
       // nothing to a removed grain (exactly so without local damping, which acted on the sum).
       Real lost = 0;
-      const auto first = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
-      const auto last = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i) + 1]);
-      for (std::size_t e = first; e < last; ++e) {
-        if (keep_[static_cast<std::size_t>(list_.indices[e])]) continue;
-        const auto ref = static_cast<std::size_t>(pair_of_entry_[e]);
-        const std::size_t k = ref >> 1;
+      const auto own_first = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i)]);
+      const auto own_last = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i) + 1]);
+      for (std::size_t k = own_first; k < own_last; ++k) {
+        if (keep_[static_cast<std::size_t>(pair_j_[k])]) continue;
         const std::uint8_t flags = cache_.flags[k];
-        const bool owner = !(ref & 1);
-        if (owner && flags) lost += cache_.elastic[k];
+        if (flags) lost += cache_.elastic[k];
         if (flags & kContactOn) {
-          const ContactResult& c = cache_.contact[k];
-          force_[i] -= owner ? c.f1 : Vec<D>(-c.f1);
-          torque_[i] -= c.t[owner ? 0 : 1];
-          if (owner) contacts_[i] -= 1;  // it counts the contacts it owns (and its walls)
+          force_[i] -= cache_.contact[k].f1;
+          torque_[i] -= cache_.t1[k];
+          contacts_[i] -= 1;  // it counts the contacts it owns (and its walls)
         }
         if (flags & kBondOn) {
-          force_[i] -= owner ? cache_.bond_f1[k] : Vec<D>(-cache_.bond_f1[k]);
-          torque_[i] -= owner ? cache_.bond_t1[k] : cache_.bond_t2[k];
+          force_[i] -= cache_.bond_f1[k];
+          torque_[i] -= cache_.bond_t1[k];
+          bonds_[i] -= 1;
+        }
+      }
+      const auto first = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i)]);
+      const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
+      for (std::size_t e = first; e < last; ++e) {
+        const auto k = static_cast<std::size_t>(recv_pair_[e]);
+        if (keep_[static_cast<std::size_t>(pair_owner(k))]) continue;
+        const std::uint8_t flags = cache_.flags[k];
+        if (flags & kContactOn) {
+          force_[i] += cache_.contact[k].f1;
+          torque_[i] -= cache_.contact[k].t2;
+        }
+        if (flags & kBondOn) {
+          force_[i] += cache_.bond_f1[k];
+          torque_[i] -= cache_.bond_t2[k];
           bonds_[i] -= 1;
         }
       }
@@ -817,6 +829,12 @@ class DemPart final : public solver::Part<D> {
   // "row_of_spheres", else 0 (the law as it is).
   Real row_pitch(Real r1, Real r2) const {
     return rows_ ? r1 + r2 : Real(0);
+  }
+
+  // The grain that owns pair k (a binary search in pair_begin_; outflow only).
+  Index pair_owner(std::size_t k) const {
+    const auto it = std::upper_bound(pair_begin_.begin(), pair_begin_.end(), static_cast<Index>(k));
+    return static_cast<Index>(it - pair_begin_.begin()) - 1;
   }
 
   // Slot of `partner` in grain i's packed history (partner_), or -1.
@@ -933,32 +951,32 @@ class DemPart final : public solver::Part<D> {
   }
 
   // The pair loop runs in two passes, so that each contact is evaluated once, by its body 1
-  // (the grain of lower id), and the numbers are exactly those of evaluating it from both
-  // sides:
+  // (the grain of lower id), with no two threads adding to one grain:
   //   pair_pass (per grain i): its owned pairs (i, j), id_i < id_j, in list order: bond and
-  //     contact laws, the pair's history and i's energies; the results go to the pair's cache;
-  //   grain_pass (per grain i): sums its forces over its list in list order, reading the
-  //     pairs it owns directly and the others through the pair (j, i) of the entry; then walls
-  //     and damping. The sums run in the same order as one gather pass would: results are
-  //     bit-identical to it, and to any thread count.
+  //     contact laws, the pair's history and i's energies; i's share of the forces is summed
+  //     on the spot (PairTally), j's share goes to the pair's cache;
+  //   grain_pass (per grain i): gravity, then the shares of the pairs (j, i) that i receives,
+  //     in list order, then its own sum; then walls and damping.
+  // Every sum runs in an order fixed by the lists alone: the same numbers on any thread count.
   // Most list entries are not in contact (the list reaches (1 + kSkin) x the contact
   // distance): a squared-distance test with a margin rejects them before any law work.
-  // One pair's contact results together (the gather pass reads them at once); which of them
-  // hold anything, in a dense array of flags.
-  // Zero while the pair is not in contact, so that the gather may add it regardless.
+  // Body 2's share of a contact, what the gather reads at once; zero while the pair is not in
+  // contact, so that the gather may add it regardless. Which pairs hold anything: flags.
   struct ContactResult {
-    Vec<D> f1 = Vec<D>::Zero();                                            // force on body 1
-    std::array<AngularVec<D>, 2> t{angular_zero<D>(), angular_zero<D>()};  // torques on 1, 2
+    Vec<D> f1 = Vec<D>::Zero();            // force on body 1 (body 2 gets -f1)
+    AngularVec<D> t2 = angular_zero<D>();  // torque on body 2
   };
   struct PairCache {
     std::vector<std::uint8_t> flags;  // kBondOn, kContactOn
     std::vector<ContactResult> contact;
     std::vector<Vec<D>> bond_f1;
     std::vector<AngularVec<D>> bond_t1, bond_t2;
-    // Elastic energy of the pair's contact and bond [J], kept for outflow only (a grain that
-    // leaves takes its partners' share with it); read only where flags is set.
+    // Kept for outflow only (a grain that leaves takes its partners' share of the energy with
+    // it, and the forces it exerted leave its partners): the elastic energy of the pair's
+    // contact and bond [J] and the contact's torque on body 1; read only where flags is set.
     std::vector<Real> elastic;
-    void resize(std::size_t n, bool bonds, bool energies) {
+    std::vector<AngularVec<D>> t1;
+    void resize(std::size_t n, bool bonds, bool outflow) {
       flags.assign(n, 0);
       contact.assign(n, ContactResult{});
       if (bonds) {
@@ -966,7 +984,10 @@ class DemPart final : public solver::Part<D> {
         bond_t1.resize(n);
         bond_t2.resize(n);
       }
-      if (energies) elastic.assign(n, 0);
+      if (outflow) {
+        elastic.assign(n, 0);
+        t1.assign(n, angular_zero<D>());
+      }
     }
   };
   static constexpr std::uint8_t kBondOn = 1, kContactOn = 2;
@@ -976,6 +997,8 @@ class DemPart final : public solver::Part<D> {
 
   // What pair_pass leaves for grain_pass, per grain.
   struct PairTally {
+    Vec<D> force = Vec<D>::Zero();  // sum of the owned pairs' forces and torques on i
+    AngularVec<D> torque = angular_zero<D>();
     Real elastic = 0, dissipated = 0, released = 0;
     int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
   };
@@ -990,96 +1013,133 @@ class DemPart final : public solver::Part<D> {
     ++tally.slots;
   }
 
+  // pair_pass runs in chunks of the grain's owned pairs: a branch-free scan first keeps the
+  // pairs that may touch (or hold a bond), then the laws run over those alone, in list order.
+  // The scan's outcome is as random as the contacts, so that a branch on it in the law loop
+  // would be mispredicted about every other pair, and the laws of consecutive contacts could
+  // not overlap in the processor.
+  static constexpr int kScanChunk = 32;
+
   template <class Law>
   void pair_pass(Index i, Real dt, const LawPair<Law>& laws) {
     PairTally tally;
+    const bool bonds = !bond_partner_.empty();
+    const Vec<D> x_i = x_[i];
+    const Real r_i = r_[i];
+    const Index end = pair_begin_[static_cast<std::size_t>(i) + 1];
+    std::array<Index, kScanChunk> near;
+    for (Index chunk = pair_begin_[static_cast<std::size_t>(i)]; chunk < end; chunk += kScanChunk) {
+      const Index stop = std::min(end, chunk + kScanChunk);
+      int count = 0;
+      for (Index pi = chunk; pi < stop; ++pi) {
+        const auto k = static_cast<std::size_t>(pi);
+        const Index j = pair_j_[k];
+        const Real reach = r_i + r_[j];
+        // Bonded parts look each pair's bond up first (pair_law).
+        const bool close = bonds || (x_i - x_[j]).squaredNorm() <= reach * reach * kTouchMargin;
+        near[static_cast<std::size_t>(count)] = pi;
+        count += close;
+        // Rarely true (a contact that just ended): a well-predicted branch, unlike `close`.
+        if (!close & (cache_.flags[k] != 0)) clear_pair(k, cache_.flags[k]);
+      }
+      for (int c = 0; c < count; ++c)
+        pair_law<Law>(i, static_cast<std::size_t>(near[static_cast<std::size_t>(c)]), dt, laws,
+                      tally);
+    }
+    tally_[static_cast<std::size_t>(i)] = tally;
+  }
+
+  // The bond and contact laws of owned pair k = (i, j) (pair_pass).
+  template <class Law>
+  [[gnu::always_inline]] void pair_law(Index i, std::size_t k, Real dt, const LawPair<Law>& laws,
+                                       PairTally& tally) {
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     const bool rolling = rolling_.friction > 0;
     const bool bonds = !bond_partner_.empty();
     const bool pair_energy = !cache_.elastic.empty();
     const Vec<D> x_i = x_[i];
     const Real r_i = r_[i];
-    const Index end = pair_begin_[static_cast<std::size_t>(i) + 1];
-    for (Index pi = pair_begin_[static_cast<std::size_t>(i)]; pi < end; ++pi) {
-      const auto k = static_cast<std::size_t>(pi);
-      const Index j = pair_j_[k];
-      std::uint8_t& last_flags = cache_.flags[k];
-      const int bond = bonds ? find_bond(i, id_[j]) : -1;
-      if (bond < 0) {
-        const Real reach = r_i + r_[j];
-        if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
-          if (last_flags) clear_pair(k, last_flags);
-          continue;
-        }
-      }
-      std::uint8_t flags = 0;
-      Real elastic = 0;
-      const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_i, r_i, x_[j], r_[j]);
-      if (!g.touching() && bond < 0) {
+    const Index j = pair_j_[k];
+    std::uint8_t& last_flags = cache_.flags[k];
+    const int bond = bonds ? find_bond(i, id_[j]) : -1;
+    if (bonds && bond < 0) {
+      const Real reach = r_i + r_[j];
+      if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
         if (last_flags) clear_pair(k, last_flags);
-        continue;
+        return;
       }
-      const RelativeVelocity<D> rel =
-          relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{v_[j], w_[j]});
-      if (bond >= 0) {
-        // Parallel bond (paper eqs. 17-24), in parallel with the contact below.
-        const std::size_t at = base + static_cast<std::size_t>(bond);
-        const ParallelBondResult<D> br = parallel_bond<D>(bond_law_, g, rel, bond_[at], dt);
-        ++tally.bonds_seen;
-        if (br.broken) {
-          // The energy the bond held is lost with it: the mean of last step's state and the
-          // broken one, since the first half-kick of this step still used last step's bond
-          // force (velocity Verlet), so the kinetic energy paid half the last increment.
-          ++tally.breaks;
-          tally.released +=
-              Real(0.5) * (parallel_bond_energy<D>(bond_law_, bond_[at]) + br.elastic_energy);
-        } else {
-          ++tally.bonds;
-          flags |= kBondOn;
-          cache_.bond_f1[k] = br.force_on_1;
-          cache_.bond_t1[k] = br.torque_on_1;
-          cache_.bond_t2[k] = br.torque_on_2;
-          tally.elastic += br.elastic_energy;
-          elastic += br.elastic_energy;
-          bond_partner_new_[base + static_cast<std::size_t>(tally.bond_slots)] = id_[j];
-          bond_new_[base + static_cast<std::size_t>(tally.bond_slots)] = br.state;
-          ++tally.bond_slots;
-        }
-      }
-      if (g.touching()) {
-        const ContactForce<D> cf = evaluate_contact<D, Law>(
-            at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel,
-            effective_mass(m_[i], m_[j]), row_pitch(r_i, r_[j]), pair_xi_[k], dt);
-        RollingTorque<D> rt;
-        if (rolling)
-          rt = rolling_resistance<D>(rolling_, g, rel,
-                                     RollingLoad{.normal_force = cf.normal_force,
-                                                 .normal_stiffness = cf.normal_stiffness,
-                                                 .inertia_eff = rolling_inertia_eff(
-                                                     RollingBody{inertia_[i], m_[i], r_[i]},
-                                                     RollingBody{inertia_[j], m_[j], r_[j]})},
-                                     pair_roll_[k], dt);
-        flags |= kContactOn;
-        ContactResult& c = cache_.contact[k];
-        c.f1 = cf.force_on_1;
-        c.t[0] = cf.torque_on_1 + rt.torque_on_1;
-        c.t[1] = cf.torque_on_2 - rt.torque_on_1;
-        pair_xi_[k] = cf.shear_history;
-        if (rolling) pair_roll_[k] = rt.history;
-        count_contact(i, tally);
-        const Real stored = cf.elastic_energy + rt.elastic_energy;
-        tally.elastic += stored;
-        elastic += stored;
-        tally.dissipated += cf.dissipated_power + rt.dissipated_power;
-      } else if (last_flags & kContactOn) {
-        cache_.contact[k] = ContactResult{};
-        pair_xi_[k] = Vec<D>::Zero();
-        if (rolling) pair_roll_[k] = angular_zero<D>();
-      }
-      last_flags = flags;
-      if (pair_energy) cache_.elastic[k] = elastic;
     }
-    tally_[static_cast<std::size_t>(i)] = tally;
+    std::uint8_t flags = 0;
+    Real elastic = 0;
+    const ContactGeometry<D> g = sphere_sphere_geometry<D>(x_i, r_i, x_[j], r_[j]);
+    if (!g.touching() && bond < 0) {
+      if (last_flags) clear_pair(k, last_flags);
+      return;
+    }
+    const RelativeVelocity<D> rel =
+        relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{v_[j], w_[j]});
+    if (bond >= 0) {
+      // Parallel bond (paper eqs. 17-24), in parallel with the contact below.
+      const std::size_t at = base + static_cast<std::size_t>(bond);
+      const ParallelBondResult<D> br = parallel_bond<D>(bond_law_, g, rel, bond_[at], dt);
+      ++tally.bonds_seen;
+      if (br.broken) {
+        // The energy the bond held is lost with it: the mean of last step's state and the
+        // broken one, since the first half-kick of this step still used last step's bond
+        // force (velocity Verlet), so the kinetic energy paid half the last increment.
+        ++tally.breaks;
+        tally.released +=
+            Real(0.5) * (parallel_bond_energy<D>(bond_law_, bond_[at]) + br.elastic_energy);
+      } else {
+        ++tally.bonds;
+        flags |= kBondOn;
+        cache_.bond_f1[k] = br.force_on_1;
+        cache_.bond_t1[k] = br.torque_on_1;
+        cache_.bond_t2[k] = br.torque_on_2;
+        tally.force += br.force_on_1;
+        tally.torque += br.torque_on_1;
+        tally.elastic += br.elastic_energy;
+        elastic += br.elastic_energy;
+        bond_partner_new_[base + static_cast<std::size_t>(tally.bond_slots)] = id_[j];
+        bond_new_[base + static_cast<std::size_t>(tally.bond_slots)] = br.state;
+        ++tally.bond_slots;
+      }
+    }
+    if (g.touching()) {
+      const ContactForce<D> cf = evaluate_contact<D, Law>(
+          at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel,
+          effective_mass(m_[i], m_[j]), row_pitch(r_i, r_[j]), pair_xi_[k], dt);
+      RollingTorque<D> rt;
+      if (rolling)
+        rt = rolling_resistance<D>(
+            rolling_, g, rel,
+            RollingLoad{.normal_force = cf.normal_force,
+                        .normal_stiffness = cf.normal_stiffness,
+                        .inertia_eff = rolling_inertia_eff(RollingBody{inertia_[i], m_[i], r_[i]},
+                                                           RollingBody{inertia_[j], m_[j], r_[j]})},
+            pair_roll_[k], dt);
+      flags |= kContactOn;
+      ContactResult& c = cache_.contact[k];
+      c.f1 = cf.force_on_1;
+      c.t2 = cf.torque_on_2 - rt.torque_on_1;
+      const AngularVec<D> t1 = cf.torque_on_1 + rt.torque_on_1;
+      tally.force += cf.force_on_1;
+      tally.torque += t1;
+      if (outflow_remove_) cache_.t1[k] = t1;
+      pair_xi_[k] = cf.shear_history;
+      if (rolling) pair_roll_[k] = rt.history;
+      count_contact(i, tally);
+      const Real stored = cf.elastic_energy + rt.elastic_energy;
+      tally.elastic += stored;
+      elastic += stored;
+      tally.dissipated += cf.dissipated_power + rt.dissipated_power;
+    } else if (last_flags & kContactOn) {
+      cache_.contact[k] = ContactResult{};
+      pair_xi_[k] = Vec<D>::Zero();
+      if (rolling) pair_roll_[k] = angular_zero<D>();
+    }
+    last_flags = flags;
+    if (pair_energy) cache_.elastic[k] = elastic;
   }
   // A pair that was evaluated last step and is apart now: no force, no history.
   void clear_pair(std::size_t k, std::uint8_t& flags) {
@@ -1099,48 +1159,34 @@ class DemPart final : public solver::Part<D> {
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     const bool rolling = rolling_.friction > 0;
     int bonds = tally.bonds;
-    const auto first = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
-    const auto last = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i) + 1]);
+    const auto first = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i)]);
+    const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
     if (cache_.bond_f1.empty()) {
-      // No bonds: every entry adds its pair's results, zero when not in contact, with no
-      // branch. A sum that starts at +0 or a non-zero value never becomes -0, so adding +-0
-      // leaves it as skipping would; force + (-1 x f) is force - f exactly.
-      static constexpr std::array<Real, 2> kSign{1, -1};
+      // No bonds: every pair adds its share, zero when not in contact, with no branch. A sum
+      // that starts at +0 or a non-zero value never becomes -0, so adding +-0 leaves it as
+      // skipping would.
       for (std::size_t e = first; e < last; ++e) {
-        const auto ref = static_cast<std::size_t>(pair_of_entry_[e]);
-        const std::size_t side = ref & 1;
-        const ContactResult& c = cache_.contact[ref >> 1];
-        force += kSign[side] * c.f1;
-        torque += c.t[side];
+        const ContactResult& c = cache_.contact[static_cast<std::size_t>(recv_pair_[e])];
+        force -= c.f1;
+        torque += c.t2;
       }
     } else {
       for (std::size_t e = first; e < last; ++e) {
-        const auto ref = static_cast<std::size_t>(pair_of_entry_[e]);
-        const std::size_t k = ref >> 1;
+        const auto k = static_cast<std::size_t>(recv_pair_[e]);
         const std::uint8_t flags = cache_.flags[k];
-        const ContactResult& c = cache_.contact[k];
-        if (!(ref & 1)) {
-          if (flags & kBondOn) {
-            force += cache_.bond_f1[k];
-            torque += cache_.bond_t1[k];
-          }
-          if (flags & kContactOn) {
-            force += c.f1;
-            torque += c.t[0];
-          }
-        } else {
-          if (flags & kBondOn) {
-            ++bonds;
-            force -= cache_.bond_f1[k];
-            torque += cache_.bond_t2[k];
-          }
-          if (flags & kContactOn) {
-            force -= c.f1;
-            torque += c.t[1];
-          }
+        if (flags & kBondOn) {
+          ++bonds;
+          force -= cache_.bond_f1[k];
+          torque += cache_.bond_t2[k];
+        }
+        if (flags & kContactOn) {
+          force -= cache_.contact[k].f1;
+          torque += cache_.contact[k].t2;
         }
       }
     }
+    force += tally.force;
+    torque += tally.torque;
     Real elastic = tally.elastic, dissipated = tally.dissipated;
 
     const std::size_t walls = wall_planes_.size();
@@ -1317,29 +1363,28 @@ class DemPart final : public solver::Part<D> {
     for (Index i = 0; i < n; ++i)
       pair_begin_[static_cast<std::size_t>(i) + 1] += pair_begin_[static_cast<std::size_t>(i)];
     pair_j_.resize(static_cast<std::size_t>(pair_begin_.back()));
-    pair_of_entry_.resize(list_.indices.size());
+    recv_begin_.assign(static_cast<std::size_t>(n) + 1, 0);
     parallel::for_each(n, [&](Index i) {
       Index p = pair_begin_[static_cast<std::size_t>(i)];
-      const auto from = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
-      const auto row = list_.of(i);
-      for (std::size_t e = 0; e < row.size(); ++e)
-        if (id_[i] < id_[row[e]]) {
-          pair_j_[static_cast<std::size_t>(p)] = row[e];
-          pair_of_entry_[from + e] = 2 * p++;
-        }
+      for (const Index j : list_.of(i))
+        if (id_[i] < id_[j]) pair_j_[static_cast<std::size_t>(p++)] = j;
+      recv_begin_[static_cast<std::size_t>(i) + 1] =
+          static_cast<Index>(list_.of(i).size()) -
+          (pair_begin_[static_cast<std::size_t>(i) + 1] - pair_begin_[static_cast<std::size_t>(i)]);
     });
-    // Entries (i, j) owned by j: the pair (j, i) (pairs are ascending in j's row: binary
-    // search).
+    for (Index i = 0; i < n; ++i)
+      recv_begin_[static_cast<std::size_t>(i) + 1] += recv_begin_[static_cast<std::size_t>(i)];
+    // The pairs (j, i) that grain i receives, in its list's order (pairs are ascending in j's
+    // row: binary search).
+    recv_pair_.resize(pair_j_.size());
     parallel::for_each(n, [&](Index i) {
-      const auto from = static_cast<std::size_t>(list_.offsets[static_cast<std::size_t>(i)]);
-      const auto row = list_.of(i);
-      for (std::size_t e = 0; e < row.size(); ++e) {
-        const Index j = row[e];
+      Index e = recv_begin_[static_cast<std::size_t>(i)];
+      for (const Index j : list_.of(i)) {
         if (id_[i] < id_[j]) continue;
         const auto b = pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j)];
         const auto it =
             std::lower_bound(b, pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j) + 1], i);
-        pair_of_entry_[from + e] = 2 * static_cast<Index>(it - pair_j_.begin()) + 1;
+        recv_pair_[static_cast<std::size_t>(e++)] = static_cast<Index>(it - pair_j_.begin());
       }
     });
     const auto pairs = pair_j_.size();
@@ -1497,8 +1542,9 @@ class DemPart final : public solver::Part<D> {
   neighbors::NeighborList list_;
   // Owned pairs (i, j), id_i < id_j: grain i's at pair_begin_[i] .. pair_begin_[i + 1], j in
   // pair_j_; per list entry, its pair: 2 p if the row's grain owns it, else 2 p + 1.
-  std::vector<Index> pair_begin_, pair_j_, pair_of_entry_;
-  PairCache cache_;  // per owned pair: the contact's results (pair_pass)
+  std::vector<Index> pair_begin_, pair_j_;     // owned pairs (i, j) of grain i, in list order
+  std::vector<Index> recv_begin_, recv_pair_;  // pairs (j, i) that grain i receives, likewise
+  PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;

@@ -209,7 +209,7 @@ inline Vec<D> unit_or_first_axis(const Vec<D>& d, Real length) {
   if (!(length > Real(0))) {
     return Vec<D>::Unit(0);
   }
-  return d / length;
+  return (Real(1) / length) * d;  // one division, not D
 }
 
 }  // namespace detail

@@ -59,6 +59,9 @@ struct HertzMindlinParams {
   Real friction = 0;                    // \mu [-]
   bool tangential_damping = true;       // \gamma_t on (LIGGGHTS `tangential_damping on`)
   bool limit_attractive_force = false;  // clamp F_n >= 0 (LIGGGHTS `limitForce`, off)
+  // Derived by hertz_mindlin_params (so that the pair loop does not divide and root them):
+  Real stiffness_ratio = 0;       // S_t / S_n = 4 G* / E* [-]
+  Real sqrt_stiffness_ratio = 0;  // \sqrt{S_t / S_n} = \gamma_t / \gamma_n [-]
 };
 
 /// Parameters for grains of materials a and b (a wall: its material, E = inf if rigid),
@@ -70,6 +73,8 @@ inline HertzMindlinParams hertz_mindlin_params(const ElasticMaterial& a, const E
   p.shear_modulus_eff_pa = effective_shear_modulus(a, b);
   p.damping_ratio = damping_ratio_from_restitution(restitution);
   p.friction = friction;
+  p.stiffness_ratio = Real(4) * p.shear_modulus_eff_pa / p.youngs_modulus_eff_pa;
+  p.sqrt_stiffness_ratio = std::sqrt(p.stiffness_ratio);
   return p;
 }
 
@@ -98,10 +103,9 @@ template <int D>
   const NormalForce normal =
       add_normal_dashpot(spring, gamma_n, v.normal, p.limit_attractive_force);
 
-  // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n.
-  const Real s_t = Real(4) * p.shear_modulus_eff_pa / p.youngs_modulus_eff_pa * spring.stiffness;
-  const Real gamma_t =
-      p.tangential_damping ? tsuji_dashpot_coefficient(p.damping_ratio, s_t, mass_eff) : Real(0);
+  // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n, and so \gamma_t = \sqrt{4 G*/E*} \gamma_n.
+  const Real s_t = p.stiffness_ratio * spring.stiffness;
+  const Real gamma_t = p.tangential_damping ? p.sqrt_stiffness_ratio * gamma_n : Real(0);
   const TangentialForce<D> tangential = history_tangential_force<D>(
       TangentialSpring{.stiffness = s_t, .damping = gamma_t, .friction = p.friction}, normal.force,
       g.normal, v.tangential, shear_history, dt);
