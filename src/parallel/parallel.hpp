@@ -46,6 +46,17 @@ void for_each(Index n, F&& f) {
     f(i);
 }
 
+/// f(first, last) for the blocks [first, last) of `block` consecutive indices covering [0, n),
+/// in parallel when n (the indices, not the blocks) reaches parallel_min(). f must only write
+/// to its block's entities' own data.
+template <class F>
+void for_each_block(Index n, Index block, F&& f) {
+  const Index blocks = (n + block - 1) / block;
+#pragma omp parallel for schedule(static) if (n >= parallel_min())
+  for (Index b = 0; b < blocks; ++b)
+    f(b * block, std::min(n, (b + 1) * block));
+}
+
 /// Sum of f(i) over [0, n) with a fixed association order (bit-identical for any thread count).
 /// T must support T{} + T and +=.
 template <class T, class F>

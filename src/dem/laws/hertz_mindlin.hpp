@@ -90,6 +90,38 @@ inline NormalForce hertz_normal_spring(Real youngs_modulus_eff, Real radius_eff,
   return out;
 }
 
+/// The Hertz spring and both dashpot coefficients at the pair's overlap (the roots of the law):
+/// mass_eff m* [kg].
+template <int D>
+[[gnu::always_inline]] inline NormalPart hertz_mindlin_prepare(const HertzMindlinParams& p,
+                                                               const ContactGeometry<D>& g,
+                                                               Real mass_eff) {
+  NormalPart out;
+  out.spring = hertz_normal_spring(p.youngs_modulus_eff_pa, g.radius_eff, g.overlap);
+  out.normal_damping = tsuji_dashpot_coefficient(p.damping_ratio, out.spring.stiffness, mass_eff);
+  // S_t = (4 G*/E*) S_n, and so \gamma_t = \sqrt{4 G*/E*} \gamma_n.
+  out.tangential_damping =
+      p.tangential_damping ? p.sqrt_stiffness_ratio * out.normal_damping : Real(0);
+  return out;
+}
+
+/// Hertz-Mindlin force on a touching pair from its prepared normal part: velocities v,
+/// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin_finish(
+    const HertzMindlinParams& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& v,
+    const NormalPart& part, const Vec<D>& shear_history, Real dt) {
+  const NormalForce normal =
+      add_normal_dashpot(part.spring, part.normal_damping, v.normal, p.limit_attractive_force);
+  // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n.
+  const Real s_t = p.stiffness_ratio * part.spring.stiffness;
+  const TangentialForce<D> tangential = history_tangential_force<D>(
+      TangentialSpring{
+          .stiffness = s_t, .damping = part.tangential_damping, .friction = p.friction},
+      normal.force, g.normal, v.tangential, shear_history, dt);
+  return combine_contact_force<D>(g, normal, tangential);
+}
+
 /// Hertz-Mindlin force on a touching pair (see the file comment). mass_eff m* [kg],
 /// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
 template <int D>
@@ -98,23 +130,25 @@ template <int D>
                                                             const RelativeVelocity<D>& v,
                                                             Real mass_eff,
                                                             const Vec<D>& shear_history, Real dt) {
-  const NormalForce spring = hertz_normal_spring(p.youngs_modulus_eff_pa, g.radius_eff, g.overlap);
-  const Real gamma_n = tsuji_dashpot_coefficient(p.damping_ratio, spring.stiffness, mass_eff);
-  const NormalForce normal =
-      add_normal_dashpot(spring, gamma_n, v.normal, p.limit_attractive_force);
-
-  // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n, and so \gamma_t = \sqrt{4 G*/E*} \gamma_n.
-  const Real s_t = p.stiffness_ratio * spring.stiffness;
-  const Real gamma_t = p.tangential_damping ? p.sqrt_stiffness_ratio * gamma_n : Real(0);
-  const TangentialForce<D> tangential = history_tangential_force<D>(
-      TangentialSpring{.stiffness = s_t, .damping = gamma_t, .friction = p.friction}, normal.force,
-      g.normal, v.tangential, shear_history, dt);
-  return combine_contact_force<D>(g, normal, tangential);
+  return hertz_mindlin_finish<D>(p, g, v, hertz_mindlin_prepare<D>(p, g, mass_eff), shear_history,
+                                 dt);
 }
 
 /// The law as a type, for a pair loop templated on it (contact_force.hpp).
 struct HertzMindlin {
   using Params = HertzMindlinParams;
+  template <int D>
+  [[gnu::always_inline]] static NormalPart prepare(const Params& p, const ContactGeometry<D>& g,
+                                                   Real mass_eff) {
+    return hertz_mindlin_prepare<D>(p, g, mass_eff);
+  }
+  template <int D>
+  [[gnu::always_inline]] static ContactForce<D> finish(const Params& p, const ContactGeometry<D>& g,
+                                                       const RelativeVelocity<D>& v,
+                                                       const NormalPart& part,
+                                                       const Vec<D>& shear_history, Real dt) {
+    return hertz_mindlin_finish<D>(p, g, v, part, shear_history, dt);
+  }
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,
                                                          const ContactGeometry<D>& g,

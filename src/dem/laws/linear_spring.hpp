@@ -57,33 +57,66 @@ inline LinearSpringParams linear_spring_params(Real normal_stiffness, Real shear
   return p;
 }
 
+/// The linear spring and both dashpot coefficients (the law's roots): mass_eff m* [kg].
+template <int D>
+[[gnu::always_inline]] inline NormalPart linear_spring_prepare(const LinearSpringParams& p,
+                                                               const ContactGeometry<D>& g,
+                                                               Real mass_eff) {
+  NormalPart out;
+  const Real delta = std::max(g.overlap, Real(0));
+  out.spring.elastic_force = p.normal_stiffness_n_m * delta;
+  out.spring.force = out.spring.elastic_force;
+  out.spring.stiffness = p.normal_stiffness_n_m;
+  out.spring.elastic_energy = Real(0.5) * out.spring.elastic_force * delta;
+  out.normal_damping =
+      linear_dashpot_coefficient(p.damping_ratio, p.normal_stiffness_n_m, mass_eff);
+  out.tangential_damping =
+      p.tangential_damping
+          ? linear_dashpot_coefficient(p.damping_ratio, p.shear_stiffness_n_m, mass_eff)
+          : Real(0);
+  return out;
+}
+
+/// The linear law's force from its prepared normal part (see linear_spring).
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> linear_spring_finish(
+    const LinearSpringParams& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& v,
+    const NormalPart& part, const Vec<D>& shear_history, Real dt) {
+  const NormalForce normal =
+      add_normal_dashpot(part.spring, part.normal_damping, v.normal, p.limit_attractive_force);
+  const TangentialForce<D> tangential =
+      history_tangential_force<D>(TangentialSpring{.stiffness = p.shear_stiffness_n_m,
+                                                   .damping = part.tangential_damping,
+                                                   .friction = p.friction},
+                                  normal.force, g.normal, v.tangential, shear_history, dt);
+  return combine_contact_force<D>(g, normal, tangential);
+}
+
 /// Linear spring-dashpot force on a touching pair (see the file comment). mass_eff m* [kg],
 /// shear_history \xi of the previous step [m], dt [s].
 template <int D>
 inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactGeometry<D>& g,
                                      const RelativeVelocity<D>& v, Real mass_eff,
                                      const Vec<D>& shear_history, Real dt) {
-  const Real delta = std::max(g.overlap, Real(0));
-  NormalForce spring;
-  spring.elastic_force = p.normal_stiffness_n_m * delta;
-  spring.force = spring.elastic_force;
-  spring.stiffness = p.normal_stiffness_n_m;
-  spring.elastic_energy = Real(0.5) * spring.elastic_force * delta;
-  const Real c_n = linear_dashpot_coefficient(p.damping_ratio, p.normal_stiffness_n_m, mass_eff);
-  const NormalForce normal = add_normal_dashpot(spring, c_n, v.normal, p.limit_attractive_force);
-
-  const Real c_s = p.tangential_damping ? linear_dashpot_coefficient(
-                                              p.damping_ratio, p.shear_stiffness_n_m, mass_eff)
-                                        : Real(0);
-  const TangentialForce<D> tangential = history_tangential_force<D>(
-      TangentialSpring{.stiffness = p.shear_stiffness_n_m, .damping = c_s, .friction = p.friction},
-      normal.force, g.normal, v.tangential, shear_history, dt);
-  return combine_contact_force<D>(g, normal, tangential);
+  return linear_spring_finish<D>(p, g, v, linear_spring_prepare<D>(p, g, mass_eff), shear_history,
+                                 dt);
 }
 
 /// The law as a type, for a pair loop templated on it (contact_force.hpp).
 struct LinearSpring {
   using Params = LinearSpringParams;
+  template <int D>
+  [[gnu::always_inline]] static NormalPart prepare(const Params& p, const ContactGeometry<D>& g,
+                                                   Real mass_eff) {
+    return linear_spring_prepare<D>(p, g, mass_eff);
+  }
+  template <int D>
+  [[gnu::always_inline]] static ContactForce<D> finish(const Params& p, const ContactGeometry<D>& g,
+                                                       const RelativeVelocity<D>& v,
+                                                       const NormalPart& part,
+                                                       const Vec<D>& shear_history, Real dt) {
+    return linear_spring_finish<D>(p, g, v, part, shear_history, dt);
+  }
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,
                                                          const ContactGeometry<D>& g,
