@@ -105,23 +105,23 @@ namespace {
 
 // The same contacts in chunks of 8 as the pair loop runs them (src/dem/dem_part.cpp,
 // pair_pass): the geometry and the law's roots (HertzMindlin::prepare) for the whole chunk
-// first, then the rest of each law (HertzMindlin::finish).
+// and the history's rotation first, then the rest of each law (HertzMindlin::finish).
 int sweep_batched(const HertzMindlinParams& law, Pairs& p, Real& sink) {
   constexpr int kChunk = 8;
   int sliding = 0;
   std::array<ContactGeometry<3>, kChunk> g;
-  std::array<NormalPart, kChunk> part;
+  std::array<ContactPrep<3>, kChunk> part;
   for (int k0 = 0; k0 < kPairs; k0 += kChunk) {
     for (int c = 0; c < kChunk; ++c) {
       const int k = k0 + c;
       g[c] = sphere_sphere_geometry<3>(p.x1[k], kRadius, p.x2[k], kRadius);
-      part[c] = HertzMindlin::prepare<3>(law, g[c], effective_mass(p.mass, p.mass));
+      part[c] = HertzMindlin::prepare<3>(law, g[c], effective_mass(p.mass, p.mass), p.xi[k]);
     }
     for (int c = 0; c < kChunk; ++c) {
       const int k = k0 + c;
       const RelativeVelocity<3> rel = relative_velocity<3>(g[c], BodyMotion<3>{p.v1[k], p.w1[k]},
                                                            BodyMotion<3>{p.v2[k], p.w2[k]});
-      const ContactForce<3> cf = HertzMindlin::finish<3>(law, g[c], rel, part[c], p.xi[k], kDt);
+      const ContactForce<3> cf = HertzMindlin::finish<3>(law, g[c], rel, part[c], kDt);
       p.xi[k] = cf.shear_history;
       sliding += cf.sliding;
       sink += cf.force_on_1[0] + cf.torque_on_1[1] + cf.torque_on_2[2] + cf.elastic_energy +

@@ -94,24 +94,26 @@ template <int D, class Law>
 }
 
 // evaluate_contact in two halves (Law::prepare, Law::finish): the same numbers.
-template <class Law>
+template <int D>
 struct PreparedContact {
   Real pitch = 0;
-  NormalPart part;
+  ContactPrep<D> part;
 };
 template <int D, class Law>
-[[gnu::always_inline]] inline PreparedContact<Law> prepare_contact(const typename Law::Params& p,
-                                                                   const ContactGeometry<D>& g,
-                                                                   Real mass_eff, Real pitch) {
-  return {pitch, Law::template prepare<D>(p, g, pitch > 0 ? mass_eff * pitch : mass_eff)};
+[[gnu::always_inline]] inline PreparedContact<D> prepare_contact(const typename Law::Params& p,
+                                                                 const ContactGeometry<D>& g,
+                                                                 Real mass_eff, Real pitch,
+                                                                 const Vec<D>& shear_history) {
+  return {pitch,
+          Law::template prepare<D>(p, g, pitch > 0 ? mass_eff * pitch : mass_eff, shear_history)};
 }
 template <int D, class Law>
 [[gnu::always_inline]] inline ContactForce<D> finish_contact(const typename Law::Params& p,
                                                              const ContactGeometry<D>& g,
                                                              const RelativeVelocity<D>& rel,
-                                                             const PreparedContact<Law>& prep,
-                                                             const Vec<D>& shear_history, Real dt) {
-  ContactForce<D> cf = Law::template finish<D>(p, g, rel, prep.part, shear_history, dt);
+                                                             const PreparedContact<D>& prep,
+                                                             Real dt) {
+  ContactForce<D> cf = Law::template finish<D>(p, g, rel, prep.part, dt);
   const Real pitch = prep.pitch;
   if (!(pitch > 0)) return cf;
   cf.force_on_1 /= pitch;
@@ -1058,7 +1060,7 @@ class DemPart final : public solver::Part<D> {
   template <class Law>
   struct Candidate {
     ContactGeometry<D> g;
-    PreparedContact<Law> prep;
+    PreparedContact<D> prep;
   };
 
   // pair_pass works on a block [first, last) of kPairBlock consecutive grains, whose owned
@@ -1100,7 +1102,8 @@ class DemPart final : public solver::Part<D> {
         const Index j = pair_j_[static_cast<std::size_t>(near[at])];
         cand[at].g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
         cand[at].prep = prepare_contact<D, Law>(
-            laws.grain, cand[at].g, effective_mass(m_[i], m_[j]), row_pitch(r_[i], r_[j]));
+            laws.grain, cand[at].g, effective_mass(m_[i], m_[j]), row_pitch(r_[i], r_[j]),
+            pair_xi_[static_cast<std::size_t>(near[at])]);
       }
       for (int c = 0; c < count; ++c) {
         const auto at = static_cast<std::size_t>(c);
@@ -1168,9 +1171,8 @@ class DemPart final : public solver::Part<D> {
       }
     }
     if (g.touching()) {
-      const ContactForce<D> cf =
-          finish_contact<D, Law>(at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel,
-                                 cand.prep, pair_xi_[k], dt);
+      const ContactForce<D> cf = finish_contact<D, Law>(
+          at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel, cand.prep, dt);
       RollingTorque<D> rt;
       if (rolling)
         rt = rolling_resistance<D>(

@@ -29,14 +29,17 @@ struct NormalForce {
   Real dissipated_power = 0;  // v_n (F_n^el - F_n) >= 0 [W]: the dashpot's work rate
 };
 
-/// The normal spring and the dashpot coefficients of a pair (`Law::prepare`): the part of a
-/// law whose square roots depend on the geometry alone. A pair loop prepares a batch of
-/// contacts first, so that their roots overlap in the processor, and then finishes each
+/// What `Law::prepare` computes of a pair: the normal spring, the dashpot coefficients and the
+/// shear history carried into the current tangent plane, the part of a law whose roots and
+/// divisions depend on the geometry and the stored history alone. A pair loop prepares a batch
+/// of contacts first, so that their roots overlap in the processor, and then finishes each
 /// (`Law::finish`); `Law::evaluate` is the two in one.
-struct NormalPart {
+template <int D>
+struct ContactPrep {
   NormalForce spring;           // the spring alone (force = elastic_force), set by the law
   Real normal_damping = 0;      // \gamma_n [N s/m]
   Real tangential_damping = 0;  // \gamma_t [N s/m]
+  Vec<D> carried_history = Vec<D>::Zero();  // R_n(\xi) [m] (tangential_history.hpp)
 };
 
 /// Forces, torques and energies of one contact.

@@ -90,35 +90,39 @@ inline NormalForce hertz_normal_spring(Real youngs_modulus_eff, Real radius_eff,
   return out;
 }
 
-/// The Hertz spring and both dashpot coefficients at the pair's overlap (the roots of the law):
-/// mass_eff m* [kg].
+/// The law's roots and divisions (contact_force.hpp, ContactPrep): the Hertz spring and both
+/// dashpot coefficients at the pair's overlap, mass_eff m* [kg], and the shear history \xi of
+/// the previous step [m] (zero for a new contact) carried into the current tangent plane.
 template <int D>
-[[gnu::always_inline]] inline NormalPart hertz_mindlin_prepare(const HertzMindlinParams& p,
-                                                               const ContactGeometry<D>& g,
-                                                               Real mass_eff) {
-  NormalPart out;
+[[gnu::always_inline]] inline ContactPrep<D> hertz_mindlin_prepare(const HertzMindlinParams& p,
+                                                                   const ContactGeometry<D>& g,
+                                                                   Real mass_eff,
+                                                                   const Vec<D>& shear_history) {
+  ContactPrep<D> out;
   out.spring = hertz_normal_spring(p.youngs_modulus_eff_pa, g.radius_eff, g.overlap);
   out.normal_damping = tsuji_dashpot_coefficient(p.damping_ratio, out.spring.stiffness, mass_eff);
   // S_t = (4 G*/E*) S_n, and so \gamma_t = \sqrt{4 G*/E*} \gamma_n.
   out.tangential_damping =
       p.tangential_damping ? p.sqrt_stiffness_ratio * out.normal_damping : Real(0);
+  out.carried_history = rotate_into_tangent_plane(shear_history, g.normal);
   return out;
 }
 
-/// Hertz-Mindlin force on a touching pair from its prepared normal part: velocities v,
-/// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
+/// Hertz-Mindlin force on a touching pair from its prepared part, velocities v, dt [s].
 template <int D>
-[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin_finish(
-    const HertzMindlinParams& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& v,
-    const NormalPart& part, const Vec<D>& shear_history, Real dt) {
+[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin_finish(const HertzMindlinParams& p,
+                                                                   const ContactGeometry<D>& g,
+                                                                   const RelativeVelocity<D>& v,
+                                                                   const ContactPrep<D>& part,
+                                                                   Real dt) {
   const NormalForce normal =
       add_normal_dashpot(part.spring, part.normal_damping, v.normal, p.limit_attractive_force);
   // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n.
   const Real s_t = p.stiffness_ratio * part.spring.stiffness;
-  const TangentialForce<D> tangential = history_tangential_force<D>(
+  const TangentialForce<D> tangential = carried_tangential_force<D>(
       TangentialSpring{
           .stiffness = s_t, .damping = part.tangential_damping, .friction = p.friction},
-      normal.force, g.normal, v.tangential, shear_history, dt);
+      normal.force, v.tangential, part.carried_history, dt);
   return combine_contact_force<D>(g, normal, tangential);
 }
 
@@ -130,7 +134,7 @@ template <int D>
                                                             const RelativeVelocity<D>& v,
                                                             Real mass_eff,
                                                             const Vec<D>& shear_history, Real dt) {
-  return hertz_mindlin_finish<D>(p, g, v, hertz_mindlin_prepare<D>(p, g, mass_eff), shear_history,
+  return hertz_mindlin_finish<D>(p, g, v, hertz_mindlin_prepare<D>(p, g, mass_eff, shear_history),
                                  dt);
 }
 
@@ -138,16 +142,15 @@ template <int D>
 struct HertzMindlin {
   using Params = HertzMindlinParams;
   template <int D>
-  [[gnu::always_inline]] static NormalPart prepare(const Params& p, const ContactGeometry<D>& g,
-                                                   Real mass_eff) {
-    return hertz_mindlin_prepare<D>(p, g, mass_eff);
+  [[gnu::always_inline]] static ContactPrep<D> prepare(const Params& p, const ContactGeometry<D>& g,
+                                                       Real mass_eff, const Vec<D>& shear_history) {
+    return hertz_mindlin_prepare<D>(p, g, mass_eff, shear_history);
   }
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> finish(const Params& p, const ContactGeometry<D>& g,
                                                        const RelativeVelocity<D>& v,
-                                                       const NormalPart& part,
-                                                       const Vec<D>& shear_history, Real dt) {
-    return hertz_mindlin_finish<D>(p, g, v, part, shear_history, dt);
+                                                       const ContactPrep<D>& part, Real dt) {
+    return hertz_mindlin_finish<D>(p, g, v, part, dt);
   }
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,

@@ -57,12 +57,15 @@ inline LinearSpringParams linear_spring_params(Real normal_stiffness, Real shear
   return p;
 }
 
-/// The linear spring and both dashpot coefficients (the law's roots): mass_eff m* [kg].
+/// The law's roots and divisions (contact_force.hpp, ContactPrep): the linear spring, both
+/// dashpot coefficients (mass_eff m* [kg]) and the shear history \xi [m] carried into the
+/// current tangent plane.
 template <int D>
-[[gnu::always_inline]] inline NormalPart linear_spring_prepare(const LinearSpringParams& p,
-                                                               const ContactGeometry<D>& g,
-                                                               Real mass_eff) {
-  NormalPart out;
+[[gnu::always_inline]] inline ContactPrep<D> linear_spring_prepare(const LinearSpringParams& p,
+                                                                   const ContactGeometry<D>& g,
+                                                                   Real mass_eff,
+                                                                   const Vec<D>& shear_history) {
+  ContactPrep<D> out;
   const Real delta = std::max(g.overlap, Real(0));
   out.spring.elastic_force = p.normal_stiffness_n_m * delta;
   out.spring.force = out.spring.elastic_force;
@@ -74,21 +77,24 @@ template <int D>
       p.tangential_damping
           ? linear_dashpot_coefficient(p.damping_ratio, p.shear_stiffness_n_m, mass_eff)
           : Real(0);
+  out.carried_history = rotate_into_tangent_plane(shear_history, g.normal);
   return out;
 }
 
-/// The linear law's force from its prepared normal part (see linear_spring).
+/// The linear law's force from its prepared part (see linear_spring).
 template <int D>
-[[gnu::always_inline]] inline ContactForce<D> linear_spring_finish(
-    const LinearSpringParams& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& v,
-    const NormalPart& part, const Vec<D>& shear_history, Real dt) {
+[[gnu::always_inline]] inline ContactForce<D> linear_spring_finish(const LinearSpringParams& p,
+                                                                   const ContactGeometry<D>& g,
+                                                                   const RelativeVelocity<D>& v,
+                                                                   const ContactPrep<D>& part,
+                                                                   Real dt) {
   const NormalForce normal =
       add_normal_dashpot(part.spring, part.normal_damping, v.normal, p.limit_attractive_force);
   const TangentialForce<D> tangential =
-      history_tangential_force<D>(TangentialSpring{.stiffness = p.shear_stiffness_n_m,
+      carried_tangential_force<D>(TangentialSpring{.stiffness = p.shear_stiffness_n_m,
                                                    .damping = part.tangential_damping,
                                                    .friction = p.friction},
-                                  normal.force, g.normal, v.tangential, shear_history, dt);
+                                  normal.force, v.tangential, part.carried_history, dt);
   return combine_contact_force<D>(g, normal, tangential);
 }
 
@@ -98,7 +104,7 @@ template <int D>
 inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactGeometry<D>& g,
                                      const RelativeVelocity<D>& v, Real mass_eff,
                                      const Vec<D>& shear_history, Real dt) {
-  return linear_spring_finish<D>(p, g, v, linear_spring_prepare<D>(p, g, mass_eff), shear_history,
+  return linear_spring_finish<D>(p, g, v, linear_spring_prepare<D>(p, g, mass_eff, shear_history),
                                  dt);
 }
 
@@ -106,16 +112,15 @@ inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactG
 struct LinearSpring {
   using Params = LinearSpringParams;
   template <int D>
-  [[gnu::always_inline]] static NormalPart prepare(const Params& p, const ContactGeometry<D>& g,
-                                                   Real mass_eff) {
-    return linear_spring_prepare<D>(p, g, mass_eff);
+  [[gnu::always_inline]] static ContactPrep<D> prepare(const Params& p, const ContactGeometry<D>& g,
+                                                       Real mass_eff, const Vec<D>& shear_history) {
+    return linear_spring_prepare<D>(p, g, mass_eff, shear_history);
   }
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> finish(const Params& p, const ContactGeometry<D>& g,
                                                        const RelativeVelocity<D>& v,
-                                                       const NormalPart& part,
-                                                       const Vec<D>& shear_history, Real dt) {
-    return linear_spring_finish<D>(p, g, v, part, shear_history, dt);
+                                                       const ContactPrep<D>& part, Real dt) {
+    return linear_spring_finish<D>(p, g, v, part, dt);
   }
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,

@@ -69,18 +69,17 @@ struct TangentialForce {
   bool sliding = false;             // the spring was cut back to the Coulomb limit
 };
 
-/// The history spring with Coulomb limit (see the file comment).
+/// The history spring with Coulomb limit (see the file comment), from the previous step's
+/// history already carried into the current tangent plane (`carried` = R_n(\xi), see
+/// history_tangential_force).
 ///   normal_force        F_n [N] (> 0 repulsive), sets the limit \mu max(F_n, 0)
-///   normal              n of the current step
 ///   tangential_velocity v_t [m/s]
-///   history             \xi of the previous step [m] (zero for a new contact)
 ///   dt                  \Delta t [s]
 template <int D>
-[[gnu::always_inline]] inline TangentialForce<D> history_tangential_force(
-    const TangentialSpring& spring, Real normal_force, const Vec<D>& normal,
-    const Vec<D>& tangential_velocity, const Vec<D>& history, Real dt) {
+[[gnu::always_inline]] inline TangentialForce<D> carried_tangential_force(
+    const TangentialSpring& spring, Real normal_force, const Vec<D>& tangential_velocity,
+    const Vec<D>& carried, Real dt) {
   TangentialForce<D> out;
-  const Vec<D> carried = rotate_into_tangent_plane(history, normal);
   const Vec<D> trial = carried + tangential_velocity * dt;
   // Friction only while the grains press together: the dashpot can make F_n pull at the end
   // of a damped impact, and friction from that pull would add tangential impulse that no
@@ -108,6 +107,20 @@ template <int D>
   }
   out.elastic_energy = Real(0.5) * spring.stiffness * out.history.squaredNorm();
   return out;
+}
+
+/// The history spring with Coulomb limit (see the file comment).
+///   normal_force        F_n [N] (> 0 repulsive), sets the limit \mu max(F_n, 0)
+///   normal              n of the current step
+///   tangential_velocity v_t [m/s]
+///   history             \xi of the previous step [m] (zero for a new contact)
+///   dt                  \Delta t [s]
+template <int D>
+[[gnu::always_inline]] inline TangentialForce<D> history_tangential_force(
+    const TangentialSpring& spring, Real normal_force, const Vec<D>& normal,
+    const Vec<D>& tangential_velocity, const Vec<D>& history, Real dt) {
+  return carried_tangential_force<D>(spring, normal_force, tangential_velocity,
+                                     rotate_into_tangent_plane(history, normal), dt);
 }
 
 }  // namespace crater::dem
