@@ -76,24 +76,8 @@ using ContactLaws = std::variant<LawPair<HertzMindlin>, LawPair<LinearSpring>>;
 // wall): per metre, the force of one sphere contact carrying the mass m* p, divided by p
 // (docs/theory.md §3); restitution, friction and the contact's duration are that sphere
 // contact's. pitch = 0: the law as it is (3D, the linear spring, single_sphere).
-template <int D, class Law>
-[[gnu::always_inline]] inline ContactForce<D> evaluate_contact(
-    const typename Law::Params& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& rel,
-    Real mass_eff, Real pitch, const Vec<D>& shear_history, Real dt) {
-  if (!(pitch > 0)) return Law::template evaluate<D>(p, g, rel, mass_eff, shear_history, dt);
-  ContactForce<D> cf = Law::template evaluate<D>(p, g, rel, mass_eff * pitch, shear_history, dt);
-  cf.force_on_1 /= pitch;
-  cf.torque_on_1 /= pitch;
-  cf.torque_on_2 /= pitch;
-  cf.normal_force /= pitch;
-  cf.tangential_force /= pitch;
-  cf.normal_stiffness /= pitch;
-  cf.elastic_energy /= pitch;
-  cf.dissipated_power /= pitch;
-  return cf;
-}
-
-// evaluate_contact in two halves (Law::prepare, Law::finish): the same numbers.
+// The law in two halves (Law::prepare, Law::finish), as the pair loop runs it; evaluate_contact
+// is the two in one.
 template <int D>
 struct PreparedContact {
   Real pitch = 0;
@@ -125,6 +109,14 @@ template <int D, class Law>
   cf.elastic_energy /= pitch;
   cf.dissipated_power /= pitch;
   return cf;
+}
+
+template <int D, class Law>
+[[gnu::always_inline]] inline ContactForce<D> evaluate_contact(
+    const typename Law::Params& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& rel,
+    Real mass_eff, Real pitch, const Vec<D>& shear_history, Real dt) {
+  return finish_contact<D, Law>(p, g, rel,
+                                prepare_contact<D, Law>(p, g, mass_eff, pitch, shear_history), dt);
 }
 
 BondRadiusRule bond_rule(io::BondRadius r) {
