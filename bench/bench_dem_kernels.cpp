@@ -81,28 +81,6 @@ int sweep(const HertzMindlinParams& law, Pairs& p, Real& sink) {
   return sliding;
 }
 
-void BM_DemHertzMindlinContact(benchmark::State& state) {
-  const ElasticMaterial sand{youngs_modulus_from_shear(29e9, 0.2), 0.2};
-  const HertzMindlinParams law = hertz_mindlin_params(sand, sand, 0.5, 0.84);
-  Pairs pairs = make_pairs();
-  Real sink = 0;
-  for (int s = 0; s < kWarmup; ++s)
-    sweep(law, pairs, sink);
-  int sliding = 0;
-  for (auto _ : state) {
-    sliding = sweep(law, pairs, sink);
-    benchmark::DoNotOptimize(sink);
-  }
-  state.SetItemsProcessed(state.iterations() * kPairs);
-  state.counters["sliding"] = static_cast<double>(sliding) / kPairs;
-}
-
-}  // namespace
-
-BENCHMARK(BM_DemHertzMindlinContact)->Unit(benchmark::kMicrosecond);
-
-namespace {
-
 // The same contacts in chunks of 8 as the pair loop runs them (src/dem/dem_part.cpp,
 // pair_pass): the geometry and the law's roots (HertzMindlin::prepare) for the whole chunk
 // and the history's rotation first, then the rest of each law (HertzMindlin::finish).
@@ -131,22 +109,32 @@ int sweep_batched(const HertzMindlinParams& law, Pairs& p, Real& sink) {
   return sliding;
 }
 
-void BM_DemHertzMindlinContactBatched(benchmark::State& state) {
+// Times one sweep (sweep or sweep_batched) over the pairs after kWarmup untimed ones.
+template <int (*Sweep)(const HertzMindlinParams&, Pairs&, Real&)>
+void run_sweeps(benchmark::State& state) {
   const ElasticMaterial sand{youngs_modulus_from_shear(29e9, 0.2), 0.2};
   const HertzMindlinParams law = hertz_mindlin_params(sand, sand, 0.5, 0.84);
   Pairs pairs = make_pairs();
   Real sink = 0;
   for (int s = 0; s < kWarmup; ++s)
-    sweep_batched(law, pairs, sink);
+    Sweep(law, pairs, sink);
   int sliding = 0;
   for (auto _ : state) {
-    sliding = sweep_batched(law, pairs, sink);
+    sliding = Sweep(law, pairs, sink);
     benchmark::DoNotOptimize(sink);
   }
   state.SetItemsProcessed(state.iterations() * kPairs);
   state.counters["sliding"] = static_cast<double>(sliding) / kPairs;
 }
 
+void BM_DemHertzMindlinContact(benchmark::State& state) {
+  run_sweeps<sweep>(state);
+}
+void BM_DemHertzMindlinContactBatched(benchmark::State& state) {
+  run_sweeps<sweep_batched>(state);
+}
+
 }  // namespace
 
+BENCHMARK(BM_DemHertzMindlinContact)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_DemHertzMindlinContactBatched)->Unit(benchmark::kMicrosecond);

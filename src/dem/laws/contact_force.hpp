@@ -94,4 +94,21 @@ inline NormalForce add_normal_dashpot(NormalForce spring, Real dashpot, Real nor
   return out;
 }
 
+/// The half of a law that `Law::finish` runs from its prepared part, the same for every law
+/// here: the normal dashpot on the prepared spring, the history spring of stiffness
+/// shear_stiffness [N/m] with friction \mu from the carried history, and the forces and torques
+/// on both bodies. v: velocities at the contact, dt [s].
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> finish_spring_dashpot(
+    const ContactGeometry<D>& g, const RelativeVelocity<D>& v, const ContactPrep<D>& part,
+    Real shear_stiffness, Real friction, bool limit_attractive_force, Real dt) {
+  const NormalForce normal =
+      add_normal_dashpot(part.spring, part.normal_damping, v.normal, limit_attractive_force);
+  const TangentialForce<D> tangential = carried_tangential_force<D>(
+      TangentialSpring{
+          .stiffness = shear_stiffness, .damping = part.tangential_damping, .friction = friction},
+      normal.force, v.tangential, part.carried_history, dt);
+  return combine_contact_force<D>(g, normal, tangential);
+}
+
 }  // namespace crater::dem

@@ -115,15 +115,9 @@ template <int D>
                                                                    const RelativeVelocity<D>& v,
                                                                    const ContactPrep<D>& part,
                                                                    Real dt) {
-  const NormalForce normal =
-      add_normal_dashpot(part.spring, part.normal_damping, v.normal, p.limit_attractive_force);
   // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n.
-  const Real s_t = p.stiffness_ratio * part.spring.stiffness;
-  const TangentialForce<D> tangential = carried_tangential_force<D>(
-      TangentialSpring{
-          .stiffness = s_t, .damping = part.tangential_damping, .friction = p.friction},
-      normal.force, v.tangential, part.carried_history, dt);
-  return combine_contact_force<D>(g, normal, tangential);
+  return finish_spring_dashpot<D>(g, v, part, p.stiffness_ratio * part.spring.stiffness, p.friction,
+                                  p.limit_attractive_force, dt);
 }
 
 /// Hertz-Mindlin force on a touching pair (see the file comment). mass_eff m* [kg],

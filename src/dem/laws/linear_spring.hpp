@@ -88,14 +88,8 @@ template <int D>
                                                                    const RelativeVelocity<D>& v,
                                                                    const ContactPrep<D>& part,
                                                                    Real dt) {
-  const NormalForce normal =
-      add_normal_dashpot(part.spring, part.normal_damping, v.normal, p.limit_attractive_force);
-  const TangentialForce<D> tangential =
-      carried_tangential_force<D>(TangentialSpring{.stiffness = p.shear_stiffness_n_m,
-                                                   .damping = part.tangential_damping,
-                                                   .friction = p.friction},
-                                  normal.force, v.tangential, part.carried_history, dt);
-  return combine_contact_force<D>(g, normal, tangential);
+  return finish_spring_dashpot<D>(g, v, part, p.shear_stiffness_n_m, p.friction,
+                                  p.limit_attractive_force, dt);
 }
 
 /// Linear spring-dashpot force on a touching pair (see the file comment). mass_eff m* [kg],
