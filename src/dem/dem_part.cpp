@@ -403,9 +403,16 @@ class DemPart final : public solver::Part<D> {
     const Real dt = last_dt_;
     overflow_ = n;
     bond_lost_ = n;
+    unhealthy_ = n;
     std::visit(
         [&](const auto& laws) {
           using Law = typename std::decay_t<decltype(laws)>::Type;
+          if (!hot_current_) {
+            pos_.resize(static_cast<std::size_t>(n));
+            mot_.resize(static_cast<std::size_t>(n));
+            parallel::for_each(n, [&](Index i) { copy_hot(i); });
+          }
+          hot_current_ = false;  // until the next advance writes them again
           parallel::for_each_block(n, kPairBlock, [&](Index first, Index last) {
             pair_pass<Law>(first, last, dt, laws);
           });
@@ -456,11 +463,8 @@ class DemPart final : public solver::Part<D> {
                                        "radius without the bond breaking: its strength is far "
                                        "above what its stiffness allows",
                                        2 * kBondReach)};
-    Index bad = n;
-#pragma omp parallel for schedule(static) reduction(min : bad) if (n >= parallel::parallel_min())
-    for (Index i = 0; i < n; ++i)
-      if (!healthy(i)) bad = std::min(bad, i);
-    if (bad == n) return std::nullopt;
+    const Index bad = unhealthy_;  // note_health
+    if (bad >= n) return std::nullopt;
     const Index i = bad;
     if (!outflow_remove_ && !in_domain(i))
       return solver::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
@@ -505,7 +509,16 @@ class DemPart final : public solver::Part<D> {
       contact_torque_[i] = torque[i];
       force_[i] += force[i];
       torque_[i] += torque[i];
+      note_health(i);
     });
+  }
+
+  // check()'s test of grain i, made where its force is summed (grain_pass, and again when the
+  // contacts with other parts add theirs): the first failing grain is kept.
+  void note_health(Index i) {
+    if (healthy(i)) return;
+#pragma omp critical(crater_dem_overflow)
+    unhealthy_ = std::min(unhealthy_, i);
   }
 
   void advance(Real /*t*/, Real dt) override {
@@ -514,14 +527,24 @@ class DemPart final : public solver::Part<D> {
     contact_pending_ = true;
     // Kick, drift, and the power of gravity at the new velocities, in one pass.
     const bool gravity = gravity_.squaredNorm() > 0;
+    pos_.resize(static_cast<std::size_t>(f_.size()));
+    mot_.resize(static_cast<std::size_t>(f_.size()));
     const Real power = parallel::deterministic_sum<Real>(f_.size(), [&](Index i) {
       v_[i] += (half / m_[i]) * force_[i];
       w_[i] += (half / inertia_[i]) * torque_[i];
       x_[i] += dt * v_[i];
+      copy_hot(i);
       return gravity ? m_[i] * gravity_.dot(v_[i]) : Real(0);
     });
     if (gravity) external_work_ += dt * power;
     if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty()) reflect_at_walls();
+    hot_current_ = true;
+  }
+
+  // The pair pass's copies of grain i's fields (Position, Motion).
+  void copy_hot(Index i) {
+    pos_[static_cast<std::size_t>(i)] = Position{x_[i], r_[i]};
+    mot_[static_cast<std::size_t>(i)] = Motion{v_[i], m_[i], w_[i], inertia_[i]};
   }
 
   // Safeguard: a grain driven through a wall (its centre beyond the face: an overlap of more
@@ -558,6 +581,7 @@ class DemPart final : public solver::Part<D> {
         }
         t.count += 1;
       }
+      copy_hot(i);
       return t;
     });
     wall_reflections_ += sum.count;
@@ -984,8 +1008,13 @@ class DemPart final : public solver::Part<D> {
   //     contact laws, the pair's history and i's energies; i's share of the forces is summed
   //     on the spot (PairTally), j's share goes to the pair's cache;
   //   grain_pass (per grain i): gravity, then the shares of the pairs (j, i) that i receives,
-  //     in list order, then its own sum; then walls and damping.
+  //     in pair order (ascending owner, then the owner's list order), then its own sum; then
+  //     walls and damping.
   // Every sum runs in an order fixed by the lists alone: the same numbers on any thread count.
+  // On one thread (no bonds, no outflow) pair_pass adds j's share to j's running sum at once
+  // (Received; it starts at m_j g), in the order the gather would: the pairs are met in
+  // ascending order, so the sums, and the results, are those of the gather, bit for bit; the
+  // cache is neither written nor read back.
   // Most list entries are not in contact (the list reaches (1 + kSkin) x the contact
   // distance): a squared-distance test with a margin rejects them before any law work.
   // Body 2's share of a contact, what the gather reads at once; zero while the pair is not in
@@ -993,6 +1022,24 @@ class DemPart final : public solver::Part<D> {
   struct ContactResult {
     Vec<D> f1 = Vec<D>::Zero();            // force on body 1 (body 2 gets -f1)
     AngularVec<D> t2 = angular_zero<D>();  // torque on body 2
+  };
+  // The grains' fields the pair pass reads of a partner, copied into two arrays of structs
+  // (by advance as it moves each grain; else at the start of the force evaluation): a partner
+  // costs two streams instead of six.
+  struct Position {
+    Vec<D> x = Vec<D>::Zero();  // centre [m]
+    Real r = 0;                 // radius [m]
+  };
+  struct Motion {
+    Vec<D> v = Vec<D>::Zero();            // [m/s]
+    Real m = 0;                           // [kg]
+    AngularVec<D> w = angular_zero<D>();  // [rad/s]
+    Real inertia = 0;                     // [kg m^2]
+  };
+  // A grain's received shares summed as they come (one thread: see above).
+  struct Received {
+    Vec<D> force = Vec<D>::Zero();  // m g minus the f1 of the pairs (j, i) met so far
+    AngularVec<D> torque = angular_zero<D>();
   };
   struct PairCache {
     std::vector<std::uint8_t> flags;  // kBondOn, kContactOn
@@ -1069,6 +1116,8 @@ class DemPart final : public solver::Part<D> {
     // Per thread, built once (a local array would zero its entries for every block).
     static thread_local std::array<Candidate<Law>, kScanChunk> cand;
     Index owner = first;
+    const Position* pos = pos_.data();
+    const Motion* mot = mot_.data();
     for (Index chunk = pair_begin_[static_cast<std::size_t>(first)]; chunk < end;
          chunk += kScanChunk) {
       const Index stop = std::min(end, chunk + kScanChunk);
@@ -1078,10 +1127,10 @@ class DemPart final : public solver::Part<D> {
           ++owner;
         const auto k = static_cast<std::size_t>(pi);
         const Index j = pair_j_[k];
-        const Real reach = r_[owner] + r_[j];
+        const Real reach = pos[owner].r + pos[j].r;
         // Bonded parts look each pair's bond up first (pair_law).
         const bool close =
-            bonds || (x_[owner] - x_[j]).squaredNorm() <= reach * reach * kTouchMargin;
+            bonds || (pos[owner].x - pos[j].x).squaredNorm() <= reach * reach * kTouchMargin;
         near[static_cast<std::size_t>(count)] = pi;
         owner_of[static_cast<std::size_t>(count)] = owner;
         count += close;
@@ -1092,10 +1141,10 @@ class DemPart final : public solver::Part<D> {
         const auto at = static_cast<std::size_t>(c);
         const Index i = owner_of[at];
         const Index j = pair_j_[static_cast<std::size_t>(near[at])];
-        cand[at].g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
+        cand[at].g = sphere_sphere_geometry<D>(pos[i].x, pos[i].r, pos[j].x, pos[j].r);
         cand[at].prep = prepare_contact<D, Law>(
-            laws.grain, cand[at].g, effective_mass(m_[i], m_[j]), row_pitch(r_[i], r_[j]),
-            pair_xi_[static_cast<std::size_t>(near[at])]);
+            laws.grain, cand[at].g, effective_mass(mot[i].m, mot[j].m),
+            row_pitch(pos[i].r, pos[j].r), pair_xi_[static_cast<std::size_t>(near[at])]);
       }
       for (int c = 0; c < count; ++c) {
         const auto at = static_cast<std::size_t>(c);
@@ -1114,14 +1163,16 @@ class DemPart final : public solver::Part<D> {
     const bool rolling = rolling_.friction > 0;
     const bool bonds = !bond_partner_.empty();
     const bool pair_energy = !cache_.elastic.empty();
-    const Vec<D> x_i = x_[i];
-    const Real r_i = r_[i];
+    const Position* pos = pos_.data();
+    const Motion* mot = mot_.data();
+    const Vec<D> x_i = pos[i].x;
+    const Real r_i = pos[i].r;
     const Index j = pair_j_[k];
     std::uint8_t& last_flags = cache_.flags[k];
     const int bond = bonds ? find_bond(i, id_[j]) : -1;
     if (bonds && bond < 0) {
-      const Real reach = r_i + r_[j];
-      if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
+      const Real reach = r_i + pos[j].r;
+      if ((x_i - pos[j].x).squaredNorm() > reach * reach * kTouchMargin) {
         if (last_flags) clear_pair(k, last_flags);
         return;
       }
@@ -1133,8 +1184,8 @@ class DemPart final : public solver::Part<D> {
       if (last_flags) clear_pair(k, last_flags);
       return;
     }
-    const RelativeVelocity<D> rel =
-        relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{v_[j], w_[j]});
+    const RelativeVelocity<D> rel = relative_velocity<D>(g, BodyMotion<D>{mot[i].v, mot[i].w},
+                                                         BodyMotion<D>{mot[j].v, mot[j].w});
     if (bond >= 0) {
       // Parallel bond (paper eqs. 17-24), in parallel with the contact below.
       const std::size_t at = base + static_cast<std::size_t>(bond);
@@ -1164,20 +1215,27 @@ class DemPart final : public solver::Part<D> {
     }
     if (g.touching()) {
       const ContactForce<D> cf = finish_contact<D, Law>(
-          at_rate(laws.grain, grain_rate_, rel.normal, r_[i], r_[j]), g, rel, cand.prep, dt);
+          at_rate(laws.grain, grain_rate_, rel.normal, r_i, pos[j].r), g, rel, cand.prep, dt);
       RollingTorque<D> rt;
       if (rolling)
-        rt = rolling_resistance<D>(
-            rolling_, g, rel,
-            RollingLoad{.normal_force = cf.normal_force,
-                        .normal_stiffness = cf.normal_stiffness,
-                        .inertia_eff = rolling_inertia_eff(RollingBody{inertia_[i], m_[i], r_[i]},
-                                                           RollingBody{inertia_[j], m_[j], r_[j]})},
-            pair_roll_[k], dt);
+        rt =
+            rolling_resistance<D>(rolling_, g, rel,
+                                  RollingLoad{.normal_force = cf.normal_force,
+                                              .normal_stiffness = cf.normal_stiffness,
+                                              .inertia_eff = rolling_inertia_eff(
+                                                  RollingBody{mot[i].inertia, mot[i].m, r_i},
+                                                  RollingBody{mot[j].inertia, mot[j].m, pos[j].r})},
+                                  pair_roll_[k], dt);
       flags |= kContactOn;
-      ContactResult& c = cache_.contact[k];
-      c.f1 = cf.force_on_1;
-      c.t2 = cf.torque_on_2 - rt.torque_on_1;
+      if (scatter_) {
+        Received& into = received_[static_cast<std::size_t>(j)];
+        into.force -= cf.force_on_1;
+        into.torque += cf.torque_on_2 - rt.torque_on_1;
+      } else {
+        ContactResult& c = cache_.contact[k];
+        c.f1 = cf.force_on_1;
+        c.t2 = cf.torque_on_2 - rt.torque_on_1;
+      }
       const AngularVec<D> t1 = cf.torque_on_1 + rt.torque_on_1;
       tally.force += cf.force_on_1;
       tally.torque += t1;
@@ -1217,7 +1275,12 @@ class DemPart final : public solver::Part<D> {
     int bonds = tally.bonds;
     const auto first = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i)]);
     const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
-    if (cache_.bond_f1.empty()) {
+    if (scatter_) {
+      Received& from = received_[static_cast<std::size_t>(i)];
+      force = from.force;
+      torque = from.torque;
+      from = Received{m_[i] * gravity_, angular_zero<D>()};
+    } else if (cache_.bond_f1.empty()) {
       // No bonds: every pair adds its share, zero when not in contact, with no branch. A sum
       // that starts at +0 or a non-zero value never becomes -0, so adding +-0 leaves it as
       // skipping would.
@@ -1333,6 +1396,7 @@ class DemPart final : public solver::Part<D> {
     local_power += absorbed;
     force_[i] = force;
     torque_[i] = torque;
+    note_health(i);
     contacts_[i] = tally.slots;
     elastic_[i] = elastic;
     dissipated_[i] = dissipated;
@@ -1396,6 +1460,7 @@ class DemPart final : public solver::Part<D> {
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
     f_.permute(order);
+    hot_current_ = false;
     permute_slots(order);
     skin_.built(std::span<const Vec<D>>(x_), need);
     build_lists();
@@ -1430,7 +1495,7 @@ class DemPart final : public solver::Part<D> {
     });
     for (Index i = 0; i < n; ++i)
       recv_begin_[static_cast<std::size_t>(i) + 1] += recv_begin_[static_cast<std::size_t>(i)];
-    // The pairs (j, i) that grain i receives, in its list's order (pairs are ascending in j's
+    // The pairs (j, i) that grain i receives (pairs are ascending in j's
     // row: binary search).
     recv_pair_.resize(pair_j_.size());
     parallel::for_each(n, [&](Index i) {
@@ -1442,7 +1507,17 @@ class DemPart final : public solver::Part<D> {
             std::lower_bound(b, pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j) + 1], i);
         recv_pair_[static_cast<std::size_t>(e++)] = static_cast<Index>(it - pair_j_.begin());
       }
+      // In pair order: the order in which a single thread meets them (scatter_).
+      std::sort(recv_pair_.begin() + recv_begin_[static_cast<std::size_t>(i)],
+                recv_pair_.begin() + e);
     });
+    scatter_ = parallel::max_threads() == 1 && bond_partner_.empty() && !outflow_remove_;
+    received_.clear();
+    if (scatter_) {
+      received_.resize(static_cast<std::size_t>(n));
+      for (Index i = 0; i < n; ++i)
+        received_[static_cast<std::size_t>(i)].force = m_[i] * gravity_;
+    }
     const auto pairs = pair_j_.size();
     cache_.resize(pairs, !bond_partner_.empty(), outflow_remove_);
     pair_xi_.resize(pairs);
@@ -1490,6 +1565,7 @@ class DemPart final : public solver::Part<D> {
   void load_state(io::StateReader& r) override {
     r.tag("dem");
     f_.load(r);
+    hot_current_ = false;
     r.vector(partner_);
     r.vector(xi_);
     r.vector(roll_);
@@ -1601,12 +1677,18 @@ class DemPart final : public solver::Part<D> {
   std::vector<Index> pair_begin_, pair_j_;     // owned pairs (i, j) of grain i, in list order
   std::vector<Index> recv_begin_, recv_pair_;  // pairs (j, i) that grain i receives, likewise
   PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
+  bool scatter_ = false;                       // one thread: received shares summed in pair_pass
+  std::vector<Position> pos_;  // copies for the pair pass (Position, Motion), written
+  std::vector<Motion> mot_;    // by advance (hot_current_) or compute_forces
+  bool hot_current_ = false;
+  std::vector<Received> received_;  // per grain, with scatter_
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;
   // 2D hertz_mindlin with hertz_2d = "row_of_spheres" (evaluate_contact).
   bool rows_ = false;
   Index overflow_ = 0, bond_lost_ = 0;
+  Index unhealthy_ = 0;  // the first grain check() fails (note_health), else the count
   Index bonds_initial_ = 0;
   Real bonds_broken_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;

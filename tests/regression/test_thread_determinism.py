@@ -1,6 +1,7 @@
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
 history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, a
-settling DEM bed in 2D, a bonded DEM block breaking on a floor in 2D, SPH particles and DEM
+settling DEM bed in 2D and an agitated one in 3D (on one thread the DEM pair loop sums the
+received shares as it goes, on two it gathers them: the sums must agree bit for bit), a bonded DEM block breaking on a floor in 2D, SPH particles and DEM
 grains leaving the domain (outflow = "remove") in 2D, an FEM plate eroding in 2D, the 3D Taylor
 bar (FEM, Johnson-Cook with heating, read from a Gmsh file) and the
 paper's coupled scene (paper-20cm, demo level)."""
@@ -21,6 +22,15 @@ class ThreadDeterminism(unittest.TestCase):
         files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/dem_bed_2d.toml",
                                           scratch("det_dem_bed"))
         self.assertIn("sand.pvd", files)
+
+    def test_dem_bed_3d(self):
+        # The 3D benchmark's bed, 1,000 spheres, with rolling resistance.
+        files = assert_bit_identical_runs(
+            SOURCE_DIR / "bench/scenarios/dem_bed_3d.toml", scratch("det_dem_bed_3d"),
+            sets=["parts.bed.region.max_m=[0.05,0.05,0.05]", "domain.max_m=[0.05,0.3,0.05]",
+                  "time.max_steps=300", "output.vtu=true", "output.interval_s=4e-5",
+                  "parts.bed.dem.rolling_friction=0.05"])
+        self.assertIn("bed.pvd", files)
 
     def test_dem_bonded_2d(self):
         # Linear springs, parallel bonds breaking, rolling resistance, rate-dependent friction.
