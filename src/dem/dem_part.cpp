@@ -407,12 +407,6 @@ class DemPart final : public solver::Part<D> {
     std::visit(
         [&](const auto& laws) {
           using Law = typename std::decay_t<decltype(laws)>::Type;
-          if (!hot_current_) {
-            pos_.resize(static_cast<std::size_t>(n));
-            mot_.resize(static_cast<std::size_t>(n));
-            parallel::for_each(n, [&](Index i) { copy_hot(i); });
-          }
-          hot_current_ = false;  // until the next advance writes them again
           parallel::for_each_block(n, kPairBlock, [&](Index first, Index last) {
             pair_pass<Law>(first, last, dt, laws);
           });
@@ -527,24 +521,14 @@ class DemPart final : public solver::Part<D> {
     contact_pending_ = true;
     // Kick, drift, and the power of gravity at the new velocities, in one pass.
     const bool gravity = gravity_.squaredNorm() > 0;
-    pos_.resize(static_cast<std::size_t>(f_.size()));
-    mot_.resize(static_cast<std::size_t>(f_.size()));
     const Real power = parallel::deterministic_sum<Real>(f_.size(), [&](Index i) {
       v_[i] += (half / m_[i]) * force_[i];
       w_[i] += (half / inertia_[i]) * torque_[i];
       x_[i] += dt * v_[i];
-      copy_hot(i);
       return gravity ? m_[i] * gravity_.dot(v_[i]) : Real(0);
     });
     if (gravity) external_work_ += dt * power;
     if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty()) reflect_at_walls();
-    hot_current_ = true;
-  }
-
-  // The pair pass's copies of grain i's fields (Position, Motion).
-  void copy_hot(Index i) {
-    pos_[static_cast<std::size_t>(i)] = Position{x_[i], r_[i]};
-    mot_[static_cast<std::size_t>(i)] = Motion{v_[i], m_[i], w_[i], inertia_[i]};
   }
 
   // Safeguard: a grain driven through a wall (its centre beyond the face: an overlap of more
@@ -581,7 +565,6 @@ class DemPart final : public solver::Part<D> {
         }
         t.count += 1;
       }
-      copy_hot(i);
       return t;
     });
     wall_reflections_ += sum.count;
@@ -1023,19 +1006,6 @@ class DemPart final : public solver::Part<D> {
     Vec<D> f1 = Vec<D>::Zero();            // force on body 1 (body 2 gets -f1)
     AngularVec<D> t2 = angular_zero<D>();  // torque on body 2
   };
-  // The grains' fields the pair pass reads of a partner, copied into two arrays of structs
-  // (by advance as it moves each grain; else at the start of the force evaluation): a partner
-  // costs two streams instead of six.
-  struct Position {
-    Vec<D> x = Vec<D>::Zero();  // centre [m]
-    Real r = 0;                 // radius [m]
-  };
-  struct Motion {
-    Vec<D> v = Vec<D>::Zero();            // [m/s]
-    Real m = 0;                           // [kg]
-    AngularVec<D> w = angular_zero<D>();  // [rad/s]
-    Real inertia = 0;                     // [kg m^2]
-  };
   // A grain's received shares summed as they come (one thread: see above).
   struct Received {
     Vec<D> force = Vec<D>::Zero();  // m g minus the f1 of the pairs (j, i) met so far
@@ -1116,8 +1086,6 @@ class DemPart final : public solver::Part<D> {
     // Per thread, built once (a local array would zero its entries for every block).
     static thread_local std::array<Candidate<Law>, kScanChunk> cand;
     Index owner = first;
-    const Position* pos = pos_.data();
-    const Motion* mot = mot_.data();
     for (Index chunk = pair_begin_[static_cast<std::size_t>(first)]; chunk < end;
          chunk += kScanChunk) {
       const Index stop = std::min(end, chunk + kScanChunk);
@@ -1127,10 +1095,10 @@ class DemPart final : public solver::Part<D> {
           ++owner;
         const auto k = static_cast<std::size_t>(pi);
         const Index j = pair_j_[k];
-        const Real reach = pos[owner].r + pos[j].r;
+        const Real reach = r_[owner] + r_[j];
         // Bonded parts look each pair's bond up first (pair_law).
         const bool close =
-            bonds || (pos[owner].x - pos[j].x).squaredNorm() <= reach * reach * kTouchMargin;
+            bonds || (x_[owner] - x_[j]).squaredNorm() <= reach * reach * kTouchMargin;
         near[static_cast<std::size_t>(count)] = pi;
         owner_of[static_cast<std::size_t>(count)] = owner;
         count += close;
@@ -1141,10 +1109,10 @@ class DemPart final : public solver::Part<D> {
         const auto at = static_cast<std::size_t>(c);
         const Index i = owner_of[at];
         const Index j = pair_j_[static_cast<std::size_t>(near[at])];
-        cand[at].g = sphere_sphere_geometry<D>(pos[i].x, pos[i].r, pos[j].x, pos[j].r);
+        cand[at].g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
         cand[at].prep = prepare_contact<D, Law>(
-            laws.grain, cand[at].g, effective_mass(mot[i].m, mot[j].m),
-            row_pitch(pos[i].r, pos[j].r), pair_xi_[static_cast<std::size_t>(near[at])]);
+            laws.grain, cand[at].g, effective_mass(m_[i], m_[j]), row_pitch(r_[i], r_[j]),
+            pair_xi_[static_cast<std::size_t>(near[at])]);
       }
       for (int c = 0; c < count; ++c) {
         const auto at = static_cast<std::size_t>(c);
@@ -1163,16 +1131,14 @@ class DemPart final : public solver::Part<D> {
     const bool rolling = rolling_.friction > 0;
     const bool bonds = !bond_partner_.empty();
     const bool pair_energy = !cache_.elastic.empty();
-    const Position* pos = pos_.data();
-    const Motion* mot = mot_.data();
-    const Vec<D> x_i = pos[i].x;
-    const Real r_i = pos[i].r;
+    const Vec<D> x_i = x_[i];
+    const Real r_i = r_[i];
     const Index j = pair_j_[k];
     std::uint8_t& last_flags = cache_.flags[k];
     const int bond = bonds ? find_bond(i, id_[j]) : -1;
     if (bonds && bond < 0) {
-      const Real reach = r_i + pos[j].r;
-      if ((x_i - pos[j].x).squaredNorm() > reach * reach * kTouchMargin) {
+      const Real reach = r_i + r_[j];
+      if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
         if (last_flags) clear_pair(k, last_flags);
         return;
       }
@@ -1184,8 +1150,8 @@ class DemPart final : public solver::Part<D> {
       if (last_flags) clear_pair(k, last_flags);
       return;
     }
-    const RelativeVelocity<D> rel = relative_velocity<D>(g, BodyMotion<D>{mot[i].v, mot[i].w},
-                                                         BodyMotion<D>{mot[j].v, mot[j].w});
+    const RelativeVelocity<D> rel =
+        relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{v_[j], w_[j]});
     if (bond >= 0) {
       // Parallel bond (paper eqs. 17-24), in parallel with the contact below.
       const std::size_t at = base + static_cast<std::size_t>(bond);
@@ -1215,17 +1181,16 @@ class DemPart final : public solver::Part<D> {
     }
     if (g.touching()) {
       const ContactForce<D> cf = finish_contact<D, Law>(
-          at_rate(laws.grain, grain_rate_, rel.normal, r_i, pos[j].r), g, rel, cand.prep, dt);
+          at_rate(laws.grain, grain_rate_, rel.normal, r_i, r_[j]), g, rel, cand.prep, dt);
       RollingTorque<D> rt;
       if (rolling)
-        rt =
-            rolling_resistance<D>(rolling_, g, rel,
-                                  RollingLoad{.normal_force = cf.normal_force,
-                                              .normal_stiffness = cf.normal_stiffness,
-                                              .inertia_eff = rolling_inertia_eff(
-                                                  RollingBody{mot[i].inertia, mot[i].m, r_i},
-                                                  RollingBody{mot[j].inertia, mot[j].m, pos[j].r})},
-                                  pair_roll_[k], dt);
+        rt = rolling_resistance<D>(
+            rolling_, g, rel,
+            RollingLoad{.normal_force = cf.normal_force,
+                        .normal_stiffness = cf.normal_stiffness,
+                        .inertia_eff = rolling_inertia_eff(RollingBody{inertia_[i], m_[i], r_i},
+                                                           RollingBody{inertia_[j], m_[j], r_[j]})},
+            pair_roll_[k], dt);
       flags |= kContactOn;
       if (scatter_) {
         Received& into = received_[static_cast<std::size_t>(j)];
@@ -1460,7 +1425,6 @@ class DemPart final : public solver::Part<D> {
     const auto order =
         neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
     f_.permute(order);
-    hot_current_ = false;
     permute_slots(order);
     skin_.built(std::span<const Vec<D>>(x_), need);
     build_lists();
@@ -1565,7 +1529,6 @@ class DemPart final : public solver::Part<D> {
   void load_state(io::StateReader& r) override {
     r.tag("dem");
     f_.load(r);
-    hot_current_ = false;
     r.vector(partner_);
     r.vector(xi_);
     r.vector(roll_);
@@ -1678,10 +1641,7 @@ class DemPart final : public solver::Part<D> {
   std::vector<Index> recv_begin_, recv_pair_;  // pairs (j, i) that grain i receives, likewise
   PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
   bool scatter_ = false;                       // one thread: received shares summed in pair_pass
-  std::vector<Position> pos_;  // copies for the pair pass (Position, Motion), written
-  std::vector<Motion> mot_;    // by advance (hot_current_) or compute_forces
-  bool hot_current_ = false;
-  std::vector<Received> received_;  // per grain, with scatter_
+  std::vector<Received> received_;             // per grain, with scatter_
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;
