@@ -58,7 +58,10 @@ def zhou_angle(mu, mu_wall=WALL_FRICTION, rolling=ROLLING, d_mm=1e3 * (R_MIN + R
             * d_mm**-0.2)
 
 
-def scenario(mu, grains, end):
+def scenario(mu, grains, end, half=HALF, walls=("bottom", "left", "right", "back", "front", "top"),
+             rolling=ROLLING):
+    """The case's TOML: a box 2 half wide (x, z) and HALF high; drained_heap.py narrows it and
+    takes walls away."""
     s = f"""[scenario]
 name = "poured-heap"
 dimension = 3
@@ -66,8 +69,8 @@ end_time_s = {end}
 [output]
 interval_s = {end}
 [domain]
-min_m = [{-HALF}, 0.0, {-HALF}]
-max_m = [{HALF}, {HALF}, {HALF}]
+min_m = [{-half}, 0.0, {-half}]
+max_m = [{half}, {HALF}, {half}]
 gravity_m_s2 = [0.0, -9.81, 0.0]
 [[materials]]
 name = "beads"
@@ -82,13 +85,13 @@ name = "heap"
 method = "dem"
 material = "beads"
 spacing_m = {D}
-region = {{ type = "box", min_m = [{-HALF}, 0.0, {-HALF}], max_m = [{HALF}, {HALF}, {HALF}] }}
+region = {{ type = "box", min_m = [{-half}, 0.0, {-half}], max_m = [{half}, {HALF}, {half}] }}
 [parts.dem]
 contact = "linear_spring"
 normal_stiffness_n_m = {KN}
-rolling_friction = {ROLLING}
+rolling_friction = {rolling}
 rolling_damping = 0.3
-walls = ["bottom", "left", "right", "back", "front", "top"]
+walls = [{", ".join(f'"{w}"' for w in walls)}]
 wall_friction = {WALL_FRICTION}
 wall_restitution = 0.4
 """

@@ -1,0 +1,82 @@
+"""A heap drained from a plate, as Zhou et al. 2002 form theirs (not a ctest: a study that
+docs/validation.md, "DEM: angle of repose", quotes; about 2 minutes on 2 threads):
+
+    CRATER_BIN=build/release/bin/crater /usr/bin/python3 \\
+        tests/verification/dem_repose/drained_heap.py [mu=0.84] [rolling=0.02] [seed=7]
+
+Spheres as repose_case.py's (same material, springs, rolling resistance, floor friction) are
+laid on a jittered lattice of pitch 1.1 d, 27 x 22 x 27, in a box 30 d x 30 d with walls on
+every side, and settle for 0.6 s. Then the side walls go (each stage is a new run from the last
+state) and the domain's box becomes the plate: the floor is the only wall, and a sphere whose
+centre passes the plate's edge is removed (domain.outflow = "remove"). After 2.5 s and 0.5 s
+more, a pyramid of four flanks is left. Its angle: the highest sphere top in bins of width d
+along x (and along z) within a strip |other axis| < 0.2 x the half-width, a line fitted between
+20 % and 80 % of the apex height, on both axes.
+"""
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "lib"))
+from crater_test import read_pvd, read_vtu, run_scenario, scratch  # noqa: E402
+from repose_case import D, R_MAX, R_MIN, ROLLING, scenario, zhou_angle  # noqa: E402
+
+HALF = 0.15  # the plate's half-width [m]
+LAYERS = 22
+
+
+def run(d, mu, rolling, grains, end, walls, outflow, threads):
+    text = scenario(mu, grains, end, half=HALF, walls=walls, rolling=rolling)
+    text = text.replace("[domain]\n", f'[domain]\noutflow = "{outflow}"\n', 1)
+    (d / "case.toml").write_text(text)
+    summary = run_scenario(d / "case.toml", d / "out", threads=threads, timeout=3600)
+    _, frame = read_pvd(d / "out" / "heap.pvd")[-1]
+    points, arrays, _, _ = read_vtu(d / "out" / frame)
+    return list(zip(points, arrays["radius"], arrays["velocity"])), points, arrays, summary
+
+
+def flank(points, radius, axis):
+    other = 2 - axis
+    sel = np.abs(points[:, other]) < 0.2 * HALF
+    x = np.abs(points[sel, axis])
+    top = points[sel, 1] + radius[sel]
+    b = (x / D).astype(int)
+    bins = np.unique(b)
+    rs, hs = (bins + 0.5) * D, np.array([top[b == k].max() for k in bins])
+    apex = hs.max()
+    fit = (hs > 0.2 * apex) & (hs < 0.8 * apex)
+    return math.degrees(math.atan(-np.polyfit(rs[fit], hs[fit], 1)[0])), apex
+
+
+def main(mu=0.84, rolling=ROLLING, seed=7, threads=2):
+    d = scratch(f"dem_repose_drained_mu{mu}_r{rolling}_s{seed}")
+    rng = np.random.default_rng(seed)
+    pitch = 1.1 * D
+    n = int((2 * HALF - D) / pitch) + 1
+    grains = []
+    for i in range(n):
+        for j in range(LAYERS):
+            for k in range(n):
+                c = np.array([(i - (n - 1) / 2) * pitch, 0.6 * D + j * pitch,
+                              (k - (n - 1) / 2) * pitch])
+                grains.append((c + rng.uniform(-0.05 * D, 0.05 * D, 3),
+                               rng.uniform(R_MIN, R_MAX), np.zeros(3)))
+    sides = ["bottom", "left", "right", "back", "front"]
+    grains, *_ = run(d, mu, rolling, grains, 0.6, sides, "stop", threads)
+    print(f"settled: {len(grains)} spheres", flush=True)
+    for end in (2.5, 0.5):
+        grains, points, arrays, summary = run(d, mu, rolling, grains, end, ["bottom"], "remove",
+                                              threads)
+        angles = [flank(points, arrays["radius"], axis) for axis in (0, 2)]
+        print(f"after {end} s more: {len(grains)} spheres, flanks "
+              + " / ".join(f"{a:.1f}" for a, _ in angles)
+              + f" deg, apex {angles[0][1] * 100:.1f} cm, kinetic energy "
+              f"{summary['energy']['final']['kinetic_j']:.1e} J", flush=True)
+    print(f"Zhou et al. 2002 Eq. 5: {zhou_angle(mu, rolling=rolling):.1f} deg")
+
+
+if __name__ == "__main__":
+    kw = dict(a.split("=", 1) for a in sys.argv[1:])
+    main(**{k: (int(v) if k in ("seed", "threads") else float(v)) for k, v in kw.items()})
