@@ -33,7 +33,7 @@ struct NormalForce {
 /// shear history carried into the current tangent plane, the part of a law whose roots and
 /// divisions depend on the geometry and the stored history alone. A pair loop prepares a batch
 /// of contacts first, so that their roots overlap in the processor, and then finishes each
-/// (`Law::finish`); `Law::evaluate` is the two in one.
+/// (`Law::finish`).
 template <int D>
 struct ContactPrep {
   NormalForce spring;           // the spring alone (force = elastic_force), set by the law

@@ -146,14 +146,6 @@ struct HertzMindlin {
                                                        const ContactPrep<D>& part, Real dt) {
     return hertz_mindlin_finish<D>(p, g, v, part, dt);
   }
-  template <int D>
-  [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,
-                                                         const ContactGeometry<D>& g,
-                                                         const RelativeVelocity<D>& v,
-                                                         Real mass_eff, const Vec<D>& shear_history,
-                                                         Real dt) {
-    return hertz_mindlin<D>(p, g, v, mass_eff, shear_history, dt);
-  }
 };
 
 // ---------------------------------------------------------------------------------------------

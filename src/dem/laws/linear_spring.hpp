@@ -116,14 +116,6 @@ struct LinearSpring {
                                                        const ContactPrep<D>& part, Real dt) {
     return linear_spring_finish<D>(p, g, v, part, dt);
   }
-  template <int D>
-  [[gnu::always_inline]] static ContactForce<D> evaluate(const Params& p,
-                                                         const ContactGeometry<D>& g,
-                                                         const RelativeVelocity<D>& v,
-                                                         Real mass_eff, const Vec<D>& shear_history,
-                                                         Real dt) {
-    return linear_spring<D>(p, g, v, mass_eff, shear_history, dt);
-  }
 };
 
 /// Duration of a head-on linear spring-dashpot contact (ending at δ = 0):

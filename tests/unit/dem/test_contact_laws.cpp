@@ -695,7 +695,8 @@ TEST(DemTimeScales, RayleighStepAndHertzContactTime) {
 
 template <class Law, int D>
 ContactForce<D> evaluate_law(const typename Law::Params& p, const ContactGeometry<D>& g) {
-  return Law::template evaluate<D>(p, g, RelativeVelocity<D>{}, 1e-4, Vec<D>::Zero(), 1e-7);
+  return Law::template finish<D>(p, g, RelativeVelocity<D>{},
+                                 Law::template prepare<D>(p, g, 1e-4, Vec<D>::Zero()), 1e-7);
 }
 
 // Absorbing wall (absorbing_wall.hpp): a grain r = 2 mm against a wall whose normal is +y,
