@@ -1,5 +1,6 @@
-"""A heap drained from a plate, as Zhou et al. 2002 form theirs (not a ctest: a study that
-docs/validation.md, "DEM: angle of repose", quotes; about 2 minutes on 2 threads):
+"""A heap drained from a plate, as Zhou et al. 2002 form theirs; shared by
+test_drained_heap_vs_liggghts.py and bench/peers/liggghts_drained_heap/run.py, and a study
+that docs/validation.md, "DEM: angle of repose", quotes (about 2 minutes on 2 threads):
 
     CRATER_BIN=build/release/bin/crater /usr/bin/python3 \\
         tests/verification/dem_repose/drained_heap.py [mu=0.84] [rolling=0.02] [seed=7]
@@ -25,9 +26,45 @@ from repose_case import D, R_MAX, R_MIN, ROLLING, scenario, zhou_angle  # noqa: 
 
 HALF = 0.15  # the plate's half-width [m]
 LAYERS = 22
+SETTLE_S, DRAIN_S = 0.6, (2.5, 0.5)  # the walled settling, then the stages on the bare plate
 
 
-def run(d, mu, rolling, grains, end, walls, outflow, threads):
+def lattice(seed):
+    """The settling's start: [(centre [m], radius [m])], y up, the plate's centre at x = z = 0."""
+    rng = np.random.default_rng(seed)
+    pitch = 1.1 * D
+    n = int((2 * HALF - D) / pitch) + 1
+    out = []
+    for i in range(n):
+        for j in range(LAYERS):
+            for k in range(n):
+                c = np.array([(i - (n - 1) / 2) * pitch, 0.6 * D + j * pitch,
+                              (k - (n - 1) / 2) * pitch])
+                out.append((c + rng.uniform(-0.05 * D, 0.05 * D, 3), rng.uniform(R_MIN, R_MAX)))
+    return out
+
+
+def profile(points, radius, axis):
+    """(bin centre |x| [m], highest sphere top [m]) in bins of width d along `axis` (0 or 2),
+    within the strip |other axis| < 0.2 HALF."""
+    other = 2 - axis
+    sel = np.abs(points[:, other]) < 0.2 * HALF
+    x = np.abs(points[sel, axis])
+    top = points[sel, 1] + radius[sel]
+    b = (x / D).astype(int)
+    bins = np.unique(b)
+    return (bins + 0.5) * D, np.array([top[b == k].max() for k in bins])
+
+
+def flank(points, radius, axis):
+    """(flank angle [deg], apex height [m]) along `axis`."""
+    rs, hs = profile(points, radius, axis)
+    apex = hs.max()
+    fit = (hs > 0.2 * apex) & (hs < 0.8 * apex)
+    return math.degrees(math.atan(-np.polyfit(rs[fit], hs[fit], 1)[0])), apex
+
+
+def _run(d, mu, rolling, grains, end, walls, outflow, threads):
     text = scenario(mu, grains, end, half=HALF, walls=walls, rolling=rolling)
     text = text.replace("[domain]\n", f'[domain]\noutflow = "{outflow}"\n', 1)
     (d / "case.toml").write_text(text)
@@ -37,43 +74,30 @@ def run(d, mu, rolling, grains, end, walls, outflow, threads):
     return list(zip(points, arrays["radius"], arrays["velocity"])), points, arrays, summary
 
 
-def flank(points, radius, axis):
-    other = 2 - axis
-    sel = np.abs(points[:, other]) < 0.2 * HALF
-    x = np.abs(points[sel, axis])
-    top = points[sel, 1] + radius[sel]
-    b = (x / D).astype(int)
-    bins = np.unique(b)
-    rs, hs = (bins + 0.5) * D, np.array([top[b == k].max() for k in bins])
-    apex = hs.max()
-    fit = (hs > 0.2 * apex) & (hs < 0.8 * apex)
-    return math.degrees(math.atan(-np.polyfit(rs[fit], hs[fit], 1)[0])), apex
+def drain(mu=0.84, rolling=ROLLING, seed=7, threads=2, name=None):
+    """Settles and drains the heap; returns one dict per drained stage: spheres left, flank
+    angles [deg] along x and z, apex [m], kinetic energy [J]."""
+    d = scratch(name or f"dem_repose_drained_mu{mu}_r{rolling}_s{seed}")
+    grains = [(c, r, np.zeros(3)) for c, r in lattice(seed)]
+    sides = ["bottom", "left", "right", "back", "front"]
+    grains, *_ = _run(d, mu, rolling, grains, SETTLE_S, sides, "stop", threads)
+    stages = []
+    for end in DRAIN_S:
+        grains, points, arrays, summary = _run(d, mu, rolling, grains, end, ["bottom"],
+                                               "remove", threads)
+        angles = [flank(points, arrays["radius"], axis) for axis in (0, 2)]
+        stages.append({"spheres": len(grains), "flanks_deg": [a for a, _ in angles],
+                       "apex_m": angles[0][1],
+                       "kinetic_j": summary["energy"]["final"]["kinetic_j"]})
+    return stages
 
 
 def main(mu=0.84, rolling=ROLLING, seed=7, threads=2):
-    d = scratch(f"dem_repose_drained_mu{mu}_r{rolling}_s{seed}")
-    rng = np.random.default_rng(seed)
-    pitch = 1.1 * D
-    n = int((2 * HALF - D) / pitch) + 1
-    grains = []
-    for i in range(n):
-        for j in range(LAYERS):
-            for k in range(n):
-                c = np.array([(i - (n - 1) / 2) * pitch, 0.6 * D + j * pitch,
-                              (k - (n - 1) / 2) * pitch])
-                grains.append((c + rng.uniform(-0.05 * D, 0.05 * D, 3),
-                               rng.uniform(R_MIN, R_MAX), np.zeros(3)))
-    sides = ["bottom", "left", "right", "back", "front"]
-    grains, *_ = run(d, mu, rolling, grains, 0.6, sides, "stop", threads)
-    print(f"settled: {len(grains)} spheres", flush=True)
-    for end in (2.5, 0.5):
-        grains, points, arrays, summary = run(d, mu, rolling, grains, end, ["bottom"], "remove",
-                                              threads)
-        angles = [flank(points, arrays["radius"], axis) for axis in (0, 2)]
-        print(f"after {end} s more: {len(grains)} spheres, flanks "
-              + " / ".join(f"{a:.1f}" for a, _ in angles)
-              + f" deg, apex {angles[0][1] * 100:.1f} cm, kinetic energy "
-              f"{summary['energy']['final']['kinetic_j']:.1e} J", flush=True)
+    for end, s in zip(DRAIN_S, drain(mu, rolling, seed, threads)):
+        print(f"after {end} s more: {s['spheres']} spheres, flanks "
+              + " / ".join(f"{a:.1f}" for a in s["flanks_deg"])
+              + f" deg, apex {s['apex_m'] * 100:.1f} cm, kinetic energy {s['kinetic_j']:.1e} J",
+              flush=True)
     print(f"Zhou et al. 2002 Eq. 5: {zhou_angle(mu, rolling=rolling):.1f} deg")
 
 

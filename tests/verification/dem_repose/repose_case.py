@@ -34,7 +34,6 @@ of width d around its axis; a line is fitted to the rings whose height lies betw
 80 % of the apex height (and above 1.5 d: the single layer of spheres that rolled away).
 """
 import math
-from pathlib import Path
 
 import numpy as np
 
