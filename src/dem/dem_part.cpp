@@ -407,6 +407,19 @@ class DemPart final : public solver::Part<D> {
     std::visit(
         [&](const auto& laws) {
           using Law = typename std::decay_t<decltype(laws)>::Type;
+          if (scatter_) {
+            // One thread: each grain's pass follows as soon as every pair that touches it
+            // is done (ready_), while its data are still in cache; the same passes on the
+            // same sums as below, in another interleaving.
+            Index g = 0;
+            for (Index first = 0; first < n; first += kPairBlock) {
+              const Index last = std::min(n, first + kPairBlock);
+              pair_pass<Law>(first, last, dt, laws);
+              for (; g < n && ready_[static_cast<std::size_t>(g)] < last; ++g)
+                grain_pass<Law>(g, dt, laws);
+            }
+            return;
+          }
           parallel::for_each_block(n, kPairBlock, [&](Index first, Index last) {
             pair_pass<Law>(first, last, dt, laws);
           });
@@ -519,56 +532,65 @@ class DemPart final : public solver::Part<D> {
     const Real half = 0.5 * dt;
     last_dt_ = dt;
     contact_pending_ = true;
-    // Kick, drift, and the power of gravity at the new velocities, in one pass.
+    // One pass: kick, drift, the wall guard (reflect), the power of gravity at the new
+    // velocities (before any reflection) and the largest squared displacement since the list
+    // was built, which update_neighbors then needs not measure again.
+    struct Pass {
+      Real power = 0, reflections = 0, lost = 0, moved_sq = 0;
+      Pass& operator+=(const Pass& o) {
+        power += o.power;
+        reflections += o.reflections;
+        lost += o.lost;
+        moved_sq = std::max(moved_sq, o.moved_sq);  // as VerletSkin::stale's max
+        return *this;
+      }
+    };
     const bool gravity = gravity_.squaredNorm() > 0;
-    const Real power = parallel::deterministic_sum<Real>(f_.size(), [&](Index i) {
+    const bool guard = !cfg_.walls.empty() || !cfg_.absorbing_walls.empty();
+    const std::span<const Vec<D>> built = skin_.positions();
+    const bool measure = built.size() == static_cast<std::size_t>(f_.size());
+    const Pass sum = parallel::deterministic_sum<Pass>(f_.size(), [&](Index i) {
+      Pass p;
       v_[i] += (half / m_[i]) * force_[i];
       w_[i] += (half / inertia_[i]) * torque_[i];
       x_[i] += dt * v_[i];
-      return gravity ? m_[i] * gravity_.dot(v_[i]) : Real(0);
+      if (gravity) p.power = m_[i] * gravity_.dot(v_[i]);
+      if (guard) reflect_at_walls(i, p.reflections, p.lost);
+      if (measure) p.moved_sq = (x_[i] - built[static_cast<std::size_t>(i)]).squaredNorm();
+      return p;
     });
-    if (gravity) external_work_ += dt * power;
-    if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty()) reflect_at_walls();
+    if (gravity) external_work_ += dt * sum.power;
+    if (guard) {
+      wall_reflections_ += sum.reflections;
+      contact_dissipated_ += sum.lost;
+    }
+    moved_sq_ = measure ? sum.moved_sq : -1;
   }
 
   // Safeguard: a grain driven through a wall (its centre beyond the face: an overlap of more
   // than its radius, which a blast can force against a Hertz wall) is put back, mirrored in the
   // face, with its normal velocity reversed and scaled by the wall's restitution; the kinetic
   // energy lost is booked as contact dissipation. Counted in wall_reflections.
-  void reflect_at_walls() {
-    struct Tally {
-      Real count = 0, lost = 0;
-      Tally& operator+=(const Tally& o) {
-        count += o.count;
-        lost += o.lost;
-        return *this;
+  void reflect_at_walls(Index i, Real& count, Real& lost) {
+    // Inside every face (x <= an upper plane, x >= a lower one): nothing to do.
+    bool inside = true;
+    for (int d = 0; d < D; ++d)
+      inside &= x_[i][d] >= guard_lo_[d] && x_[i][d] <= guard_hi_[d];
+    if (inside) return;
+    for (const WallPlane& w : guard_planes_) {
+      const int axis = w.axis;
+      const bool upper = w.upper;
+      const Real plane = w.plane;
+      const Real beyond = upper ? x_[i][axis] - plane : plane - x_[i][axis];
+      if (!(beyond > 0)) continue;
+      x_[i][axis] = upper ? plane - beyond : plane + beyond;
+      const Real vn = v_[i][axis];
+      if ((upper && vn > 0) || (!upper && vn < 0)) {
+        v_[i][axis] = -cfg_.wall_restitution * vn;
+        lost += 0.5 * m_[i] * (1 - cfg_.wall_restitution * cfg_.wall_restitution) * vn * vn;
       }
-    };
-    const Tally sum = parallel::deterministic_sum<Tally>(f_.size(), [&](Index i) {
-      Tally t;
-      // Inside every face (x <= an upper plane, x >= a lower one): nothing to do.
-      bool inside = true;
-      for (int d = 0; d < D; ++d)
-        inside &= x_[i][d] >= guard_lo_[d] && x_[i][d] <= guard_hi_[d];
-      if (inside) return t;
-      for (const WallPlane& w : guard_planes_) {
-        const int axis = w.axis;
-        const bool upper = w.upper;
-        const Real plane = w.plane;
-        const Real beyond = upper ? x_[i][axis] - plane : plane - x_[i][axis];
-        if (!(beyond > 0)) continue;
-        x_[i][axis] = upper ? plane - beyond : plane + beyond;
-        const Real vn = v_[i][axis];
-        if ((upper && vn > 0) || (!upper && vn < 0)) {
-          v_[i][axis] = -cfg_.wall_restitution * vn;
-          t.lost += 0.5 * m_[i] * (1 - cfg_.wall_restitution * cfg_.wall_restitution) * vn * vn;
-        }
-        t.count += 1;
-      }
-      return t;
-    });
-    wall_reflections_ += sum.count;
-    contact_dissipated_ += sum.lost;
+      count += 1;
+    }
   }
 
   void finish_step(Real dt) override {
@@ -1419,7 +1441,11 @@ class DemPart final : public solver::Part<D> {
   // history slots move with them.
   void update_neighbors() {
     const Real need = 2 * r_max_ * (cfg_.bonds.enabled ? 1 + kBondReach : 1);
-    if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
+    // advance measured the displacement; at the start and after a restart it is measured here.
+    const bool stale = moved_sq_ >= 0 ? skin_.stale_given(moved_sq_, f_.size(), need)
+                                      : skin_.stale(std::span<const Vec<D>>(x_), need);
+    moved_sq_ = -1;
+    if (!stale) return;
     if (!packed_) pack_history(partner_, xi_, roll_);
     packed_ = true;
     const auto order =
@@ -1477,10 +1503,27 @@ class DemPart final : public solver::Part<D> {
     });
     scatter_ = parallel::max_threads() == 1 && bond_partner_.empty() && !outflow_remove_;
     received_.clear();
+    ready_.clear();
     if (scatter_) {
       received_.resize(static_cast<std::size_t>(n));
       for (Index i = 0; i < n; ++i)
         received_[static_cast<std::size_t>(i)].force = m_[i] * gravity_;
+      // ready_[i]: the last grain whose owned pairs touch grain i or a grain before it (the
+      // owner of i's last received pair, pairs being in owner order), so that grains
+      // 0..i are complete once pair_pass has passed it.
+      ready_.resize(static_cast<std::size_t>(n));
+      Index reach = 0;
+      for (Index i = 0; i < n; ++i) {
+        reach = std::max(reach, i);
+        const auto last = recv_begin_[static_cast<std::size_t>(i) + 1];
+        if (last > recv_begin_[static_cast<std::size_t>(i)]) {
+          const Index pair = recv_pair_[static_cast<std::size_t>(last) - 1];
+          const auto owner = std::upper_bound(pair_begin_.begin(), pair_begin_.end(), pair) -
+                             pair_begin_.begin() - 1;
+          reach = std::max(reach, static_cast<Index>(owner));
+        }
+        ready_[static_cast<std::size_t>(i)] = reach;
+      }
     }
     const auto pairs = pair_j_.size();
     cache_.resize(pairs, !bond_partner_.empty(), outflow_remove_);
@@ -1528,6 +1571,7 @@ class DemPart final : public solver::Part<D> {
   }
   void load_state(io::StateReader& r) override {
     r.tag("dem");
+    moved_sq_ = -1;  // measured again at the next force stage
     f_.load(r);
     r.vector(partner_);
     r.vector(xi_);
@@ -1642,6 +1686,9 @@ class DemPart final : public solver::Part<D> {
   PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
   bool scatter_ = false;                       // one thread: received shares summed in pair_pass
   std::vector<Received> received_;             // per grain, with scatter_
+  std::vector<Index> ready_;                   // per grain, with scatter_ (build_lists)
+  Real moved_sq_ =
+      -1;  // largest squared displacement since the list's build (advance); -1: unknown
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;

@@ -24,12 +24,18 @@ class VerletSkin {
     if (radius_ <= 0 || x.size() != built_.size()) return true;
     // The largest squared displacement, then one root (the same number: sqrt is monotonic and
     // correctly rounded).
-    const Real moved =
-        std::sqrt(parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
-          return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)])
-              .squaredNorm();
-        }));
-    return 2 * moved + need > radius_;
+    const Real moved_sq = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
+      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).squaredNorm();
+    });
+    return stale_given(moved_sq, static_cast<Index>(x.size()), need);
+  }
+
+  /// stale() for `count` points whose largest squared displacement from positions() the owner
+  /// measured already (the max of |x_i - positions()_i|^2 from 0, NaNs skipped as std::max
+  /// skips them).
+  bool stale_given(Real moved_sq, Index count, Real need) const {
+    if (radius_ <= 0 || static_cast<std::size_t>(count) != built_.size()) return true;
+    return 2 * std::sqrt(moved_sq) + need > radius_;
   }
 
   /// Records a rebuild at positions x (after any re-sort) and returns the radius to build for.
