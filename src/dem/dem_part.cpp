@@ -407,19 +407,6 @@ class DemPart final : public solver::Part<D> {
     std::visit(
         [&](const auto& laws) {
           using Law = typename std::decay_t<decltype(laws)>::Type;
-          if (scatter_) {
-            // One thread: each grain's pass follows as soon as every pair that touches it
-            // is done (ready_), while its data are still in cache; the same passes on the
-            // same sums as below, in another interleaving.
-            Index g = 0;
-            for (Index first = 0; first < n; first += kPairBlock) {
-              const Index last = std::min(n, first + kPairBlock);
-              pair_pass<Law>(first, last, dt, laws);
-              for (; g < n && ready_[static_cast<std::size_t>(g)] < last; ++g)
-                grain_pass<Law>(g, dt, laws);
-            }
-            return;
-          }
           parallel::for_each_block(n, kPairBlock, [&](Index first, Index last) {
             pair_pass<Law>(first, last, dt, laws);
           });
@@ -1503,27 +1490,10 @@ class DemPart final : public solver::Part<D> {
     });
     scatter_ = parallel::max_threads() == 1 && bond_partner_.empty() && !outflow_remove_;
     received_.clear();
-    ready_.clear();
     if (scatter_) {
       received_.resize(static_cast<std::size_t>(n));
       for (Index i = 0; i < n; ++i)
         received_[static_cast<std::size_t>(i)].force = m_[i] * gravity_;
-      // ready_[i]: the last grain whose owned pairs touch grain i or a grain before it (the
-      // owner of i's last received pair, pairs being in owner order), so that grains
-      // 0..i are complete once pair_pass has passed it.
-      ready_.resize(static_cast<std::size_t>(n));
-      Index reach = 0;
-      for (Index i = 0; i < n; ++i) {
-        reach = std::max(reach, i);
-        const auto last = recv_begin_[static_cast<std::size_t>(i) + 1];
-        if (last > recv_begin_[static_cast<std::size_t>(i)]) {
-          const Index pair = recv_pair_[static_cast<std::size_t>(last) - 1];
-          const auto owner = std::upper_bound(pair_begin_.begin(), pair_begin_.end(), pair) -
-                             pair_begin_.begin() - 1;
-          reach = std::max(reach, static_cast<Index>(owner));
-        }
-        ready_[static_cast<std::size_t>(i)] = reach;
-      }
     }
     const auto pairs = pair_j_.size();
     cache_.resize(pairs, !bond_partner_.empty(), outflow_remove_);
@@ -1686,7 +1656,6 @@ class DemPart final : public solver::Part<D> {
   PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
   bool scatter_ = false;                       // one thread: received shares summed in pair_pass
   std::vector<Received> received_;             // per grain, with scatter_
-  std::vector<Index> ready_;                   // per grain, with scatter_ (build_lists)
   Real moved_sq_ =
       -1;  // largest squared displacement since the list's build (advance); -1: unknown
   std::vector<PairTally> tally_;
