@@ -4,7 +4,7 @@ for seeds 7, 8 and 9 and writes the heaps' flank angles that
 tests/verification/dem_repose/test_drained_heap_vs_liggghts.py compares crater against.
 
 Usage: /usr/bin/python3 bench/peers/liggghts_drained_heap/run.py [OUT_JSON]
-(default tests/data/liggghts_drained_heap.json; about 2.5 minutes per seed on one core, the
+(default tests/data/liggghts_drained_heap.json; 1-2.5 minutes per seed on one core, the
 seeds run two at a time).
 
 The lattice, the angle measurement and the material are drained_heap.py's and repose_case.py's;

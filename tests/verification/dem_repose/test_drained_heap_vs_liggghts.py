@@ -13,7 +13,8 @@ tangential history rolling_friction epsd`: the linear spring with Coulomb limit 
 model C rolling resistance, as crater's `linear_spring` with `rolling_friction`), the same
 lattice, walls, stages and time step; its heaps for seeds 7, 8 and 9 are checked in as
 tests/data/liggghts_drained_heap.json (regenerate: bench/peers/liggghts_drained_heap/run.py,
-about 6 minutes), so this test needs no LIGGGHTS. The heap is the outcome of thousands of
+2-6 minutes), so this test needs no LIGGGHTS; test_liggghts_heaps_current.py (`slow`) reruns
+it and checks the JSON is still what LIGGGHTS gives. The heap is the outcome of thousands of
 collisions: the two codes' heaps from the same lattice are different samples of the same
 process, not the same trajectory, so the comparison is statistical.
 
