@@ -1656,8 +1656,8 @@ class DemPart final : public solver::Part<D> {
   PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
   bool scatter_ = false;                       // one thread: received shares summed in pair_pass
   std::vector<Received> received_;             // per grain, with scatter_
-  Real moved_sq_ =
-      -1;  // largest squared displacement since the list's build (advance); -1: unknown
+  // The largest squared displacement since the list's build, measured by advance; -1: unknown.
+  Real moved_sq_ = -1;
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
   Real last_dt_ = 0;

@@ -14,7 +14,6 @@ more, a pyramid of four flanks is left. Its angle: the highest sphere top in bin
 along x (and along z) within a strip |other axis| < 0.2 x the half-width, a line fitted between
 20 % and 80 % of the apex height, on both axes.
 """
-import math
 import sys
 from pathlib import Path
 
@@ -22,7 +21,8 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "lib"))
 from crater_test import read_pvd, read_vtu, run_scenario, scratch  # noqa: E402
-from repose_case import D, R_MAX, R_MIN, ROLLING, scenario, zhou_angle  # noqa: E402
+from repose_case import (D, R_MAX, R_MIN, ROLLING, fitted_angle, scenario,  # noqa: E402
+                         zhou_angle)
 
 HALF = 0.15  # the plate's half-width [m]
 LAYERS = 22
@@ -58,16 +58,13 @@ def profile(points, radius, axis):
 
 def flank(points, radius, axis):
     """(flank angle [deg], apex height [m]) along `axis`."""
-    rs, hs = profile(points, radius, axis)
-    apex = hs.max()
-    fit = (hs > 0.2 * apex) & (hs < 0.8 * apex)
-    return math.degrees(math.atan(-np.polyfit(rs[fit], hs[fit], 1)[0])), apex
+    angle, apex, _ = fitted_angle(*profile(points, radius, axis))
+    return angle, apex
 
 
 def _run(d, mu, rolling, grains, end, walls, outflow, threads):
-    text = scenario(mu, grains, end, half=HALF, walls=walls, rolling=rolling)
-    text = text.replace("[domain]\n", f'[domain]\noutflow = "{outflow}"\n', 1)
-    (d / "case.toml").write_text(text)
+    (d / "case.toml").write_text(scenario(mu, grains, end, half=HALF, walls=walls,
+                                          rolling=rolling, outflow=outflow))
     summary = run_scenario(d / "case.toml", d / "out", threads=threads, timeout=3600)
     _, frame = read_pvd(d / "out" / "heap.pvd")[-1]
     points, arrays, _, _ = read_vtu(d / "out" / frame)

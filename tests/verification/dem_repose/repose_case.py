@@ -58,9 +58,9 @@ def zhou_angle(mu, mu_wall=WALL_FRICTION, rolling=ROLLING, d_mm=1e3 * (R_MIN + R
 
 
 def scenario(mu, grains, end, half=HALF, walls=("bottom", "left", "right", "back", "front", "top"),
-             rolling=ROLLING):
-    """The case's TOML: a box 2 half wide (x, z) and HALF high; drained_heap.py narrows it and
-    takes walls away."""
+             rolling=ROLLING, outflow="stop"):
+    """The case's TOML: a box 2 half wide (x, z) and HALF high; drained_heap.py narrows it,
+    takes walls away and removes the spheres that leave it (outflow)."""
     s = f"""[scenario]
 name = "poured-heap"
 dimension = 3
@@ -71,6 +71,7 @@ interval_s = {end}
 min_m = [{-half}, 0.0, {-half}]
 max_m = [{half}, {HALF}, {half}]
 gravity_m_s2 = [0.0, -9.81, 0.0]
+outflow = "{outflow}"
 [[materials]]
 name = "beads"
 model = "granular"
@@ -123,12 +124,18 @@ def surface(points, radius):
     return (rings + 0.5) * D, np.array([top[ring == k].max() for k in rings])
 
 
-def flank_angle(points, radius):
-    rs, hs = surface(points, radius)
+def fitted_angle(rs, hs, floor=0.0):
+    """(angle [deg], apex [m], points fitted) of the line through the surface heights hs at
+    distances rs from the axis, over the heights between 20 % and 80 % of the apex (and above
+    floor)."""
     apex = hs.max()
-    fit = (hs > 0.2 * apex) & (hs < 0.8 * apex) & (hs > 1.5 * D)
+    fit = (hs > 0.2 * apex) & (hs < 0.8 * apex) & (hs > floor)
     slope = np.polyfit(rs[fit], hs[fit], 1)[0]
     return math.degrees(math.atan(-slope)), apex, int(fit.sum())
+
+
+def flank_angle(points, radius):
+    return fitted_angle(*surface(points, radius), floor=1.5 * D)
 
 
 def pour(mu, seed=7, name=None):
