@@ -29,17 +29,21 @@ LAYERS = 22
 SETTLE_S, DRAIN_S = 0.6, (2.5, 0.5)  # the walled settling, then the stages on the bare plate
 
 
-def lattice(seed):
-    """The settling's start: [(centre [m], radius [m])], y up, the plate's centre at x = z = 0."""
+PITCH = 1.1 * D  # the lattice's
+
+
+def lattice(seed, depth=None):
+    """The settling's start: [(centre [m], radius [m])], y up, the plate's centre at x = z = 0;
+    `depth` rows along z (default: as many as along x, the square plate)."""
     rng = np.random.default_rng(seed)
-    pitch = 1.1 * D
-    n = int((2 * HALF - D) / pitch) + 1
+    n = int((2 * HALF - D) / PITCH) + 1
+    nz = depth or n
     out = []
     for i in range(n):
         for j in range(LAYERS):
-            for k in range(n):
-                c = np.array([(i - (n - 1) / 2) * pitch, 0.6 * D + j * pitch,
-                              (k - (n - 1) / 2) * pitch])
+            for k in range(nz):
+                c = np.array([(i - (n - 1) / 2) * PITCH, 0.6 * D + j * PITCH,
+                              (k - (nz - 1) / 2) * PITCH])
                 out.append((c + rng.uniform(-0.05 * D, 0.05 * D, 3), rng.uniform(R_MIN, R_MAX)))
     return out
 

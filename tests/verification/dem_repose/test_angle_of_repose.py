@@ -27,7 +27,10 @@ test_angle_of_repose_sweep.py). The cause is not settled; ruled out so far:
   (lattice, springs, dashpots, friction, model C rolling resistance as its `epsd`, walls,
   stages, step), stands at 17.4 degrees (mean of three seeds) against crater's 17.2;
   test_drained_heap_vs_liggghts.py checks it. The gap lies between the model with these
-  parameters and Zhou's correlation as quoted, whatever code runs it.
+  parameters and Zhou's correlation as quoted, whatever code runs it;
+- the heap's shape (2026-11-25, LIGGGHTS): a ridge, periodic along z with no front and rear
+  walls (run.py --ridge), stands at 18.7 and 18.2 degrees (9 and 4 rows deep, mean of three
+  seeds), a degree above the pyramid.
 The angle depends more steeply on mu_r than Zhou's fit (mu_r = 0.1: 28 degrees, Eq. 5
 converted 31.4; mu_r = 0: about 2), and monosized spheres (r = 5 mm) stand at about 14 degrees.
 The range check runs and is expected to fail (unittest.expectedFailure): if it
