@@ -49,8 +49,9 @@ class ThreadDeterminism(unittest.TestCase):
         from test_taylor_bar import write_case
 
         work = scratch("det_fem_taylor")
-        files = assert_bit_identical_runs(write_case(work), work,
-                                          sets=["scenario.end_time_s=1.5e-5", "output.interval_s=5e-6"])
+        files = assert_bit_identical_runs(
+            write_case(work), work,
+            sets=["scenario.end_time_s=1.5e-5", "output.interval_s=5e-6"])
         self.assertIn("rod.pvd", files)
 
     def test_paper_20cm_demo(self):

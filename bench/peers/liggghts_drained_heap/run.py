@@ -61,7 +61,8 @@ def variables(grains):
 
 def ridge_deck(directory):
     """in.drained_heap made periodic along z, without its z walls (--ridge)."""
-    lines = (HERE / "in.drained_heap").read_text().splitlines()
+    # One command per line (the deck continues long commands with "&").
+    lines = (HERE / "in.drained_heap").read_text().replace("&\n", " ").splitlines()
     lines = [line.replace("boundary       f f f", "boundary       f f p") for line in lines
              if " wzl" not in line and " wzh" not in line]
     (directory / "in.drained_ridge").write_text("\n".join(lines) + "\n")
