@@ -38,7 +38,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "lib"))
 sys.path.insert(0, str(ROOT / "tests" / "verification" / "dem_repose"))
-from drained_heap import DRAIN_S, HALF, PITCH, SETTLE_S, flank, lattice  # noqa: E402
+from drained_heap import (DRAIN_S, HALF, LIGGGHTS_HEAPS, PITCH, SETTLE_S, flank,  # noqa: E402
+                          lattice)
 from repose_case import KN, R_MAX, R_MIN, RHO, ROLLING, WALL_FRICTION  # noqa: E402
 
 MU, NU, RESTITUTION, ROLLING_DAMPING, STEP_FRACTION, SAFETY = 0.84, 0.25, 0.4, 0.3, 0.17, 0.9
@@ -97,7 +98,7 @@ def run(seed, liggghts, work, ridge=None):
     return {"seed": seed, "stages": stages}, var
 
 
-def main(out=ROOT / "tests" / "data" / "liggghts_drained_heap.json", ridge=None):
+def main(out=LIGGGHTS_HEAPS, ridge=None):
     liggghts = shutil.which("liggghts") or shutil.which("lmp_auto")
     work = Path(tempfile.mkdtemp(prefix="liggghts_drained_heap."))
     try:

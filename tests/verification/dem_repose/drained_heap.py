@@ -20,11 +20,13 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "lib"))
-from crater_test import read_pvd, read_vtu, run_scenario, scratch  # noqa: E402
+from crater_test import SOURCE_DIR, read_pvd, read_vtu, run_scenario, scratch  # noqa: E402
 from repose_case import (D, R_MAX, R_MIN, ROLLING, fitted_angle, scenario,  # noqa: E402
                          zhou_angle)
 
 HALF = 0.15  # the plate's half-width [m]
+# LIGGGHTS' heaps (bench/peers/liggghts_drained_heap/run.py writes them, the tests read them).
+LIGGGHTS_HEAPS = SOURCE_DIR / "tests" / "data" / "liggghts_drained_heap.json"
 LAYERS = 22
 SETTLE_S, DRAIN_S = 0.6, (2.5, 0.5)  # the walled settling, then the stages on the bare plate
 

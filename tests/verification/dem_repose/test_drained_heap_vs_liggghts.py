@@ -35,11 +35,9 @@ import unittest
 
 import numpy as np
 
-from crater_test import SOURCE_DIR
-from drained_heap import drain
+from drained_heap import LIGGGHTS_HEAPS, drain
 from repose_case import D
 
-REFERENCE = SOURCE_DIR / "tests" / "data" / "liggghts_drained_heap.json"
 ANGLE_TOL_DEG, APEX_TOL_M, SPHERES_TOL = 2.0, 0.5 * D, 0.03
 
 
@@ -47,7 +45,7 @@ class DrainedHeapVsLiggghts(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.crater = drain(seed=7, threads=2, name="dem_repose_drained_vs_liggghts")[-1]
-        runs = [r["stages"][-1] for r in json.loads(REFERENCE.read_text())["runs"]]
+        runs = [r["stages"][-1] for r in json.loads(LIGGGHTS_HEAPS.read_text())["runs"]]
         cls.ref_angle = np.mean([np.mean(s["flanks_deg"]) for s in runs])
         cls.ref_apex = np.mean([s["apex_m"] for s in runs])
         cls.ref_spheres = np.mean([s["spheres"] for s in runs])

@@ -17,9 +17,9 @@ import unittest
 from pathlib import Path
 
 from crater_test import SOURCE_DIR
+from drained_heap import LIGGGHTS_HEAPS
 
 RUNNER = SOURCE_DIR / "bench" / "peers" / "liggghts_drained_heap" / "run.py"
-REFERENCE = SOURCE_DIR / "tests" / "data" / "liggghts_drained_heap.json"
 
 
 @unittest.skipUnless(shutil.which("liggghts") or shutil.which("lmp_auto"), "LIGGGHTS not installed")
@@ -29,7 +29,7 @@ class LiggghtsHeapsCurrent(unittest.TestCase):
             out = Path(d) / "heaps.json"
             subprocess.run(["/usr/bin/python3", str(RUNNER), str(out)], check=True)
             now = json.loads(out.read_text())
-        ref = json.loads(REFERENCE.read_text())
+        ref = json.loads(LIGGGHTS_HEAPS.read_text())
         self.assertEqual(now["variables"], ref["variables"])
         for a, b in zip(now["runs"], ref["runs"], strict=True):
             for sa, sb in zip(a["stages"], b["stages"], strict=True):
