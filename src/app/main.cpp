@@ -5,12 +5,19 @@
 //   crater list
 //   crater schema --markdown
 //   crater report DIR [--out DIR] [--times T1,T2,...]   (figures and report.md of a run)
-// Exit codes: 0 done, 2 bad input (scenario, command line), 3 numerical failure, 1 other
-// errors (e.g. an unwritable disk).
+// Exit codes: 0 done, 2 bad input (scenario, command line, run directory), 3 numerical
+// failure (NaN, negative volume, lost particle, energy guard), 130 interrupted by SIGINT or
+// SIGTERM (a checkpoint is written: continue with --resume), 1 other errors (e.g. a full or
+// unwritable disk: summary.json says so when there is room, --resume continues from the
+// newest complete checkpoint). An allocation that fails anyway (std::bad_alloc: check and run
+// first refuse a scenario whose memory estimate exceeds output.memory_limit_fraction of the
+// available memory) is reported as "out of memory" with exit 2 during setup (loading, building
+// the parts, check) and 3 in the time loop.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <new>
 
 #include "app/report.hpp"
 #include "core/error.hpp"
@@ -18,6 +25,7 @@
 #include "io/scenario/load.hpp"
 #include "io/scenario/schema.hpp"
 #include "io/scenario/validate.hpp"
+#include "solver/memory_estimate.hpp"
 #include "solver/simulation.hpp"
 
 namespace {
@@ -42,25 +50,36 @@ int cmd_check(const std::string& scenario, const std::vector<std::string>& sets,
              c.level.empty() ? std::string() : ", level " + c.level, c.dimension, c.end_time_s,
              c.hash);
   if (!c.description.empty()) fmt::print("  {}\n", c.description);
+  fmt::print("{}\n", solver::memory_line(solver::estimate_memory(c), solver::available_memory(),
+                                         c.output.memory_limit_fraction));
+  std::fflush(stdout);  // shown before a refusal on stderr
   const auto reports = solver::check_scenario(c);
-  fmt::print("{:<16} {:<6} {:>12} {:>14} {:>13}  {}\n", "part", "method", "count", "mass [kg]",
-             "stable dt [s]", "limited by");
+  // Both step columns per row: a part's stability limit is scaled by the safety factor, the
+  // contacts' accuracy bound is not (StableStep::absolute); the smallest allowed step rules.
+  fmt::print("{:<16} {:<7} {:>11} {:>14} {:>13} {:>14}  {}\n", "part", "method", "count",
+             "mass [kg]", "stable dt [s]", "allowed dt [s]", "limited by");
   const double safety = c.time.safety_factor;
   const solver::PartReport* limiting = nullptr;
   for (const auto& r : reports) {
-    fmt::print("{:<16} {:<6} {:>12} {:>14.6g} {:>13.4e}  entity {} ({})\n", r.name, r.method,
-               r.count, r.mass_kg, r.stable.dt_s, r.stable.entity_id, r.stable.reason);
+    const bool contacts = r.method == std::string("contact");
+    // The contacts' reason names the pair (and the node or particle, when one sets it).
+    const std::string by = r.stable.reason.empty() ? std::string("-")
+                           : contacts || r.stable.entity_id < 0
+                               ? r.stable.reason
+                               : fmt::format("entity {} ({})", r.stable.entity_id, r.stable.reason);
+    fmt::print("{:<16} {:<7} {:>11} {:>14} {:>13.4e} {:>14.4e}  {}{}\n", r.name, r.method, r.count,
+               contacts ? std::string("-") : fmt::format("{:.6g}", r.mass_kg), r.stable.dt_s,
+               r.stable.allowed_s(safety), by,
+               r.stable.absolute ? "; not scaled by the safety factor" : "");
     if (!limiting || r.stable.allowed_s(safety) < limiting->stable.allowed_s(safety)) limiting = &r;
   }
   if (c.dimension == 2) fmt::print("(2D: masses per metre of depth)\n");
   if (limiting && limiting->stable.absolute)
-    fmt::print(
-        "global step: {:.4e} s (the contacts' accuracy bound, not scaled by the safety "
-        "factor)",
-        limiting->stable.dt_s);
+    fmt::print("global step: {:.4e} s ({}: {}; an accuracy bound, not scaled by the safety factor)",
+               limiting->stable.allowed_s(safety), limiting->name, limiting->stable.reason);
   else if (limiting)
-    fmt::print("global step: {:.4e} s = {} x {:.4e} s (part '{}')", safety * limiting->stable.dt_s,
-               safety, limiting->stable.dt_s, limiting->name);
+    fmt::print("global step: {:.4e} s = {} x {:.4e} s (part '{}')",
+               limiting->stable.allowed_s(safety), safety, limiting->stable.dt_s, limiting->name);
   if (c.time.fixed_dt_s) fmt::print("; fixed step {:.4e} s in use", *c.time.fixed_dt_s);
   fmt::print("\n");
   for (const auto& w : c.warnings)
@@ -74,7 +93,15 @@ int cmd_run(const std::string& scenario, const std::vector<std::string>& sets,
   const io::Config c = io::load_scenario(scenario, sets, level);
   spdlog::info("scenario '{}', {}D, end time {:.6g} s -> {}", c.name, c.dimension, c.end_time_s,
                opt.out_dir.string());
-  const auto r = solver::run_scenario(c, opt);
+  solver::RunOptions o = opt;
+  o.command.scenario = scenario;
+  std::error_code ec;
+  const auto file = std::filesystem::absolute(c.file, ec);
+  o.command.scenario_file = ec ? c.file : file.string();
+  o.command.level = level;
+  o.command.sets = sets;
+  o.command.threads = opt.threads;
+  const auto r = solver::run_scenario(c, o);
   spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s on {} thread(s){}", r.steps, r.time_s,
                r.wall_s, r.threads,
                r.first_step > 0 ? fmt::format(" ({} of them after resuming at step {})",
@@ -98,7 +125,9 @@ int main(int argc, char** argv) {
   std::string out_dir = "out";
 
   auto* run = app.add_subcommand("run", "Run a scenario (a file, or a bundled name)");
-  run->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
+  run->add_option("scenario", scenario,
+                  "Scenario file or bundled scenario name (with --resume: the run's own, unless "
+                  "given)");
   run->add_option("--out,-o", out_dir, "Run directory (default: out)");
   run->add_option("--threads,-t", opt.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
@@ -111,10 +140,13 @@ int main(int argc, char** argv) {
   std::string resume_dir, restart_file;
   auto* resume_opt = run->add_option(
       "--resume", resume_dir,
-      "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/)");
+      "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/), with the "
+      "scenario, --level, --set and --threads it was started with (DIR/crater-command.toml) "
+      "unless given again");
   run->add_option("--restart", restart_file,
-                  "Continue from this checkpoint file (into --out, default: the run directory "
-                  "that holds it)")
+                  "Continue from this checkpoint file, into --out (a new or emptied directory: "
+                  "the earlier frames and history are carried over) or, without --out, into "
+                  "the run directory that holds it")
       ->excludes(resume_opt);
 
   auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
@@ -148,6 +180,7 @@ int main(int argc, char** argv) {
     return kExitInput;
   }
 
+  std::string out_dir_for_resume;  // the run directory, for the interrupted message
   try {
     if (app.got_subcommand("list")) {
       for (const auto& n : io::bundled_scenarios()) {
@@ -172,20 +205,37 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("report")) return crater::app::cmd_report(report_opt);
     if (app.got_subcommand("check")) return cmd_check(scenario, sets, level);
     opt.out_dir = out_dir;
+    for (int k = 0; k < argc; ++k)
+      opt.command.argv.emplace_back(argv[k]);
     if (!resume_dir.empty()) {
       opt.out_dir = resume_dir;
       opt.restart = io::newest_checkpoint(resume_dir);
+      // The run's own scenario and overrides, unless the command line names them again.
+      if (scenario.empty() || std::filesystem::exists(resume_dir + "/" + io::kCommandName)) {
+        const io::RunCommand was = io::read_run_command(resume_dir);
+        if (scenario.empty())
+          scenario = std::filesystem::exists(was.scenario_file) ? was.scenario_file : was.scenario;
+        if (sets.empty() && level.empty()) sets = was.sets, level = was.level;
+        if (run->count("--threads") == 0) opt.threads = was.threads;
+      }
     } else if (!restart_file.empty()) {
       opt.restart = restart_file;
       if (run->count("--out") == 0)
         opt.out_dir = std::filesystem::path(restart_file).parent_path().parent_path();
     }
+    out_dir_for_resume = opt.out_dir.string();
+    if (scenario.empty())
+      throw InputError({}, "scenario",
+                       "a scenario file or bundled name (crater run SCENARIO), or --resume DIR");
     return cmd_run(scenario, sets, level, opt);
   } catch (const InputError& e) {
     print_input_error(e);
     return kExitInput;
   } catch (const Interrupted& e) {
-    std::fprintf(stderr, "crater: %s; checkpoint and outputs written\n", e.what());
+    std::fprintf(stderr,
+                 "crater: %s; checkpoint and outputs written\ncontinue with: crater run "
+                 "--resume %s\n",
+                 e.what(), out_dir_for_resume.c_str());
     return kExitInterrupted;
   } catch (const NumericalError& e) {
     std::fprintf(stderr,
@@ -193,6 +243,15 @@ int main(int argc, char** argv) {
                  "*_failure.vtu)\n",
                  e.what());
     return kExitNumerical;
+  } catch (const std::bad_alloc&) {
+    const bool in_loop = solver::current_activity() == solver::Activity::TimeLoop;
+    std::fprintf(stderr, "error: out of memory %s\n",
+                 in_loop ? "in the time loop (the run outgrew the estimate of `crater check`; "
+                           "summary.json says so, --resume continues from the newest checkpoint)"
+                         : "while setting up (reading the scenario, building the parts); "
+                           "coarsen the resolution, lower output.memory_limit_fraction or free "
+                           "memory");
+    return in_loop ? kExitNumerical : kExitInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -52,13 +52,14 @@ class InputError : public std::runtime_error {
   std::string key_;
 };
 
-/// A numerical failure inside the time loop, naming the part, the entity and the time.
+/// A numerical failure inside the time loop, naming the part, the entity (none when
+/// entity_id < 0: the part as a whole, e.g. its energy) and the time.
 class NumericalError : public std::runtime_error {
  public:
   NumericalError(std::string part, Index entity_id, Real time_s, std::string what)
-      : std::runtime_error("numerical failure in part '" + part + "', entity " +
-                           std::to_string(entity_id) + ", t = " + to_string_s(time_s) + ": " +
-                           what),
+      : std::runtime_error("numerical failure in part '" + part + "'" +
+                           (entity_id >= 0 ? ", entity " + std::to_string(entity_id) : "") +
+                           ", t = " + to_string_s(time_s) + ": " + what),
         part_(std::move(part)),
         entity_id_(entity_id),
         time_s_(time_s) {}

@@ -16,8 +16,10 @@
 #include "fem/fem_part.hpp"
 #include "io/output/atomic_file.hpp"
 #include "io/output/json.hpp"
+#include "io/output/run_directory.hpp"
 #include "io/output/vtu_writer.hpp"
 #include "parallel/parallel.hpp"
+#include "solver/memory_estimate.hpp"
 #include "solver/probes.hpp"
 #include "solver/progress.hpp"
 #include "sph/sph_part.hpp"
@@ -90,12 +92,14 @@ class Outputs {
   // A new run writes history.csv's header; a resumed one keeps the file's first
   // `resume_history` bytes (what it held at the checkpoint) and goes on from there.
   // `extra_columns` follow the energy columns (history_columns: contact forces, part totals).
-  Outputs(const io::Config& c, const fs::path& dir,
+  Outputs(const io::Config& c, io::RunManifest& manifest,
           const std::vector<std::unique_ptr<Part<D>>>& parts,
           const std::vector<std::string>& extra_columns, std::string history_prefix = {})
-      : config_(c), dir_(dir), history_(dir / "history.csv") {
-    for (const auto& p : parts)
-      pvd_.emplace_back(dir / (p->name() + ".pvd"));
+      : config_(c), manifest_(manifest), dir_(manifest.dir()), history_(open_history(manifest)) {
+    for (const auto& p : parts) {
+      manifest_.record(p->name() + ".pvd");
+      pvd_.emplace_back(dir_ / (p->name() + ".pvd"));
+    }
     if (history_prefix.empty()) {
       history_prefix =
           "step,time_s,dt_s,kinetic_j,internal_j,external_work_j,damping_j,hourglass_j,"
@@ -144,6 +148,7 @@ class Outputs {
     if (!config_.output.vtu) return;
     for (std::size_t k = 0; k < parts.size(); ++k) {
       const std::string file = fmt::format("{}_{}.vtu", parts[k]->name(), tag);
+      manifest_.record(file);
       write_part(*parts[k], dir_ / file, t);
       if (tag != "failure") pvd_[k].add(t, file);
     }
@@ -186,9 +191,16 @@ class Outputs {
     history_bytes_ += row.size();
   }
   void flush() { history_.flush(); }
+  io::RunManifest& manifest() { return manifest_; }
 
  private:
+  static fs::path open_history(io::RunManifest& manifest) {
+    manifest.record("history.csv");
+    return manifest.dir() / "history.csv";
+  }
+
   const io::Config& config_;
+  io::RunManifest& manifest_;
   fs::path dir_;
   io::AppendFile history_;
   std::size_t history_bytes_ = 0;
@@ -202,30 +214,17 @@ Real total_energy(const Energies& e) {
          e.external_work_j;
 }
 
-void prepare_out_dir(const fs::path& dir, bool force) {
-  std::error_code ec;
-  if (fs::exists(dir / "summary.json", ec) || fs::exists(dir / "history.csv", ec)) {
-    if (!force)
-      throw InputError({dir.string(), 0, 0}, "--out",
-                       "the directory already holds a run; pass --force to overwrite it or "
-                       "choose another --out");
-    for (const auto& e : fs::directory_iterator(dir, ec)) {
-      const auto ext = e.path().extension();
-      if (ext == ".vtu" || ext == ".pvd" || ext == ".csv" || ext == ".json" || ext == ".tmp")
-        fs::remove(e.path(), ec);
-    }
-  }
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw InputError({dir.string(), 0, 0}, "--out",
-                     "cannot create the output directory: " + ec.message());
-}
-
+// The relative energy balance error: the drift of the total over the largest energy the run
+// has held or been given, max over time of (kinetic + internal) and of the work done on it
+// (LS-DYNA's energy ratio likewise divides by initial plus external work). The work matters for
+// beds under gravity, whose kinetic and elastic energies stay small while gravity's work
+// flows through them into dissipation.
 struct EnergyTrack {
   Real initial_total = 0;
-  Real scale = 0;  // largest kinetic + internal seen, the denominator of the relative error
+  Real scale = 0;  // the denominator of the relative error
   Real error(const Energies& e) {
-    scale = std::max(scale, std::abs(e.kinetic_j) + std::abs(e.internal_j));
+    scale = std::max(
+        {scale, std::abs(e.kinetic_j) + std::abs(e.internal_j), std::abs(e.external_work_j)});
     return scale > 0 ? (total_energy(e) - initial_total) / scale : 0.0;
   }
 };
@@ -278,13 +277,42 @@ std::vector<Real> history_values(const std::vector<Energies>& per,
   return values;
 }
 
+// summary.json's "run" block: how the run was started (crater-command.toml holds the same).
+void write_command(io::JsonWriter& j, const io::RunCommand& command) {
+  j.key("command").begin_object();
+  j.field("scenario", command.scenario).field("level", command.level);
+  j.key("set").begin_array();
+  for (const auto& s : command.sets)
+    j.value(s);
+  j.end_array();
+  j.field("threads", command.threads);
+  j.key("argv").begin_array();
+  for (const auto& a : command.argv)
+    j.value(a);
+  j.end_array();
+  j.end_object();
+}
+
+/// What summary.json reports of the run besides the parts: its state and how it was started.
+struct SummaryInputs {
+  io::RunManifest& manifest;
+  const io::RunCommand& command;
+  const RunResult& r;
+  Real dt_min, dt_max;
+  const Energies& e0;
+  const Energies& e;
+  Real energy_error;
+};
+
 template <int D>
-void write_summary(const io::Config& c, const fs::path& dir,
-                   const std::vector<std::unique_ptr<Part<D>>>& parts, const RunResult& r,
-                   Real dt_min, Real dt_max, const Energies& e0, const Energies& e,
-                   Real energy_error, const std::string& status, const std::string& message,
-                   const contact::Coupling<D>* coupling = nullptr,
+void write_summary(const io::Config& c, const SummaryInputs& in,
+                   const std::vector<std::unique_ptr<Part<D>>>& parts, const std::string& status,
+                   const std::string& message, const contact::Coupling<D>* coupling = nullptr,
                    const std::vector<Diagnostic>& metrics = {}) {
+  const RunResult& r = in.r;
+  const Real dt_min = in.dt_min, dt_max = in.dt_max;
+  const Energies &e0 = in.e0, &e = in.e;
+  const Real energy_error = in.energy_error;
   io::JsonWriter j;
   j.begin_object();
   j.field("crater_version", CRATER_VERSION);
@@ -347,9 +375,11 @@ void write_summary(const io::Config& c, const fs::path& dir,
   j.field("steps_per_s",
           r.wall_s > 0 ? static_cast<double>(r.steps - r.first_step) / r.wall_s : 0.0);
   if (r.first_step > 0) j.field("resumed_at_step", static_cast<double>(r.first_step));
+  write_command(j, in.command);
   j.end_object();
   j.end_object();
-  io::write_file_atomic(dir / "summary.json", j.str());
+  in.manifest.record("summary.json");
+  io::write_file_atomic(in.manifest.dir() / "summary.json", j.str());
 }
 
 // SIGINT / SIGTERM: the loop finishes its step, writes a checkpoint and the outputs so far,
@@ -383,6 +413,8 @@ struct LoopState {
   Energies e0;
   EnergyTrack track;
   Real err = 0;
+  std::vector<Real> part_total0_j;  // each part's total energy at t = 0 (the energy guard)
+  std::uint8_t energy_warned = 0;   // the guard's warning was given
 
   void save(io::StateWriter& w) const {
     w.tag("loop");
@@ -396,6 +428,8 @@ struct LoopState {
     w.value(e0);
     w.value(track);
     w.value(err);
+    w.vector(part_total0_j);
+    w.value(energy_warned);
   }
   void load(io::StateReader& r) {
     r.tag("loop");
@@ -409,11 +443,117 @@ struct LoopState {
     r.value(e0);
     r.value(track);
     r.value(err);
+    r.vector(part_total0_j);
+    r.value(energy_warned);
   }
 };
 
+// The energy guard (time.energy_warn_error, time.energy_stop_error), checked where a history
+// row is computed: a balance error above the stop level ends the run as a numerical failure
+// naming the part whose total energy grew most since t = 0.
 template <int D>
-void write_checkpoint(const io::Config& c, const fs::path& dir, const LoopState& st,
+void guard_energy(const io::Config& c, LoopState& st, const std::vector<Energies>& per,
+                  const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  const Real err = std::abs(st.err);
+  const Real warn = c.time.energy_warn_error, stop = c.time.energy_stop_error;
+  if (!(stop > 0 && err > stop) && !(warn > 0 && err > warn && !st.energy_warned)) return;
+  std::size_t grew = 0;
+  Real most = -std::numeric_limits<Real>::infinity();
+  for (std::size_t k = 0; k < per.size() && k < st.part_total0_j.size(); ++k) {
+    const Real gain = total_energy(per[k]) - st.part_total0_j[k];
+    if (gain > most) most = gain, grew = k;
+  }
+  const std::string who =
+      parts.empty() ? std::string("?") : fmt::format("'{}'", parts[grew]->name());
+  const std::string what =
+      fmt::format("the energy balance error is {:.3g} % at step {} (part {} gained most: {:.4g} J)",
+                  100 * st.err, st.steps, who, most);
+  if (stop > 0 && err > stop)
+    throw NumericalError(parts.empty() ? "?" : parts[grew]->name(), -1, st.t,
+                         what + fmt::format(", above time.energy_stop_error = {:.3g} %; lower "
+                                            "time.safety_factor, check the part's settings, or "
+                                            "raise the limit (0: off)",
+                                            100 * stop));
+  spdlog::warn("{}, above time.energy_warn_error = {:.3g} % (warned once; the run goes on)", what,
+               100 * warn);
+  st.energy_warned = 1;
+}
+
+// VTU bytes of one frame of every part (points, connectivity, fields), as written appended.
+template <int D>
+double frame_bytes(const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  double bytes = 0;
+  for (const auto& p : parts) {
+    const Geometry<D> g = p->geometry();
+    const double points = g.points ? static_cast<double>(g.points->size()) : 0.0;
+    bytes += points * 3 * sizeof(Real) + 2048;
+    bytes += static_cast<double>(g.connectivity.size() + g.offsets.size()) * 8 +
+             static_cast<double>(g.cell_types.size());
+    if (g.connectivity.empty()) bytes += points * 17;  // vertex cells
+    for (const auto& v : p->point_fields())
+      bytes += static_cast<double>(v.size) * v.components * 8;
+    for (const auto& v : p->cell_fields())
+      bytes += static_cast<double>(v.size) * v.components * 8;
+  }
+  return bytes;
+}
+
+// Output cadence: the frames' bytes within output.max_bytes and the disk's free space, and a
+// warning when frames come faster than the stable step (each step then lands on a frame and
+// is shortened to it). Returns the warnings.
+template <int D>
+std::vector<std::string> check_output_cadence(const io::Config& c,
+                                              const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                              Real stable_step_s, const fs::path& out_dir) {
+  std::vector<std::string> warnings;
+  if (!c.output.vtu) return warnings;
+  double frames = std::ceil(c.end_time_s / c.output.interval_s) + 1;
+  if (c.time.max_steps > 0) frames = std::min(frames, static_cast<double>(c.time.max_steps) + 1);
+  const double bytes = frames * frame_bytes(parts);
+  if (bytes > c.output.max_bytes)
+    throw InputError(
+        c.output.interval_where, "output.interval_s",
+        fmt::format("frames of at most output.max_bytes = {:.3g} GB in all; {:.0f} "
+                    "frames of {:.3g} MB each would take {:.3g} GB (raise "
+                    "interval_s, set output.vtu = false, or raise max_bytes)",
+                    c.output.max_bytes / 1e9, frames, frame_bytes(parts) / 1e6, bytes / 1e9));
+  std::error_code ec;
+  fs::path probe = out_dir.empty() ? fs::current_path(ec) : out_dir;
+  while (!probe.empty() && !fs::exists(probe, ec) && probe.has_parent_path() &&
+         probe != probe.parent_path())
+    probe = probe.parent_path();
+  const auto space = fs::space(probe.empty() ? fs::path(".") : probe, ec);
+  if (!ec && bytes > static_cast<double>(space.available))
+    warnings.push_back(
+        fmt::format("the VTU frames will take about {:.3g} GB and {} has {:.3g} "
+                    "GB free",
+                    bytes / 1e9, probe.string(), static_cast<double>(space.available) / 1e9));
+  if (c.output.interval_s < stable_step_s)
+    warnings.push_back(fmt::format(
+        "output.interval_s = {:.4g} s is below the stable step {:.4g} s: every step ends on a "
+        "frame and is shortened to the interval ({:.3g} times as many steps)",
+        c.output.interval_s, stable_step_s, stable_step_s / c.output.interval_s));
+  return warnings;
+}
+
+// A run of more steps than any machine takes (end_time_s / step above 1e10, and no
+// time.max_steps) is a mistake in the end time or the step, refused before any work.
+void check_step_count(const io::Config& c, Real step_s) {
+  constexpr double kMaxSteps = 1e10;
+  const Real dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : step_s;
+  if (c.time.max_steps > 0 || !(dt > 0)) return;
+  const double steps = c.end_time_s / dt;
+  if (steps > kMaxSteps)
+    throw InputError(c.time.fixed_dt_s ? c.time.fixed_dt_where : SourceLocation{c.file, 0, 0},
+                     "scenario.end_time_s",
+                     fmt::format("a run of at most {:.0e} steps; end_time_s = {:.4g} s at a step "
+                                 "of {:.4g} s takes {:.3g} (shorten end_time_s, or set "
+                                 "time.max_steps to run a part of it)",
+                                 kMaxSteps, c.end_time_s, dt, steps));
+}
+
+template <int D>
+void write_checkpoint(const io::Config& c, io::RunManifest& manifest, const LoopState& st,
                       const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts,
                       const Probes<D>& probes) {
   io::StateWriter w;
@@ -426,7 +566,8 @@ void write_checkpoint(const io::Config& c, const fs::path& dir, const LoopState&
     p->save_state(w);
   }
   probes.save(w);
-  const fs::path cdir = dir / "checkpoints";
+  manifest.record("checkpoints/");
+  const fs::path cdir = manifest.dir() / "checkpoints";
   fs::create_directories(cdir);
   io::write_checkpoint(cdir / fmt::format("step_{:012d}.ckpt", st.steps),
                        {D, c.hash, static_cast<std::int64_t>(st.steps), st.t}, w.bytes());
@@ -443,6 +584,70 @@ void write_checkpoint(const io::Config& c, const fs::path& dir, const LoopState&
     fs::remove(files[k]);
 }
 
+// The run directory a checkpoint belongs to: <dir>/checkpoints/<file>.
+fs::path run_dir_of_checkpoint(const fs::path& checkpoint) {
+  return checkpoint.parent_path().parent_path();
+}
+
+bool same_directory(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  const bool same = fs::equivalent(a.empty() ? "." : a, b.empty() ? "." : b, ec);
+  return !ec && same;
+}
+
+// A run continued into another directory (--restart FILE --out DIR): the frames written
+// before the checkpoint are linked (or copied) there, so that the PVD files list them; a
+// frame that is missing is dropped from its collection with a warning.
+void carry_frames(const fs::path& from, io::RunManifest& manifest,
+                  std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
+  for (auto& entries : pvd) {
+    std::vector<std::pair<Real, std::string>> kept;
+    for (auto& [t, file] : entries) {
+      std::error_code ec;
+      const fs::path src = from / file, dst = manifest.dir() / file;
+      manifest.record(file);
+      fs::remove(dst, ec);
+      fs::create_hard_link(src, dst, ec);
+      if (ec) fs::copy_file(src, dst, fs::copy_options::overwrite_existing, ec);
+      if (ec) {
+        spdlog::warn("frame {} of the checkpoint's run is not carried over: {}", src.string(),
+                     ec.message());
+        continue;
+      }
+      kept.emplace_back(t, std::move(file));
+    }
+    entries = std::move(kept);
+  }
+}
+
+// history.csv as the checkpoint saw it (its first `bytes` bytes), from the run directory the
+// checkpoint belongs to. When that is another directory and its history is gone, the new
+// history starts at the checkpoint's step (a warning says so).
+std::string history_at_checkpoint(const RunOptions& opt, const fs::path& from, std::uint64_t bytes,
+                                  bool same_dir) {
+  std::string history;
+  std::error_code ec;
+  if (fs::exists(from / "history.csv", ec)) {
+    // Only what the checkpoint saw is read (the file may have grown long since).
+    io::require_own_file(from / "history.csv", same_dir ? "--resume" : "--restart",
+                         std::numeric_limits<std::uintmax_t>::max());
+    std::ifstream in(from / "history.csv", std::ios::binary);
+    history.resize(static_cast<std::size_t>(bytes));
+    in.read(history.data(), static_cast<std::streamsize>(bytes));
+    history.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  }
+  if (history.size() == bytes) return history;
+  if (same_dir || history.size() > 0)
+    throw InputError({(from / "history.csv").string(), 0, 0}, same_dir ? "--resume" : "--restart",
+                     fmt::format("the run's history.csv as the checkpoint saw it ({} bytes); it "
+                                 "has {} (continue into the directory the run wrote, or from "
+                                 "a checkpoint of this run)",
+                                 bytes, history.size()));
+  spdlog::warn("{} has no history.csv: {} starts its history at the checkpoint's step",
+               from.string(), (opt.out_dir / "history.csv").string());
+  return {};
+}
+
 template <int D>
 RunResult run(const io::Config& c, const RunOptions& opt) {
   const auto wall_start = std::chrono::steady_clock::now();
@@ -451,6 +656,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   contact::Coupling<D> coupling(c, parts);
   Probes<D> probes(c, parts);  // the initial ground surface: before any step or resume
   LoopState st;
+  std::unique_ptr<io::RunManifest> manifest;
   std::unique_ptr<Outputs<D>> outp;
   const bool resume = !opt.restart.empty();
   if (resume) {
@@ -474,29 +680,37 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     }
     probes.load(rd);
     if (!rd.done()) rd.fail("it holds more than this scenario's state");
-    std::string history;
-    {
-      std::ifstream in(opt.out_dir / "history.csv", std::ios::binary);
-      history.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    const fs::path from = run_dir_of_checkpoint(opt.restart);
+    const bool same_dir = same_directory(from, opt.out_dir);
+    std::string history = history_at_checkpoint(opt, from, history_bytes, same_dir);
+    if (!same_dir) io::prepare_new_run_directory(opt.out_dir, opt.force);
+    manifest = std::make_unique<io::RunManifest>(opt.out_dir);
+    if (!same_dir) {
+      carry_frames(from, *manifest, pvd);
+      io::write_run_command(opt.out_dir, opt.command);
     }
-    if (history.size() < history_bytes)
-      throw InputError({(opt.out_dir / "history.csv").string(), 0, 0}, "--resume",
-                       fmt::format("the run's history.csv as the checkpoint saw it ({} bytes); "
-                                   "it has {} (resume into the directory the run wrote)",
-                                   history_bytes, history.size()));
-    history.resize(history_bytes);
+    manifest->record(io::kCommandName);
+    const bool fresh_history = history.empty();
     outp = std::make_unique<Outputs<D>>(
-        c, opt.out_dir, parts, history_columns(parts, coupling, probes), std::move(history));
+        c, *manifest, parts, history_columns(parts, coupling, probes), std::move(history));
+    if (fresh_history) outp->flush();
     outp->restore_pvd(std::move(pvd));
     spdlog::info("resumed from {} at step {}, t = {:.6g} s", opt.restart.string(), st.steps, st.t);
   } else {
     for (auto& p : parts)
       p->compute_forces(st.t);  // rates and sound speeds of the initial state
     coupling.apply(parts, 0);
-    check_fixed_step(c, smallest_stable_step(parts, &coupling, Real(1)));
-    prepare_out_dir(opt.out_dir, opt.force);
-    outp = std::make_unique<Outputs<D>>(c, opt.out_dir, parts,
-                                        history_columns(parts, coupling, probes));
+    const StepLimit<D> lim = smallest_stable_step(parts, &coupling, Real(1));
+    check_fixed_step(c, lim);
+    check_step_count(c, lim.allowed_s);
+    for (const auto& w : check_output_cadence(c, parts, lim.allowed_s, opt.out_dir))
+      spdlog::warn("{}", w);
+    io::prepare_new_run_directory(opt.out_dir, opt.force);
+    manifest = std::make_unique<io::RunManifest>(opt.out_dir);
+    manifest->record(io::kCommandName);
+    io::write_run_command(opt.out_dir, opt.command);
+    outp =
+        std::make_unique<Outputs<D>>(c, *manifest, parts, history_columns(parts, coupling, probes));
   }
   Outputs<D>& out = *outp;
   for (const auto& w : c.warnings)
@@ -508,11 +722,22 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
 
   Real& t = st.t;
   Energies e;
+  auto summary = [&](const std::string& status, const std::string& message,
+                     const std::vector<Diagnostic>& metrics = {}) {
+    const Energies now = sum_energies(parts);
+    EnergyTrack track = st.track;  // a copy: the scale it keeps must not move between rows
+    const Real err = status == "failed" ? st.err : track.error(now);
+    write_summary(c,
+                  SummaryInputs{*manifest, opt.command, r, st.dt_min, st.dt_max, st.e0, now, err},
+                  parts, status, message, &coupling, metrics);
+  };
   if (!resume) {
     const std::vector<Energies> per = part_energies(parts);
     st.e0 = sum_energies(per);
     st.track = EnergyTrack{total_energy(st.e0), 0};
     st.err = st.track.error(st.e0);
+    for (const Energies& x : per)
+      st.part_total0_j.push_back(total_energy(x));
     out.frame(parts, t, "000000");
     out.history(0, t, 0, st.e0, total_energy(st.e0), st.err,
                 history_values(per, coupling, probes, parts));
@@ -521,6 +746,9 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   e = st.e0;
   r.steps = st.steps;
   r.first_step = st.steps;
+  // A summary from the start (status "running"), brought up to date at every checkpoint: a run
+  // that is killed or runs out of disk still leaves one for `crater report` and --resume.
+  summary("running", "");
   Progress progress(c.end_time_s, opt.quiet, st.steps, t);
   const Real t_eps = 1e-12 * c.end_time_s;
   auto elapsed = [&] {
@@ -528,6 +756,12 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
   };
   double last_checkpoint_s = 0;
   const double loop_start_s = elapsed();
+  set_activity(Activity::TimeLoop);  // an allocation that fails from here on exits 3 (main.cpp)
+  auto stamp = [&] {
+    r.time_s = t;
+    r.wall_s = elapsed();
+    r.loop_s = r.wall_s - loop_start_s;
+  };
 
   try {
     while (t < c.end_time_s - t_eps && (c.time.max_steps == 0 || r.steps < c.time.max_steps)) {
@@ -581,6 +815,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
         st.err = st.track.error(e);
         out.history(r.steps, t, dt, e, total_energy(e), st.err,
                     history_values(per, coupling, probes, parts));
+        guard_energy(c, st, per, parts);
       }
       if (at_frame) {
         out.frame(parts, t, fmt::format("{:06d}", st.frame));
@@ -597,19 +832,16 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
            elapsed() - last_checkpoint_s >= c.output.checkpoint_every_s);
       if ((due || sig != 0) && !last) {
         out.flush();
-        write_checkpoint<D>(c, opt.out_dir, st, out, parts, probes);
+        write_checkpoint<D>(c, *manifest, st, out, parts, probes);
+        stamp();
+        if (sig == 0) summary("running", "");
         last_checkpoint_s = elapsed();
       }
       if (sig != 0 && !last) {
-        r.time_s = t;
-        r.wall_s = elapsed();
-        r.loop_s = r.wall_s - loop_start_s;
-        e = sum_energies(parts);
-        write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
-                      "interrupted",
-                      fmt::format("stopped by signal {} at step {}; resume with --resume {}", sig,
-                                  r.steps, opt.out_dir.string()),
-                      &coupling);
+        stamp();
+        summary("interrupted", fmt::format("stopped by signal {} at step {}; resume with: crater "
+                                           "run --resume {}",
+                                           sig, r.steps, opt.out_dir.string()));
         throw Interrupted(sig, r.steps, t);
       }
     }
@@ -617,22 +849,30 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     // The state now in memory is the last one whose forces were finite: write it for the
     // user to look at (<part>_failure.vtu), with the history so far and a failed summary.
     out.frame(parts, t, "failure");
-    r.time_s = t;
-    r.wall_s = elapsed();
-    r.loop_s = r.wall_s - loop_start_s;
+    stamp();
     out.flush();
-    write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, sum_energies(parts),
-                  st.err, "failed", ne.what(), &coupling);
+    summary("failed", ne.what());
+    throw;
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const std::exception& ex) {
+    // A write that failed (a full disk): the summary says so when there is room for it; the
+    // newest complete checkpoint is where --resume continues from.
+    stamp();
+    try {
+      summary("failed", std::string(ex.what()) + "; resume with: crater run --resume " +
+                            opt.out_dir.string());
+    } catch (const std::exception&) {
+      // No room even for the summary: the one of the last checkpoint stays.
+    }
     throw;
   }
-  r.time_s = t;
-  r.wall_s = elapsed();
-  r.loop_s = r.wall_s - loop_start_s;
+  stamp();
   progress.finish(r.steps, t, st.dt);
-  e = sum_energies(parts);
   out.flush();
-  write_summary(c, opt.out_dir, parts, r, st.dt_min, st.dt_max, st.e0, e, st.track.error(e),
-                "completed", "", &coupling, probes.finish(parts, opt.out_dir));
+  std::vector<Diagnostic> metrics = probes.finish(parts, opt.out_dir);
+  if (fs::exists(opt.out_dir / "surface_profile.csv")) manifest->record("surface_profile.csv");
+  summary("completed", "", metrics);
   return r;
 }
 
@@ -649,17 +889,25 @@ std::vector<PartReport> check(const io::Config& c) {
     const StableStep s = coupling.stable_step(parts);
     reports.push_back({"contacts", "contact", static_cast<Index>(c.contacts.size()), 0, s});
   }
-  check_fixed_step(c, smallest_stable_step(parts, &coupling, Real(1)));
+  const StepLimit<D> lim = smallest_stable_step(parts, &coupling, Real(1));
+  check_fixed_step(c, lim);
+  check_step_count(c, lim.allowed_s);
+  for (const auto& w : check_output_cadence(c, parts, lim.allowed_s, {}))
+    spdlog::warn("{}", w);
   return reports;
 }
 
 }  // namespace
 
 std::vector<PartReport> check_scenario(const io::Config& config) {
+  set_activity(Activity::Setup);
+  require_memory(config);  // before any part is built
   return config.dimension == 2 ? check<2>(config) : check<3>(config);
 }
 
 RunResult run_scenario(const io::Config& config, const RunOptions& options) {
+  set_activity(Activity::Setup);
+  require_memory(config);  // before any part is built or the run directory touched
   return config.dimension == 2 ? run<2>(config, options) : run<3>(config, options);
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "io/output/run_directory.hpp"
 #include "io/scenario/config.hpp"
 #include "solver/part.hpp"
 
@@ -23,6 +24,7 @@ struct RunOptions {
   bool force = false;             // overwrite a run directory that already holds a run
   bool quiet = false;             // no progress output (tests)
   std::filesystem::path restart;  // a checkpoint to continue from (empty: start at t = 0)
+  io::RunCommand command;         // how the run was started (crater-command.toml, summary.json)
 };
 
 /// Stable step of one part, as `crater check` prints it.

@@ -1,5 +1,8 @@
 """Helpers for crater's Python tests (run by Debian's /usr/bin/python3).
 
+VTK comes from `vtkmodules` (not `import vtk`, which loads every VTK module): Debian's
+python3-vtk9 and ParaView's python3-paraview both provide it (tools/setup-deps.sh).
+
 The environment (set by CTest, see tests/CMakeLists.txt):
   CRATER_BIN         path of the crater binary
   CRATER_SOURCE_DIR  repository root
@@ -15,6 +18,9 @@ from pathlib import Path
 BIN = os.environ.get("CRATER_BIN", "build/release/bin/crater")
 SOURCE_DIR = Path(os.environ.get("CRATER_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 TMP = Path(os.environ.get("CRATER_TEST_TMP", tempfile.gettempdir()))
+
+
+COMMAND_FILE = "crater-command.toml"  # a run's command line, recorded in its directory
 
 
 def scratch(name):
@@ -86,6 +92,8 @@ def assert_bit_identical_runs(scenario, work_dir, sets=(), threads=(1, 2)):
             raise AssertionError(f"different file sets: {names} vs {other_names}")
         for n in names:
             a, b = ref / n, other / n
+            if n == COMMAND_FILE:
+                continue  # how each run was started (--threads, --out): differs by design
             if n == "summary.json":
                 if summary_without_run_block(a) != summary_without_run_block(b):
                     raise AssertionError(f"{n} differs between {ref.name} and {other.name}")
@@ -96,10 +104,10 @@ def assert_bit_identical_runs(scenario, work_dir, sets=(), threads=(1, 2)):
 
 def read_vtu(path):
     """Reads a .vtu with VTK's own XML reader; returns (points Nx3, {name: array}, n_cells)."""
-    import vtk
-    from vtk.util.numpy_support import vtk_to_numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader = vtkXMLUnstructuredGridReader()
     reader.SetFileName(str(path))
     reader.Update()
     if reader.GetErrorCode() != 0:
@@ -117,10 +125,10 @@ def read_vtu(path):
 
 def read_vtu_cells(path):
     """Cell data of a .vtu read with VTK's own XML reader: {name: array}."""
-    import vtk
-    from vtk.util.numpy_support import vtk_to_numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
-    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader = vtkXMLUnstructuredGridReader()
     reader.SetFileName(str(path))
     reader.Update()
     if reader.GetErrorCode() != 0:
@@ -132,9 +140,9 @@ def read_vtu_cells(path):
 def read_pvd(path):
     """Reads a .pvd (ParaView collection) with VTK's own XML parser; returns [(time, file)].
     VTK 9.1 has no PVD reader class (it is ParaView's); vtkXMLUtilities parses VTK XML files."""
-    import vtk
+    from vtkmodules.vtkIOXMLParser import vtkXMLUtilities
 
-    root = vtk.vtkXMLUtilities.ReadElementFromFile(str(path))
+    root = vtkXMLUtilities.ReadElementFromFile(str(path))
     if root is None or root.GetName() != "VTKFile" or root.GetAttribute("type") != "Collection":
         raise AssertionError(f"{path} is not a VTK Collection file")
     coll = root.FindNestedElementWithName("Collection")

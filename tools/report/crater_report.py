@@ -814,6 +814,10 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
     if run:
         rows.append(("wall time", f"{fmt_value(as_float(run.get('wall_time_s')), 4)} s on "
                                   f"{fmt_value(run.get('threads'))} thread(s)"))
+        cmd = run.get("command") if isinstance(run.get("command"), dict) else {}
+        argv = cmd.get("argv") if isinstance(cmd.get("argv"), list) else []
+        if argv:
+            rows.append(("command", "`" + md_escape(" ".join(str(a) for a in argv)) + "`"))
     lines += ["| | |", "| --- | --- |"] + [f"| {k} | {v} |" for k, v in rows] + [""]
 
     lines += ["## Parts", "",

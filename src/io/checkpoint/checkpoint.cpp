@@ -9,6 +9,7 @@
 #include <iterator>
 
 #include "core/hash.hpp"
+#include "io/file_kind.hpp"
 #include "io/output/atomic_file.hpp"
 
 namespace crater::io {
@@ -29,10 +30,16 @@ CheckpointHeader read_checkpoint(const std::filesystem::path& path, std::string&
   auto refuse = [&](const std::string& why) {
     throw InputError({path.string(), 0, 0}, "checkpoint", "a checkpoint crater can use; " + why);
   };
+  // Nothing is read from a FIFO or a device, and nothing the size of the payload is allocated
+  // before the file's size and checksum agree with its header: a hostile file is refused
+  // with the memory of a small buffer.
+  if (const std::string kind = not_a_regular_file(path); !kind.empty()) refuse("it " + kind);
   std::ifstream in(path, std::ios::binary);
   if (!in) refuse("the file cannot be opened");
   std::string line;
-  if (!std::getline(in, line) || line.size() > 512) refuse("no checkpoint header");
+  for (char ch; line.size() <= 512 && in.get(ch) && ch != '\n';)
+    line.push_back(ch);
+  if (!in || line.size() > 512) refuse("not a crater checkpoint (no header line)");
   CheckpointHeader h;
   char hash[64] = {0};
   long long step = 0;
@@ -50,11 +57,28 @@ CheckpointHeader read_checkpoint(const std::filesystem::path& path, std::string&
   char* end = nullptr;
   h.time_s = std::strtod(time_text, &end);
   if (end == time_text || *end != '\0') refuse("its header is damaged (time)");
-  payload.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (payload.size() != bytes)
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(path, ec);
+  const std::uintmax_t held =
+      ec ? 0 : file_bytes - std::min<std::uintmax_t>(file_bytes, line.size() + 1);
+  if (ec || held != bytes)
     refuse(fmt::format("it holds {} bytes of state, its header says {} (truncated or damaged)",
-                       payload.size(), bytes));
-  if (fnv1a(payload) != sum) refuse("its checksum does not match (the file is damaged)");
+                       held, bytes));
+  std::uint64_t running = fnv1a({});
+  std::vector<char> chunk(1 << 20);
+  const auto start = in.tellg();
+  for (std::uintmax_t left = held; left > 0;) {
+    const auto n = static_cast<std::streamsize>(std::min<std::uintmax_t>(left, chunk.size()));
+    if (!in.read(chunk.data(), n)) refuse("it could not be read to its end");
+    running = fnv1a({chunk.data(), static_cast<std::size_t>(n)}, running);
+    left -= static_cast<std::uintmax_t>(n);
+  }
+  if (running != sum) refuse("its checksum does not match (the file is damaged)");
+  in.clear();
+  in.seekg(start);
+  payload.resize(static_cast<std::size_t>(held));
+  if (held > 0 && !in.read(payload.data(), static_cast<std::streamsize>(held)))
+    refuse("it could not be read to its end");
   return h;
 }
 
@@ -66,6 +90,7 @@ std::filesystem::path newest_checkpoint(const std::filesystem::path& run_dir) {
     if (e.path().extension() == ".ckpt") files.push_back(e.path());
   // Names carry the zero-padded step: the newest sorts last.
   std::sort(files.begin(), files.end());
+  std::string skipped;
   for (auto it = files.rbegin(); it != files.rend(); ++it) {
     std::string payload;
     try {
@@ -73,11 +98,16 @@ std::filesystem::path newest_checkpoint(const std::filesystem::path& run_dir) {
       return *it;
     } catch (const InputError& e) {
       spdlog::warn("skipping {}: {}", it->string(), e.what());
+      if (skipped.size() < 2000) skipped += std::string("\n  ") + e.what();
     }
   }
   throw InputError({run_dir.string(), 0, 0}, "--resume",
-                   "a run directory with a usable checkpoint in checkpoints/ (none found; set "
-                   "[output] checkpoint_every_steps or checkpoint_every_s)");
+                   files.empty() ? "a run directory with a usable checkpoint in checkpoints/ (none "
+                                   "found; set [output] checkpoint_every_steps or "
+                                   "checkpoint_every_s)"
+                                 : "a run directory with a usable checkpoint in checkpoints/; "
+                                   "none of its checkpoints can be used:" +
+                                       skipped);
 }
 
 }  // namespace crater::io

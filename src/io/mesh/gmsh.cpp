@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "io/file_kind.hpp"
 
 namespace crater::io {
 namespace {
@@ -689,8 +690,9 @@ GmshMesh parse_gmsh(std::string_view text, const std::string& source_name) {
 GmshMesh read_gmsh(const std::filesystem::path& file) {
   const SourceLocation where{file.string(), 0, 0};
   std::error_code ec;
-  if (std::filesystem::is_directory(file, ec))
-    throw InputError(where, "", "the mesh file is a directory");
+  // Only a regular file has a size to read up to: a FIFO would block, /dev/zero never end.
+  if (const std::string kind = not_a_regular_file(file); !kind.empty())
+    throw InputError(where, "", "expected a Gmsh .msh file; '" + file.string() + "' " + kind);
   const std::uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec) throw InputError(where, "", "cannot read the mesh file: " + ec.message());
   if (size > kMaxTextBytes)

@@ -26,6 +26,10 @@ struct TimeConfig {
   std::optional<Real> fixed_dt_s;
   SourceLocation fixed_dt_where;  // for the "step above the stable limit" error
   Index max_steps = 0;            // 0: no limit
+  // The energy guard: relative balance errors (history.csv energy_error) at which the run
+  // warns once and at which it stops (exit 3); 0 turns either off.
+  Real energy_warn_error = 0.02;
+  Real energy_stop_error = 0.2;
 };
 
 enum class VtuEncoding { Appended, Base64 };
@@ -36,8 +40,12 @@ struct OutputConfig {
   bool vtu = true;
   VtuEncoding vtu_encoding = VtuEncoding::Appended;
   Index checkpoint_every_steps = 0;  // 0: not by step count
-  Real checkpoint_every_s = 900;     // wall-clock seconds; 0: not by time
+  Real checkpoint_every_s = 120;     // wall-clock seconds; 0: not by time
   Index checkpoint_keep = 2;         // newest checkpoints kept in <out>/checkpoints
+  Index max_frames = 10000;          // more VTU frames than this is an input error
+  Real max_bytes = 50e9;             // VTU bytes the run may write in all
+  Real memory_limit_fraction = 0.8;  // of the available memory the run's estimate may take
+  SourceLocation interval_where;     // for the cadence errors
 };
 
 /// What happens to a particle (SPH or DEM) that leaves the domain box: the run stops (exit 3),
@@ -249,6 +257,13 @@ struct PartConfig {
   FemConfig fem;
   std::vector<DetonationPoint> detonations;
   SourceLocation where;
+  // Size estimated when the scenario is loaded, before anything is built (the memory check of
+  // solver/memory_estimate.hpp): particles, grains or elements, no-slip wall particles (sph),
+  // and the key that sets the count (e.g. "parts.soil.spacing_m") with its place in the input.
+  Real estimated_count = 0;
+  Real estimated_wall_count = 0;
+  std::string resolution_key;
+  SourceLocation resolution_where;
 };
 
 /// A contact between two parts ([[contacts]]): penalty forces, equal and opposite.

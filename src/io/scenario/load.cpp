@@ -11,8 +11,10 @@
 #include <sstream>
 
 #include "fem/fem_mesh_source.hpp"
+#include "io/file_kind.hpp"
 #include "io/mesh/gmsh.hpp"
 #include "io/scenario/schema.hpp"
+#include "io/scenario/size_estimate.hpp"
 #include "io/scenario/validate.hpp"
 
 namespace crater::io {
@@ -196,6 +198,15 @@ Real distance_to_box(const Vec3& p, const Aabb& b, int dim) {
   return std::sqrt(s);
 }
 
+// Distance from p to a region (0 inside or on its boundary).
+Real distance_to_region(const Vec3& p, const RegionConfig& r, int dim) {
+  if (r.type == RegionType::Box) return distance_to_box(p, bounds(r, dim), dim);
+  Real s = 0;
+  for (int d = 0; d < dim; ++d)
+    s += (p[d] - r.center_m[d]) * (p[d] - r.center_m[d]);
+  return std::max(0.0, std::sqrt(s) - r.radius_m);
+}
+
 // True when the two regions share a volume of positive measure (touching is allowed).
 bool overlap(const RegionConfig& a, const RegionConfig& b, int dim) {
   const bool a_box = a.type == RegionType::Box, b_box = b.type == RegionType::Box;
@@ -221,6 +232,13 @@ std::string vec_text(const Vec3& v, int dim) {
                   : fmt::format("({}, {}, {})", v[0], v[1], v[2]);
 }
 
+std::string region_text(const RegionConfig& r, int dim) {
+  if (r.type == RegionType::Box)
+    return fmt::format("box {} .. {}", vec_text(r.min_m, dim), vec_text(r.max_m, dim));
+  return fmt::format("{} of radius {} m about {}", r.type == RegionType::Disk ? "disk" : "sphere",
+                     r.radius_m, vec_text(r.center_m, dim));
+}
+
 class Builder {
  public:
   Builder(toml::table& root, std::string file) : root_(root), file_(std::move(file)) {}
@@ -241,6 +259,12 @@ class Builder {
     c.time.fixed_dt_s = opt_num(tt, "fixed_dt_s");
     c.time.fixed_dt_where = loc(tt, "fixed_dt_s", top);
     c.time.max_steps = tt.get("max_steps")->as_integer()->get();
+    c.time.energy_warn_error = num(tt, "energy_warn_error");
+    c.time.energy_stop_error = num(tt, "energy_stop_error");
+    if (c.time.energy_stop_error > 0 && c.time.energy_warn_error > c.time.energy_stop_error)
+      error(loc(tt, "energy_warn_error", top), "time.energy_warn_error",
+            fmt::format("expected at most time.energy_stop_error = {}, got {}",
+                        c.time.energy_stop_error, c.time.energy_warn_error));
 
     const auto& ot = table(root_, "output");
     c.output.interval_s = opt_num(ot, "interval_s").value_or(c.end_time_s / 20);
@@ -249,6 +273,11 @@ class Builder {
     c.output.checkpoint_every_steps = ot.get("checkpoint_every_steps")->as_integer()->get();
     c.output.checkpoint_every_s = num(ot, "checkpoint_every_s");
     c.output.checkpoint_keep = ot.get("checkpoint_keep")->as_integer()->get();
+    c.output.max_frames = ot.get("max_frames")->as_integer()->get();
+    c.output.max_bytes = num(ot, "max_bytes");
+    c.output.memory_limit_fraction = num(ot, "memory_limit_fraction");
+    c.output.interval_where = loc(ot, "interval_s", top);
+    check_frame_count(c);
     c.output.vtu_encoding =
         str(ot, "vtu_encoding") == "base64" ? VtuEncoding::Base64 : VtuEncoding::Appended;
     if (c.output.interval_s > c.end_time_s)
@@ -275,6 +304,10 @@ class Builder {
     read_parts(c, top);
     read_contacts(c, top);
     read_probes(c, top);
+    if (suppressed_ > 0)
+      errors_.emplace_back(
+          SourceLocation{file_, 0, 0}, "",
+          fmt::format("{} more errors not shown ({} are listed)", suppressed_, kMaxErrors));
     if (!errors_.empty()) throw InputErrors(std::move(errors_));
     for (auto& wmsg : c_warnings_)
       c.warnings.push_back(std::move(wmsg));
@@ -282,7 +315,12 @@ class Builder {
   }
 
  private:
+  // At most kMaxErrors are kept (20,000 overlapping parts make 2e8 messages otherwise).
   void error(const SourceLocation& w, const std::string& key, const std::string& what) {
+    if (errors_.size() >= kMaxErrors) {
+      ++suppressed_;
+      return;
+    }
     errors_.emplace_back(w, key, what);
   }
 
@@ -587,10 +625,34 @@ class Builder {
     // Bodies must not overlap (e.g. the plate "at 0.5 m depth" read as its top face).
     for (std::size_t a = 0; a < c.parts.size(); ++a)
       for (std::size_t b = a + 1; b < c.parts.size(); ++b)
-        if (!carves(a, b) && !carves(b, a) && overlap(c.parts[a].region, c.parts[b].region, dim))
+        if (!carves(a, b) && !carves(b, a) && overlap(c.parts[a].region, c.parts[b].region, dim)) {
+          if (errors_.size() >= kMaxErrors) {
+            ++suppressed_;  // counted, not formatted: thousands of parts give millions
+            continue;
+          }
           error(c.parts[b].region.where, fmt::format("parts[{}].region", b),
                 fmt::format("bodies overlap: part '{}' intersects part '{}' (line {})",
                             c.parts[b].name, c.parts[a].name, c.parts[a].region.where.line));
+        }
+  }
+
+  // VTU frames: end_time_s / interval_s of them (and the first; at most time.max_steps + 1).
+  // More than output.max_frames is a mistake in the interval (1e-15 s wrote a frame every
+  // step), not a wish.
+  void check_frame_count(const Config& c) {
+    if (!c.output.vtu || !(c.output.interval_s > 0) || !(c.end_time_s > 0)) return;
+    // A step ends on at most one frame: time.max_steps bounds the count as well.
+    Real frames = std::ceil(c.end_time_s / c.output.interval_s) + 1;
+    if (c.time.max_steps > 0) frames = std::min(frames, static_cast<Real>(c.time.max_steps) + 1);
+    if (frames > static_cast<Real>(c.output.max_frames))
+      error(c.output.interval_where, "output.interval_s",
+            fmt::format("expected at most output.max_frames = {} VTU frames over "
+                        "scenario.end_time_s = {} s (an interval of at least {:.4g} s); "
+                        "interval_s = {} s gives {:.4g} frames (raise output.max_frames if "
+                        "that many are wanted)",
+                        c.output.max_frames, c.end_time_s,
+                        c.end_time_s / static_cast<Real>(c.output.max_frames - 1),
+                        c.output.interval_s, frames));
   }
 
   // A zone's own lattice: at least two sites across, and not an absurd count.
@@ -964,9 +1026,12 @@ class Builder {
     const SourceLocation mw = loc(ft, "mesh_file", fw);
     std::error_code ec;
     if (!fs::is_regular_file(f.mesh_file, ec)) {
+      const std::string kind = not_a_regular_file(f.mesh_file);
       error(mw, key + ".fem.mesh_file",
             fmt::format("expected a Gmsh .msh file; '{}' {}", f.mesh_file,
-                        fs::exists(f.mesh_file, ec) ? "is not a file" : "does not exist"));
+                        !kind.empty()                 ? kind
+                        : fs::exists(f.mesh_file, ec) ? "cannot be read"
+                                                      : "does not exist"));
       return;
     }
     try {
@@ -1032,7 +1097,15 @@ class Builder {
                           b.group, f.mesh_file, known.empty() ? "none" : known));
       }
     } catch (const InputError& e) {
-      errors_.push_back(e);
+      // The reader names the file and line of the mesh; the key is the scenario's (the group
+      // when the part names one and the reader found none of its elements).
+      if (!e.key().empty())
+        errors_.push_back(e);
+      else if (!f.mesh_group.empty() &&
+               std::string(e.what()).find("in group '") != std::string::npos)
+        error(loc(ft, "mesh_group", fw), key + ".fem.mesh_group", e.what());
+      else
+        error(e.where(), key + ".fem.mesh_file", e.what());
     }
   }
 
@@ -1310,6 +1383,7 @@ class Builder {
                                 (c.domain.max_m[d] - c.domain.min_m[d]) / p.spacing_m + 2 * layers);
         count += n;
       }
+      p.estimated_wall_count = count;
       if (count > kMaxEntities)
         error(
             loc(st, "walls", w), key + ".sph.walls",
@@ -1330,12 +1404,28 @@ class Builder {
         if (!jwl)
           error(dw, fmt::format("{}.detonation[{}]", key, j),
                 "detonation points need a JWL material (the part's material is not \"jwl\")");
+        bool in_domain = true;
         for (int d = 0; d < dim; ++d)
           if (dp.point_m[d] < c.domain.min_m[d] || dp.point_m[d] > c.domain.max_m[d]) {
             error(loc(dtab, "point_m", dw), fmt::format("{}.detonation[{}].point_m", key, j),
                   "expected a point inside the domain, got " + vec_text(dp.point_m, dim));
+            in_domain = false;
             break;
           }
+        // A point outside the charge lights it only when the front, run through the empty
+        // space between, arrives: late, and from the wrong place. A point on the boundary
+        // (to rounding, relative to the region's size) is a surface initiation and is kept.
+        const Aabb rb = bounds(p.region, dim);
+        Real size = 0;
+        for (int d = 0; d < dim; ++d)
+          size = std::max(size, rb.hi[d] - rb.lo[d]);
+        const Real outside = distance_to_region(dp.point_m, p.region, dim);
+        if (in_domain && size > 0 && outside > 1e-6 * size)
+          error(
+              loc(dtab, "point_m", dw), fmt::format("{}.detonation[{}].point_m", key, j),
+              fmt::format("expected a point inside the charge's region (part '{}': {}; its "
+                          "boundary included); it is at {}, {:.3g} m outside",
+                          p.name, region_text(p.region, dim), vec_text(dp.point_m, dim), outside));
         p.detonations.push_back(dp);
       }
     }
@@ -1343,7 +1433,9 @@ class Builder {
 
   toml::table& root_;
   std::string file_;
+  static constexpr std::size_t kMaxErrors = 100;
   std::vector<InputError> errors_;
+  std::size_t suppressed_ = 0;
   bool domain_ok_ = true;
   std::vector<std::string> c_warnings_;
 };
@@ -1438,6 +1530,7 @@ Config load_table(toml::table root, const std::string& file,
   if (!errors.empty()) throw InputErrors(std::move(errors));
 
   Config c = Builder(root, file).build();
+  estimate_part_sizes(root, c);
   c.level = level;
   for (const auto& l : levels)
     c.levels.push_back({l.name, l.description});
@@ -1484,8 +1577,10 @@ fs::path resolve_scenario(const std::string& path_or_name) {
   std::error_code ec;
   const fs::path p(path_or_name);
   if (fs::exists(p, ec)) {
-    if (!fs::is_regular_file(p, ec))
-      throw InputError({path_or_name, 0, 0}, "", "expected a scenario file, got a directory");
+    const std::string kind = not_a_regular_file(p);
+    if (!kind.empty())
+      throw InputError({path_or_name, 0, 0}, "",
+                       "expected a scenario file (TOML text); '" + path_or_name + "' " + kind);
     return p;
   }
   if (path_or_name.find('/') == std::string::npos) {

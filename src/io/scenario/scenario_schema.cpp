@@ -111,6 +111,18 @@ TableSchema make_time() {
                            KeyType::Integer),
                    0),
           "0"),
+      with_default(at_least(real("energy_warn_error", "1",
+                                 "Energy guard: warn once when the relative energy balance "
+                                 "error (history.csv energy_error, checked at every history "
+                                 "row) exceeds this; 0: never."),
+                            0),
+                   "0.02"),
+      with_default(at_least(real("energy_stop_error", "1",
+                                 "Energy guard: stop the run (exit 3, the last state written, "
+                                 "the part whose energy grew most named) when the relative "
+                                 "energy balance error exceeds this; 0: never."),
+                            0),
+                   "0.2"),
   };
   return t;
 }
@@ -142,12 +154,33 @@ TableSchema make_output() {
                                  "the last one; 0: not by time. SIGINT and SIGTERM always "
                                  "write one."),
                             0),
-                   "900"),
+                   "120"),
       with_default(at_least(of_type(real("checkpoint_keep", "1",
                                          "Newest checkpoints kept; older ones are deleted."),
                                     KeyType::Integer),
                             1),
                    "2"),
+      with_default(at_least(of_type(real("max_frames", "1",
+                                         "Most VTU frames a run may write (end_time_s / "
+                                         "interval_s + 1); more is refused as a likely "
+                                         "mistake in interval_s."),
+                                    KeyType::Integer),
+                            1),
+                   "10000"),
+      with_default(positive(real("max_bytes", "B",
+                                 "Most bytes of VTU frames a run may write (frames x the "
+                                 "size of one frame, known once the parts are built); more is "
+                                 "refused by check and run. The free space of the disk is "
+                                 "checked as well.")),
+                   "50e9"),
+      with_default(at_most(positive(real("memory_limit_fraction", "1",
+                                         "Check and run refuse a scenario whose memory "
+                                         "estimate (printed by `crater check`) exceeds this "
+                                         "fraction of the memory available (MemAvailable, or "
+                                         "the cgroup's limit), naming the parts and keys that "
+                                         "make it too big.")),
+                           1.0),
+                   "0.8"),
   };
   return t;
 }
