@@ -53,7 +53,7 @@ AxialVec<D> moment(const Vec<D>& r, const Vec<D>& f) {
 template <int D>
 struct FacePoint {
   Vec<D> point = Vec<D>::Zero();
-  std::array<Real, solver::kFaceNodes<D>> weight{};
+  std::array<Real, parts::kFaceNodes<D>> weight{};
 };
 
 /// Closest point of triangle (a, b, c) to p, as barycentric weights (Ericson, Real-Time
@@ -90,7 +90,7 @@ inline std::array<Real, 3> closest_on_triangle(const Vec<3>& p, const Vec<3>& a,
 }
 
 template <int D>
-FacePoint<D> closest_on_face(const Vec<D>& p, const std::array<Vec<D>, solver::kFaceNodes<D>>& x) {
+FacePoint<D> closest_on_face(const Vec<D>& p, const std::array<Vec<D>, parts::kFaceNodes<D>>& x) {
   FacePoint<D> fp;
   if constexpr (D == 2) {
     const Vec<D> t = x[1] - x[0];
@@ -115,9 +115,9 @@ FacePoint<D> closest_on_face(const Vec<D>& p, const std::array<Vec<D>, solver::k
   return fp;
 }
 
-/// Outward unit normal of a face (numbering of solver::ContactSurface).
+/// Outward unit normal of a face (numbering of parts::ContactSurface).
 template <int D>
-Vec<D> face_normal(const std::array<Vec<D>, solver::kFaceNodes<D>>& x) {
+Vec<D> face_normal(const std::array<Vec<D>, parts::kFaceNodes<D>>& x) {
   Vec<D> n;
   if constexpr (D == 2) {
     const Vec<D> t = x[1] - x[0];
@@ -170,7 +170,7 @@ Real spring_step(Real k, Real m, Real xi) {
 
 template <int D>
 Coupling<D>::Coupling(const io::Config& config,
-                      const std::vector<std::unique_ptr<solver::Part<D>>>& parts) {
+                      const std::vector<std::unique_ptr<parts::Part<D>>>& parts) {
   for (const auto& c : config.contacts) {
     Pairing p;
     p.config = c;
@@ -201,9 +201,9 @@ Coupling<D>::Coupling(const io::Config& config,
 }
 
 template <int D>
-solver::StableStep Coupling<D>::stable_step(
-    const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const {
-  solver::StableStep best;
+parts::StableStep Coupling<D>::stable_step(
+    const std::vector<std::unique_ptr<parts::Part<D>>>& parts) const {
+  parts::StableStep best;
   best.dt_s = std::numeric_limits<Real>::infinity();
   auto consider = [&](Real dt, Index entity, auto&& reason) {
     if (dt < best.dt_s) {
@@ -217,7 +217,7 @@ solver::StableStep Coupling<D>::stable_step(
       const auto sa = parts[p.points]->contact_surface();
       const auto sb = parts[p.other]->contact_surface();
       if (!sa || !sb || sa->face_stiffness->empty() || sb->face_stiffness->empty()) continue;
-      auto lightest = [](const solver::ContactSurface<D>& surf) {
+      auto lightest = [](const parts::ContactSurface<D>& surf) {
         Real m = std::numeric_limits<Real>::infinity();
         for (const auto& face : *surf.faces)
           for (Index n : face)
@@ -328,8 +328,8 @@ struct Coupling<D>::SurfaceHit {
 
 template <int D>
 std::vector<typename Coupling<D>::SurfaceHit> Coupling<D>::surface_hits(
-    const solver::ContactPoints<D>& pts, const solver::ContactSurface<D>& surf) const {
-  constexpr int kF = solver::kFaceNodes<D>;
+    const parts::ContactPoints<D>& pts, const parts::ContactSurface<D>& surf) const {
+  constexpr int kF = parts::kFaceNodes<D>;
   const auto& xn = *surf.node_position;
   const auto& faces = *surf.faces;
   const Index nf = static_cast<Index>(faces.size());
@@ -399,7 +399,7 @@ std::vector<typename Coupling<D>::SurfaceHit> Coupling<D>::surface_hits(
 
 template <int D>
 std::vector<typename Coupling<D>::ParticlePair> Coupling<D>::particle_pairs(
-    const solver::ContactPoints<D>& a, const solver::ContactPoints<D>& b) const {
+    const parts::ContactPoints<D>& a, const parts::ContactPoints<D>& b) const {
   const Index na = static_cast<Index>(a.position->size());
   const Index nb = static_cast<Index>(b.position->size());
   if (na == 0 || nb == 0) return {};
@@ -433,7 +433,7 @@ std::vector<typename Coupling<D>::ParticlePair> Coupling<D>::particle_pairs(
 
 template <int D>
 void Coupling<D>::measure_load(const Pairing& p,
-                               const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const {
+                               const std::vector<std::unique_ptr<parts::Part<D>>>& parts) const {
   if (p.kind == Kind::SurfaceSurface) {
     const auto sa = parts[p.points]->contact_surface();
     const auto sb = parts[p.other]->contact_surface();
@@ -463,7 +463,7 @@ void Coupling<D>::measure_load(const Pairing& p,
 }
 
 template <int D>
-void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts, Real dt_s) {
+void Coupling<D>::apply(const std::vector<std::unique_ptr<parts::Part<D>>>& parts, Real dt_s) {
   if (pairings_.empty()) return;
   // Forces per part in any contact: per particle, or per node of a surface.
   std::vector<std::vector<Vec<D>>> force(parts.size());
@@ -515,29 +515,29 @@ void Coupling<D>::apply(const std::vector<std::unique_ptr<solver::Part<D>>>& par
 }
 
 template <int D>
-Real Coupling<D>::surface_stiffness(const Pairing& p, const solver::ContactSurface<D>& surf,
+Real Coupling<D>::surface_stiffness(const Pairing& p, const parts::ContactSurface<D>& surf,
                                     Index face) const {
   return p.config.penalty_scale * (*surf.face_stiffness)[at(face)];
 }
 
 template <int D>
-Real Coupling<D>::grain_stiffness(const Pairing& p, const solver::ContactPoints<D>& grains,
+Real Coupling<D>::grain_stiffness(const Pairing& p, const parts::ContactPoints<D>& grains,
                                   Index j) const {
   return p.config.penalty_scale * p.grain_modulus_pa * (D == 3 ? (*grains.radius)[at(j)] : Real(1));
 }
 
 template <int D>
-void Coupling<D>::add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf,
+void Coupling<D>::add_surface_load(const Pairing& p, const parts::ContactSurface<D>& surf,
                                    const SurfaceHit& h) const {
   const Real k = surface_stiffness(p, surf, h.face);
   p.load_points[at(h.particle)] += k;
   const auto& face = (*surf.faces)[at(h.face)];
-  for (int q = 0; q < solver::kFaceNodes<D>; ++q)
+  for (int q = 0; q < parts::kFaceNodes<D>; ++q)
     p.load_other[at(face[at(q)])] += k * h.where.weight[at(q)];
 }
 
 template <int D>
-void Coupling<D>::add_particle_load(const Pairing& p, const solver::ContactPoints<D>& grains,
+void Coupling<D>::add_particle_load(const Pairing& p, const parts::ContactPoints<D>& grains,
                                     const ParticlePair& pp) const {
   const Real k = grain_stiffness(p, grains, pp.b);
   p.load_points[at(pp.a)] += k;
@@ -545,12 +545,12 @@ void Coupling<D>::add_particle_load(const Pairing& p, const solver::ContactPoint
 }
 
 template <int D>
-void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoints<D>& pts,
-                                   const solver::ContactSurface<D>& surf,
+void Coupling<D>::particle_surface(Pairing& p, Real dt, const parts::ContactPoints<D>& pts,
+                                   const parts::ContactSurface<D>& surf,
                                    std::vector<Vec<D>>& f_points,
                                    std::vector<AxialVec<D>>& t_points,
                                    std::vector<Vec<D>>& f_nodes) const {
-  constexpr int kF = solver::kFaceNodes<D>;
+  constexpr int kF = parts::kFaceNodes<D>;
   const auto& faces = *surf.faces;
   const Index np = static_cast<Index>(pts.position->size());
   p.active = 0;
@@ -639,8 +639,8 @@ void Coupling<D>::particle_surface(Pairing& p, Real dt, const solver::ContactPoi
 }
 
 template <int D>
-void Coupling<D>::particle_particle(Pairing& p, const solver::ContactPoints<D>& a,
-                                    const solver::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
+void Coupling<D>::particle_particle(Pairing& p, const parts::ContactPoints<D>& a,
+                                    const parts::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
                                     std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const {
   p.active = 0;
   p.max_overlap_m = 0;
@@ -694,8 +694,8 @@ struct Coupling<D>::NodeHit {
 
 template <int D>
 std::vector<typename Coupling<D>::NodeHit> Coupling<D>::node_hits(
-    const solver::ContactSurface<D>& nodes_of, const solver::ContactSurface<D>& faces_of) const {
-  constexpr int kF = solver::kFaceNodes<D>;
+    const parts::ContactSurface<D>& nodes_of, const parts::ContactSurface<D>& faces_of) const {
+  constexpr int kF = parts::kFaceNodes<D>;
   const auto& xa = *nodes_of.node_position;
   const auto& xb = *faces_of.node_position;
   const auto& faces = *faces_of.faces;
@@ -768,10 +768,10 @@ std::vector<typename Coupling<D>::NodeHit> Coupling<D>::node_hits(
 
 template <int D>
 typename Coupling<D>::NodeSurfaceSums Coupling<D>::node_surface(
-    const Pairing& p, const solver::ContactSurface<D>& a, const solver::ContactSurface<D>& b,
+    const Pairing& p, const parts::ContactSurface<D>& a, const parts::ContactSurface<D>& b,
     const std::vector<NodeHit>& hits, std::vector<Real>& load_a, std::vector<Real>& load_b,
     std::vector<Vec<D>>* f_a, std::vector<Vec<D>>* f_b, Real sign) const {
-  constexpr int kF = solver::kFaceNodes<D>;
+  constexpr int kF = parts::kFaceNodes<D>;
   const auto& faces = *b.faces;
   NodeSurfaceSums sums;
   std::vector<Vec<D>> push(hits.size(), Vec<D>::Zero());
@@ -814,8 +814,8 @@ typename Coupling<D>::NodeSurfaceSums Coupling<D>::node_surface(
 }
 
 template <int D>
-std::vector<solver::Diagnostic> Coupling<D>::diagnostics() const {
-  std::vector<solver::Diagnostic> d;
+std::vector<parts::Diagnostic> Coupling<D>::diagnostics() const {
+  std::vector<parts::Diagnostic> d;
   for (const auto& p : pairings_) {
     d.push_back({"contact_" + p.name + "_pairs", static_cast<Real>(p.active)});
     d.push_back({"contact_" + p.name + "_max_overlap_m", p.max_overlap_m});

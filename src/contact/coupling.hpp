@@ -18,7 +18,7 @@
 //     2 |v_n| dt in one step: its face eroded and the face behind it (an element deeper)
 //     took over; the jump joins the offset. Without this the penalty spring releases energy it
 //     never stored. One offset and the last overlap per particle
-//     (solver::ContactPoints::surface_offset, surface_overlap): a particle meets one solid's
+//     (parts::ContactPoints::surface_offset, surface_overlap): a particle meets one solid's
 //     surface at a time.
 //   surface-surface (fem-fem): penalty node-to-segment, both ways: every node of either part's
 //     surface (with mass) against the faces of the other's. A node x is in contact with a face
@@ -64,7 +64,7 @@
 #include <vector>
 
 #include "io/scenario/config.hpp"
-#include "solver/part.hpp"
+#include "parts/part.hpp"
 
 namespace crater::contact {
 
@@ -72,19 +72,19 @@ template <int D>
 class Coupling {
  public:
   /// The contacts of the scenario between `parts` (built from the same Config).
-  Coupling(const io::Config& config, const std::vector<std::unique_ptr<solver::Part<D>>>& parts);
+  Coupling(const io::Config& config, const std::vector<std::unique_ptr<parts::Part<D>>>& parts);
 
   bool empty() const { return pairings_.empty(); }
 
   /// Smallest stable step over the contacts, with the contact named in `reason`.
-  solver::StableStep stable_step(const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const;
+  parts::StableStep stable_step(const std::vector<std::unique_ptr<parts::Part<D>>>& parts) const;
 
   /// Forces of the current state, handed to every part in a contact (after compute_forces);
   /// dt_s is the step just taken (0 for the initial state).
-  void apply(const std::vector<std::unique_ptr<solver::Part<D>>>& parts, Real dt_s);
+  void apply(const std::vector<std::unique_ptr<parts::Part<D>>>& parts, Real dt_s);
 
   /// Per contact: pairs in contact, deepest overlap and total normal force at the last apply().
-  std::vector<solver::Diagnostic> diagnostics() const;
+  std::vector<parts::Diagnostic> diagnostics() const;
 
   /// history.csv columns: per contact the total force on its second part (the surface, or the
   /// grains) at the last apply(), force_<contact>_x, _y[, _z] [N] (N/m in 2D).
@@ -114,37 +114,37 @@ class Coupling {
   // A particle against a face (particle-surface): which particle and face, where, the normal,
   // the overlap. surface_hits gives the particles that touch a face, ascending.
   struct SurfaceHit;
-  std::vector<SurfaceHit> surface_hits(const solver::ContactPoints<D>& pts,
-                                       const solver::ContactSurface<D>& surf) const;
+  std::vector<SurfaceHit> surface_hits(const parts::ContactPoints<D>& pts,
+                                       const parts::ContactSurface<D>& surf) const;
   // The pairs of overlapping particles (particle-particle), in list order.
   struct ParticlePair {
     Index a = -1, b = -1;
     Real overlap = 0, dist = 0;
     Vec<D> d = Vec<D>::Zero();  // from b's centre to a's
   };
-  std::vector<ParticlePair> particle_pairs(const solver::ContactPoints<D>& a,
-                                           const solver::ContactPoints<D>& b) const;
-  Real surface_stiffness(const Pairing& p, const solver::ContactSurface<D>& surf, Index face) const;
-  Real grain_stiffness(const Pairing& p, const solver::ContactPoints<D>& grains, Index j) const;
-  void add_surface_load(const Pairing& p, const solver::ContactSurface<D>& surf,
+  std::vector<ParticlePair> particle_pairs(const parts::ContactPoints<D>& a,
+                                           const parts::ContactPoints<D>& b) const;
+  Real surface_stiffness(const Pairing& p, const parts::ContactSurface<D>& surf, Index face) const;
+  Real grain_stiffness(const Pairing& p, const parts::ContactPoints<D>& grains, Index j) const;
+  void add_surface_load(const Pairing& p, const parts::ContactSurface<D>& surf,
                         const SurfaceHit& h) const;
-  void add_particle_load(const Pairing& p, const solver::ContactPoints<D>& grains,
+  void add_particle_load(const Pairing& p, const parts::ContactPoints<D>& grains,
                          const ParticlePair& pp) const;
   // Fills p.load_* from the current state (without changing it).
   void measure_load(const Pairing& p,
-                    const std::vector<std::unique_ptr<solver::Part<D>>>& parts) const;
+                    const std::vector<std::unique_ptr<parts::Part<D>>>& parts) const;
 
-  void particle_surface(Pairing& p, Real dt, const solver::ContactPoints<D>& pts,
-                        const solver::ContactSurface<D>& surf, std::vector<Vec<D>>& f_points,
+  void particle_surface(Pairing& p, Real dt, const parts::ContactPoints<D>& pts,
+                        const parts::ContactSurface<D>& surf, std::vector<Vec<D>>& f_points,
                         std::vector<AxialVec<D>>& t_points, std::vector<Vec<D>>& f_nodes) const;
-  void particle_particle(Pairing& p, const solver::ContactPoints<D>& a,
-                         const solver::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
+  void particle_particle(Pairing& p, const parts::ContactPoints<D>& a,
+                         const parts::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
                          std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const;
 
   // A surface node against a face of the other part (surface-surface).
   struct NodeHit;
-  std::vector<NodeHit> node_hits(const solver::ContactSurface<D>& nodes_of,
-                                 const solver::ContactSurface<D>& faces_of) const;
+  std::vector<NodeHit> node_hits(const parts::ContactSurface<D>& nodes_of,
+                                 const parts::ContactSurface<D>& faces_of) const;
   // The loads and forces of one direction (nodes of `a` against faces of `b`); the load sums
   // and forces of a's nodes go to load_a / f_a, of b's face nodes to load_b / f_b.
   // Without forces (f_a null) only the loads are summed. Returns the contact's diagnostics of
@@ -155,8 +155,8 @@ class Coupling {
     Real normal_force_n = 0;
     Vec<D> force_on_other = Vec<D>::Zero();
   };
-  NodeSurfaceSums node_surface(const Pairing& p, const solver::ContactSurface<D>& a,
-                               const solver::ContactSurface<D>& b, const std::vector<NodeHit>& hits,
+  NodeSurfaceSums node_surface(const Pairing& p, const parts::ContactSurface<D>& a,
+                               const parts::ContactSurface<D>& b, const std::vector<NodeHit>& hits,
                                std::vector<Real>& load_a, std::vector<Real>& load_b,
                                std::vector<Vec<D>>* f_a, std::vector<Vec<D>>* f_b, Real sign) const;
 

@@ -159,7 +159,7 @@ bool angular_finite(const AngularVec<D>& w) {
 }
 
 template <int D>
-class DemPart final : public solver::Part<D> {
+class DemPart final : public parts::Part<D> {
  public:
   static constexpr int kMaxContacts = D == 2 ? 12 : 24;
 
@@ -343,8 +343,8 @@ class DemPart final : public solver::Part<D> {
     return parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return m_[i]; });
   }
 
-  solver::StableStep stable_step() const override {
-    solver::StableStep s;
+  parts::StableStep stable_step() const override {
+    parts::StableStep s;
     for (Index i = 0; i < f_.size(); ++i)
       if (r_[i] == r_min_) {
         s.entity_id = id_[i];
@@ -443,36 +443,36 @@ class DemPart final : public solver::Part<D> {
     bonds_broken_ += s.breaks;
   }
 
-  std::optional<solver::Fault> check() const override {
+  std::optional<parts::Fault> check() const override {
     const Index n = f_.size();
     if (overflow_ < n)
-      return solver::Fault{id_[overflow_],
-                           fmt::format("more than {} contacts on one grain: grains overlap far "
-                                       "beyond what the contact law allows (time step too "
-                                       "large or grains placed overlapping)",
-                                       kMaxContacts)};
+      return parts::Fault{id_[overflow_],
+                          fmt::format("more than {} contacts on one grain: grains overlap far "
+                                      "beyond what the contact law allows (time step too "
+                                      "large or grains placed overlapping)",
+                                      kMaxContacts)};
     if (bond_lost_ < n)
-      return solver::Fault{id_[bond_lost_],
-                           fmt::format("a bonded pair separated by more than {} x the largest "
-                                       "radius without the bond breaking: its strength is far "
-                                       "above what its stiffness allows",
-                                       2 * kBondReach)};
+      return parts::Fault{id_[bond_lost_],
+                          fmt::format("a bonded pair separated by more than {} x the largest "
+                                      "radius without the bond breaking: its strength is far "
+                                      "above what its stiffness allows",
+                                      2 * kBondReach)};
     const Index bad = unhealthy_;  // note_health
     if (bad >= n) return std::nullopt;
     const Index i = bad;
     if (!outflow_remove_ && !in_domain(i))
-      return solver::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
-                                               "[domain], add walls or set domain.outflow = "
-                                               "\"remove\"",
-                                               fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
+      return parts::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
+                                              "[domain], add walls or set domain.outflow = "
+                                              "\"remove\"",
+                                              fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
     if (!x_[i].allFinite())
-      return solver::Fault{id_[i], fmt::format("non-finite position x = ({}) m",
-                                               fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
-    return solver::Fault{id_[i], "non-finite force or torque"};
+      return parts::Fault{id_[i], fmt::format("non-finite position x = ({}) m",
+                                              fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
+    return parts::Fault{id_[i], "non-finite force or torque"};
   }
 
-  std::optional<solver::ContactPoints<D>> contact_points() const override {
-    solver::ContactPoints<D> p;
+  std::optional<parts::ContactPoints<D>> contact_points() const override {
+    parts::ContactPoints<D> p;
     p.position = &x_;
     p.velocity = &v_;
     p.mass = &m_;
@@ -589,7 +589,7 @@ class DemPart final : public solver::Part<D> {
     if (outflow_remove_) remove_outflow();
   }
 
-  solver::Energies energies() const override {
+  parts::Energies energies() const override {
     struct KE {
       Real k = 0, e = 0;
       KE& operator+=(const KE& o) {
@@ -602,7 +602,7 @@ class DemPart final : public solver::Part<D> {
       return KE{0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]),
                 elastic_[i]};
     });
-    solver::Energies en;
+    parts::Energies en;
     en.kinetic_j = s.k;
     // Stored in the springs + lost in contacts, minus the work of contacts with other parts.
     en.contact_j = s.e + contact_dissipated_ - contact_work_;
@@ -612,8 +612,8 @@ class DemPart final : public solver::Part<D> {
     return en;
   }
 
-  solver::Geometry<D> geometry() const override {
-    solver::Geometry<D> g;
+  parts::Geometry<D> geometry() const override {
+    parts::Geometry<D> g;
     g.points = &x_;
     return g;
   }
@@ -621,8 +621,8 @@ class DemPart final : public solver::Part<D> {
     return f_.views(kOutput);
   }
 
-  std::vector<solver::Diagnostic> diagnostics() const override {
-    std::vector<solver::Diagnostic> d = diagnostics_;
+  std::vector<parts::Diagnostic> diagnostics() const override {
+    std::vector<parts::Diagnostic> d = diagnostics_;
     if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty())
       d.push_back({"wall_reflections", wall_reflections_});
     if (cfg_.bonds.enabled) {
@@ -1505,7 +1505,7 @@ class DemPart final : public solver::Part<D> {
   }
 
  public:
-  void save_state(io::StateWriter& w) const override {
+  void save_state(parts::StateWriter& w) const override {
     w.tag("dem");
     f_.save(w);
     if (packed_) {
@@ -1539,7 +1539,7 @@ class DemPart final : public solver::Part<D> {
     w.value(left_mass_kg_);
     w.value(left_energy_j_);
   }
-  void load_state(io::StateReader& r) override {
+  void load_state(parts::StateReader& r) override {
     r.tag("dem");
     moved_sq_ = -1;  // measured again at the next force stage
     f_.load(r);
@@ -1622,8 +1622,8 @@ class DemPart final : public solver::Part<D> {
   std::vector<Real>& static_power_;
   std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
   std::vector<AngularVec<D>>& contact_torque_;
-  std::vector<Real>& surface_offset_;   // solver::ContactPoints::surface_offset
-  std::vector<Real>& surface_overlap_;  // solver::ContactPoints::surface_overlap
+  std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
+  std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
   Real contact_work_ = 0;               // work of those forces on the grains [J]
   Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
   bool contact_pending_ = false;        // moved since they were set
@@ -1668,7 +1668,7 @@ class DemPart final : public solver::Part<D> {
   Index bonds_initial_ = 0;
   Real bonds_broken_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
-  std::vector<solver::Diagnostic> diagnostics_;
+  std::vector<parts::Diagnostic> diagnostics_;
   // Grains removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
   // the energy booked with them [J] (eroded_j).
   Index left_count_ = 0;
@@ -1810,8 +1810,8 @@ std::vector<Grain<D>> prepare_packing(const io::Config& c, const io::PartConfig&
 }  // namespace
 
 template <int D>
-std::unique_ptr<solver::Part<D>> make_dem_part(const io::Config& config,
-                                               const io::PartConfig& part) {
+std::unique_ptr<parts::Part<D>> make_dem_part(const io::Config& config,
+                                              const io::PartConfig& part) {
   if (!part.packing.random && !part.packing.settle)
     return std::make_unique<DemPart<D>>(config, part);
   PackingReport report;
@@ -1848,9 +1848,7 @@ std::unique_ptr<solver::Part<D>> make_dem_part(const io::Config& config,
   return p;
 }
 
-template std::unique_ptr<solver::Part<2>> make_dem_part<2>(const io::Config&,
-                                                           const io::PartConfig&);
-template std::unique_ptr<solver::Part<3>> make_dem_part<3>(const io::Config&,
-                                                           const io::PartConfig&);
+template std::unique_ptr<parts::Part<2>> make_dem_part<2>(const io::Config&, const io::PartConfig&);
+template std::unique_ptr<parts::Part<3>> make_dem_part<3>(const io::Config&, const io::PartConfig&);
 
 }  // namespace crater::dem

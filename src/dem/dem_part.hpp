@@ -6,14 +6,13 @@
 #include <memory>
 
 #include "io/scenario/config.hpp"
-#include "solver/part.hpp"
+#include "parts/part.hpp"
 
 namespace crater::dem {
 
 /// Builds the DEM part described by `part`: grains on the region's lattice (radii drawn from
 /// the part's seed) or placed one by one.
 template <int D>
-std::unique_ptr<solver::Part<D>> make_dem_part(const io::Config& config,
-                                               const io::PartConfig& part);
+std::unique_ptr<parts::Part<D>> make_dem_part(const io::Config& config, const io::PartConfig& part);
 
 }  // namespace crater::dem

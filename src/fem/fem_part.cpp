@@ -60,7 +60,7 @@ Real tabulated(const std::vector<Real>& t, const std::vector<Real>& v, Real time
 }
 
 template <int D>
-class FemPart final : public solver::Part<D> {
+class FemPart final : public parts::Part<D> {
  public:
   FemPart(const io::Config& config, const io::PartConfig& pc)
       : name_(pc.name), material_(solid_material(config, pc)) {
@@ -117,8 +117,8 @@ class FemPart final : public solver::Part<D> {
   Index count() const override { return mesh_.element_count() - eroded_count_; }
   Real mass_kg() const override { return total_mass(); }
 
-  solver::StableStep stable_step() const override {
-    solver::StableStep s;
+  parts::StableStep stable_step() const override {
+    parts::StableStep s;
     s.dt_s = last_.stable_dt_s;
     s.entity_id = last_.limiting_element;
     s.reason = "element size / dilatational wave speed (with bulk viscosity)";
@@ -177,20 +177,20 @@ class FemPart final : public solver::Part<D> {
     stale_ = false;
   }
 
-  std::optional<solver::Fault> check() const override {
+  std::optional<parts::Fault> check() const override {
     if (last_.inverted_element >= 0)
-      return solver::Fault{last_.inverted_element,
-                           "element inverted (volume <= 0): the mesh is tangled; lower "
-                           "time.safety_factor or raise the hourglass coefficient"};
+      return parts::Fault{last_.inverted_element,
+                          "element inverted (volume <= 0): the mesh is tangled; lower "
+                          "time.safety_factor or raise the hourglass coefficient"};
     const Index bad = first_index(mesh_.node_count(), [&](Index i) {
       return !acceleration_[at(i)].allFinite() || !mesh_.position[at(i)].allFinite();
     });
     if (bad >= 0)
-      return solver::Fault{bad,
-                           "non-finite position or acceleration at node " + std::to_string(bad)};
+      return parts::Fault{bad,
+                          "non-finite position or acceleration at node " + std::to_string(bad)};
     const Index bad_e = first_index(mesh_.element_count(),
                                     [&](Index e) { return !mesh_.stress[at(e)].allFinite(); });
-    if (bad_e >= 0) return solver::Fault{bad_e, "non-finite stress"};
+    if (bad_e >= 0) return parts::Fault{bad_e, "non-finite stress"};
     return std::nullopt;
   }
 
@@ -217,8 +217,8 @@ class FemPart final : public solver::Part<D> {
     });
   }
 
-  std::optional<solver::ContactSurface<D>> contact_surface() const override {
-    solver::ContactSurface<D> s;
+  std::optional<parts::ContactSurface<D>> contact_surface() const override {
+    parts::ContactSurface<D> s;
     s.node_position = &mesh_.position;
     s.node_velocity = &mesh_.velocity;
     s.node_mass = &mesh_.mass;
@@ -262,7 +262,7 @@ class FemPart final : public solver::Part<D> {
     contact_force_ = force;
   }
 
-  solver::Energies energies() const override {
+  parts::Energies energies() const override {
     struct Sums {
       Real internal = 0, hourglass = 0;
       Sums& operator+=(const Sums& o) {
@@ -275,7 +275,7 @@ class FemPart final : public solver::Part<D> {
       if (mesh_.eroded[at(e)]) return Sums{};
       return Sums{mesh_.internal_energy_j[at(e)], mesh_.hourglass_energy_j[at(e)]};
     });
-    solver::Energies en;
+    parts::Energies en;
     en.kinetic_j = kinetic_energy(mesh_);
     en.internal_j = s.internal;
     en.hourglass_j = s.hourglass;
@@ -286,8 +286,8 @@ class FemPart final : public solver::Part<D> {
     return en;
   }
 
-  solver::Geometry<D> geometry() const override {
-    solver::Geometry<D> g;
+  parts::Geometry<D> geometry() const override {
+    parts::Geometry<D> g;
     g.points = &mesh_.position;
     constexpr int kNodes = kElementNodes<D>;
     const Index ne = mesh_.element_count();
@@ -341,7 +341,7 @@ class FemPart final : public solver::Part<D> {
     return out;
   }
 
-  void save_state(io::StateWriter& w) const override {
+  void save_state(parts::StateWriter& w) const override {
     w.tag("fem");
     w.vector(mesh_.position);
     w.vector(mesh_.velocity);
@@ -375,7 +375,7 @@ class FemPart final : public solver::Part<D> {
     w.value(eroded_count_);
   }
 
-  void load_state(io::StateReader& r) override {
+  void load_state(parts::StateReader& r) override {
     r.tag("fem");
     const std::size_t nn = mesh_.position.size(), ne = mesh_.elements.size();
     auto sized = [&](auto& v, std::size_t n, const char* what) {
@@ -416,7 +416,7 @@ class FemPart final : public solver::Part<D> {
     if (eroded_count_ > 0) rebuild_surface();
   }
 
-  std::vector<solver::Diagnostic> diagnostics() const override {
+  std::vector<parts::Diagnostic> diagnostics() const override {
     return {{"elements", static_cast<Real>(mesh_.element_count())},
             {"nodes", static_cast<Real>(mesh_.node_count())},
             {"eroded_elements", static_cast<Real>(eroded_count_)},
@@ -543,7 +543,7 @@ class FemPart final : public solver::Part<D> {
       bool all = true;
       for (Index n : sf.nodes[f]) {
         all = all && on_face[at(n)];
-        centre += mesh_.reference_position[at(n)] / Real(solver::kFaceNodes<D>);
+        centre += mesh_.reference_position[at(n)] / Real(parts::kFaceNodes<D>);
       }
       if (!all) continue;
       if (l.region) {
@@ -572,7 +572,7 @@ class FemPart final : public solver::Part<D> {
   void pressure_forces(Real t_s) {
     for (auto& f : load_force_)
       f.setZero();
-    constexpr int kF = solver::kFaceNodes<D>;
+    constexpr int kF = parts::kFaceNodes<D>;
     for (const PressureLoad& load : loads_) {
       const Real p = tabulated(load.time_s, load.pressure_pa, t_s);
       if (p == 0) continue;
@@ -659,7 +659,7 @@ class FemPart final : public solver::Part<D> {
   // Pressure loads ([[parts.fem.loads]]) and their nodal forces at the last force evaluation.
   struct PressureLoad {
     std::vector<Real> time_s, pressure_pa;
-    std::vector<std::array<Index, solver::kFaceNodes<D>>> faces;
+    std::vector<std::array<Index, parts::kFaceNodes<D>>> faces;
     std::vector<Index> element;
   };
   std::vector<PressureLoad> loads_;
@@ -674,8 +674,8 @@ class FemPart final : public solver::Part<D> {
   std::vector<Vec<D>> contact_force_;  // from the contacts at the last force evaluation
   bool contact_pending_ = false;       // the nodes moved since the contact forces were set
 
-  // Contact surface (solver::ContactSurface).
-  std::vector<std::array<Index, solver::kFaceNodes<D>>> surface_faces_;
+  // Contact surface (parts::ContactSurface).
+  std::vector<std::array<Index, parts::kFaceNodes<D>>> surface_faces_;
   std::vector<Index> surface_element_;
   std::vector<Real> surface_stiffness_;
   std::uint64_t surface_revision_ = 0;
@@ -700,14 +700,12 @@ class FemPart final : public solver::Part<D> {
 }  // namespace
 
 template <int D>
-std::unique_ptr<solver::Part<D>> make_fem_part(const io::Config& config,
-                                               const io::PartConfig& part) {
+std::unique_ptr<parts::Part<D>> make_fem_part(const io::Config& config,
+                                              const io::PartConfig& part) {
   return std::make_unique<FemPart<D>>(config, part);
 }
 
-template std::unique_ptr<solver::Part<2>> make_fem_part<2>(const io::Config&,
-                                                           const io::PartConfig&);
-template std::unique_ptr<solver::Part<3>> make_fem_part<3>(const io::Config&,
-                                                           const io::PartConfig&);
+template std::unique_ptr<parts::Part<2>> make_fem_part<2>(const io::Config&, const io::PartConfig&);
+template std::unique_ptr<parts::Part<3>> make_fem_part<3>(const io::Config&, const io::PartConfig&);
 
 }  // namespace crater::fem

@@ -27,14 +27,13 @@
 #include <memory>
 
 #include "io/scenario/config.hpp"
-#include "solver/part.hpp"
+#include "parts/part.hpp"
 
 namespace crater::fem {
 
 /// Builds the FEM part described by `part`: a structured mesh of its box region, or the
 /// elements of its mesh file.
 template <int D>
-std::unique_ptr<solver::Part<D>> make_fem_part(const io::Config& config,
-                                               const io::PartConfig& part);
+std::unique_ptr<parts::Part<D>> make_fem_part(const io::Config& config, const io::PartConfig& part);
 
 }  // namespace crater::fem

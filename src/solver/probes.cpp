@@ -421,7 +421,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
 }
 
 template <int D>
-void Probes<D>::save(io::StateWriter& w) const {
+void Probes<D>::save(parts::StateWriter& w) const {
   w.tag("probes");
   w.value(phi_ref_);
   w.vector(surface0_);
@@ -431,7 +431,7 @@ void Probes<D>::save(io::StateWriter& w) const {
 }
 
 template <int D>
-void Probes<D>::load(io::StateReader& r) {
+void Probes<D>::load(parts::StateReader& r) {
   r.tag("probes");
   r.value(phi_ref_);
   r.vector(surface0_);

@@ -37,12 +37,7 @@
 #include <vector>
 
 #include "io/scenario/config.hpp"
-#include "solver/part.hpp"
-
-namespace crater::io {
-class StateWriter;
-class StateReader;
-}  // namespace crater::io
+#include "solver/part_names.hpp"
 
 namespace crater::solver {
 
@@ -66,8 +61,8 @@ class Probes {
   std::vector<Diagnostic> finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
                                  const std::filesystem::path& dir) const;
 
-  void save(io::StateWriter& w) const;
-  void load(io::StateReader& r);
+  void save(parts::StateWriter& w) const;
+  void load(parts::StateReader& r);
 
  private:
   struct Column {

@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "dem/dem_part.hpp"
 #include "fem/fem_part.hpp"
+#include "io/checkpoint/checkpoint.hpp"
 #include "io/output/atomic_file.hpp"
 #include "io/output/json.hpp"
 #include "io/output/run_directory.hpp"
@@ -112,7 +113,7 @@ class Outputs {
     history_bytes_ = history_prefix.size();
   }
 
-  void save(io::StateWriter& w) const {
+  void save(parts::StateWriter& w) const {
     w.tag("outputs");
     w.value(static_cast<std::uint64_t>(history_bytes_));
     w.value(static_cast<std::uint64_t>(pvd_.size()));
@@ -125,7 +126,7 @@ class Outputs {
     }
   }
   /// The PVD entries of a checkpoint; returns the length history.csv had then.
-  static std::uint64_t load_pvd(io::StateReader& r,
+  static std::uint64_t load_pvd(parts::StateReader& r,
                                 std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
     r.tag("outputs");
     const auto bytes = r.value<std::uint64_t>();
@@ -416,7 +417,7 @@ struct LoopState {
   std::vector<Real> part_total0_j;  // each part's total energy at t = 0 (the energy guard)
   std::uint8_t energy_warned = 0;   // the guard's warning was given
 
-  void save(io::StateWriter& w) const {
+  void save(parts::StateWriter& w) const {
     w.tag("loop");
     w.value(t);
     w.value(steps);
@@ -431,7 +432,7 @@ struct LoopState {
     w.vector(part_total0_j);
     w.value(energy_warned);
   }
-  void load(io::StateReader& r) {
+  void load(parts::StateReader& r) {
     r.tag("loop");
     r.value(t);
     r.value(steps);
@@ -556,7 +557,7 @@ template <int D>
 void write_checkpoint(const io::Config& c, io::RunManifest& manifest, const LoopState& st,
                       const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts,
                       const Probes<D>& probes) {
-  io::StateWriter w;
+  parts::StateWriter w;
   st.save(w);
   out.save(w);
   w.tag("parts");
@@ -663,7 +664,7 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
     // Everything is checked before anything in the run directory changes.
     std::string payload;
     const io::CheckpointHeader h = io::read_checkpoint(opt.restart, payload);
-    io::StateReader rd(payload, opt.restart.string());
+    parts::StateReader rd(payload, opt.restart.string());
     if (h.dimension != D || h.scenario_hash != c.hash)
       rd.fail(
           fmt::format("it was written for another scenario (hash {} vs {} of this one, "

@@ -14,7 +14,7 @@
 
 #include "io/output/run_directory.hpp"
 #include "io/scenario/config.hpp"
-#include "solver/part.hpp"
+#include "solver/part_names.hpp"
 
 namespace crater::solver {
 

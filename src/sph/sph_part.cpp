@@ -116,7 +116,7 @@ WallLattice<D> wall_lattice(const io::Config& c, const std::vector<io::Face>& fa
 }
 
 template <int D>
-class SphPart final : public solver::Part<D> {
+class SphPart final : public parts::Part<D> {
  public:
   SphPart(const io::Config& c, const io::PartConfig& pc)
       : name_(pc.name),
@@ -239,10 +239,10 @@ class SphPart final : public solver::Part<D> {
     return parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return m_[i]; });
   }
 
-  solver::StableStep stable_step() const override {
+  parts::StableStep stable_step() const override {
     // Monaghan & Kos (1999): dt = cfl * min(dt_f, dt_cv), dt_f = sqrt(h/|a|),
     // dt_cv = h / (c + max_j |mu_ij|) (max over neighbours, from the force loop).
-    solver::StableStep s;
+    parts::StableStep s;
     s.dt_s = kInf;
     for (Index i = 0; i < f_.size(); ++i) {
       const Real an = a_[i].norm();
@@ -267,7 +267,7 @@ class SphPart final : public solver::Part<D> {
     pair_rates();
   }
 
-  std::optional<solver::Fault> check() const override {
+  std::optional<parts::Fault> check() const override {
     const Index n = f_.size();
     // First offending particle in index order (deterministic).
     Index bad = n;
@@ -290,7 +290,7 @@ class SphPart final : public solver::Part<D> {
     else
       what = fmt::format("non-finite rate or pressure (p = {} Pa, rho = {} kg/m^3, e = {} J/kg)",
                          p_[i], rho_[i], e_[i]);
-    return solver::Fault{id_[i], what};
+    return parts::Fault{id_[i], what};
   }
 
   // Velocity Verlet with predicted rates: density and energy are kicked like the velocity, so
@@ -328,11 +328,11 @@ class SphPart final : public solver::Part<D> {
 
   /// Particles as contacts see them: spheres (disks) of half their volume-equivalent size,
   /// (m / rho)^(1/D) / 2, moving at the predicted velocity.
-  std::optional<solver::ContactPoints<D>> contact_points() const override {
+  std::optional<parts::ContactPoints<D>> contact_points() const override {
     contact_radius_.resize(static_cast<std::size_t>(f_.size()));
     parallel::for_each(
         f_.size(), [&](Index i) { contact_radius_[i] = Real(0.5) * dth_root<D>(m_[i] / rho_[i]); });
-    solver::ContactPoints<D> p;
+    parts::ContactPoints<D> p;
     p.position = &x_;
     p.velocity = &v_;
     p.mass = &m_;
@@ -358,7 +358,7 @@ class SphPart final : public solver::Part<D> {
     });
   }
 
-  solver::Energies energies() const override {
+  parts::Energies energies() const override {
     struct KU {
       Real k = 0, u = 0;
       KU& operator+=(const KU& o) {
@@ -370,7 +370,7 @@ class SphPart final : public solver::Part<D> {
     const KU s = parallel::deterministic_sum<KU>(f_.size(), [&](Index i) {
       return KU{0.5 * m_[i] * v_[i].squaredNorm(), m_[i] * e_[i]};
     });
-    solver::Energies en;
+    parts::Energies en;
     en.kinetic_j = s.k;
     en.internal_j = s.u;
     en.external_work_j = external_work_;
@@ -379,8 +379,8 @@ class SphPart final : public solver::Part<D> {
     return en;
   }
 
-  solver::Geometry<D> geometry() const override {
-    solver::Geometry<D> g;
+  parts::Geometry<D> geometry() const override {
+    parts::Geometry<D> g;
     g.points = &x_;
     return g;
   }
@@ -388,8 +388,8 @@ class SphPart final : public solver::Part<D> {
     return f_.views(kOutput);
   }
 
-  std::vector<solver::Diagnostic> diagnostics() const override {
-    std::vector<solver::Diagnostic> d;
+  std::vector<parts::Diagnostic> diagnostics() const override {
+    std::vector<parts::Diagnostic> d;
     if (has_walls_) {
       d.push_back({"wall_reflections", static_cast<Real>(reflections_)});
       d.push_back({"wall_max_penetration_m", max_penetration_});
@@ -525,7 +525,7 @@ class SphPart final : public solver::Part<D> {
   }
 
  public:
-  void save_state(io::StateWriter& w) const override {
+  void save_state(parts::StateWriter& w) const override {
     w.tag("sph");
     f_.save(w);
     w.value(h_max_);
@@ -541,7 +541,7 @@ class SphPart final : public solver::Part<D> {
     w.value(left_mass_kg_);
     w.value(left_energy_j_);
   }
-  void load_state(io::StateReader& r) override {
+  void load_state(parts::StateReader& r) override {
     r.tag("sph");
     f_.load(r);
     r.value(h_max_);
@@ -862,8 +862,8 @@ class SphPart final : public solver::Part<D> {
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
   std::vector<Vec<D>>& fc_;             // force of the contacts with other parts (in a_ too)
-  std::vector<Real>& surface_offset_;   // solver::ContactPoints::surface_offset
-  std::vector<Real>& surface_overlap_;  // solver::ContactPoints::surface_overlap
+  std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
+  std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
   mutable std::vector<Real> contact_radius_;
   Real contact_work_ = 0;  // work of the contact forces on the part [J]
   Real last_dt_ = 0;
@@ -899,14 +899,12 @@ class SphPart final : public solver::Part<D> {
 }  // namespace
 
 template <int D>
-std::unique_ptr<solver::Part<D>> make_sph_part(const io::Config& config,
-                                               const io::PartConfig& part) {
+std::unique_ptr<parts::Part<D>> make_sph_part(const io::Config& config,
+                                              const io::PartConfig& part) {
   return std::make_unique<SphPart<D>>(config, part);
 }
 
-template std::unique_ptr<solver::Part<2>> make_sph_part<2>(const io::Config&,
-                                                           const io::PartConfig&);
-template std::unique_ptr<solver::Part<3>> make_sph_part<3>(const io::Config&,
-                                                           const io::PartConfig&);
+template std::unique_ptr<parts::Part<2>> make_sph_part<2>(const io::Config&, const io::PartConfig&);
+template std::unique_ptr<parts::Part<3>> make_sph_part<3>(const io::Config&, const io::PartConfig&);
 
 }  // namespace crater::sph

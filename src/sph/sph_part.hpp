@@ -6,13 +6,12 @@
 #include <memory>
 
 #include "io/scenario/config.hpp"
-#include "solver/part.hpp"
+#include "parts/part.hpp"
 
 namespace crater::sph {
 
 /// Builds the SPH part described by `part` (particles on a lattice filling its region).
 template <int D>
-std::unique_ptr<solver::Part<D>> make_sph_part(const io::Config& config,
-                                               const io::PartConfig& part);
+std::unique_ptr<parts::Part<D>> make_sph_part(const io::Config& config, const io::PartConfig& part);
 
 }  // namespace crater::sph

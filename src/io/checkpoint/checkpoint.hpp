@@ -19,84 +19,13 @@
 
 #include "core/error.hpp"
 #include "core/types.hpp"
+#include "parts/state_archive.hpp"
 
 namespace crater::io {
 
-class StateWriter {
- public:
-  /// A named marker; the reader checks it, so a layout change is caught at its first block.
-  void tag(std::string_view name) {
-    value(static_cast<std::uint32_t>(name.size()));
-    bytes_.append(name);
-  }
-  template <class T>
-  void value(const T& v) {
-    bytes_.append(reinterpret_cast<const char*>(&v), sizeof(T));
-  }
-  template <class T>
-  void vector(const std::vector<T>& v) {
-    value(static_cast<std::uint64_t>(v.size()));
-    if (!v.empty()) bytes_.append(reinterpret_cast<const char*>(v.data()), sizeof(T) * v.size());
-  }
-  void string(std::string_view s) {
-    value(static_cast<std::uint64_t>(s.size()));
-    bytes_.append(s);
-  }
-  const std::string& bytes() const { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class StateReader {
- public:
-  StateReader(std::string_view bytes, std::string source)
-      : bytes_(bytes), source_(std::move(source)) {}
-
-  void tag(std::string_view name) {
-    const auto n = value<std::uint32_t>();
-    const std::string_view got = take(n);
-    if (got != name)
-      fail("expected block '" + std::string(name) + "', found '" + std::string(got) +
-           "' (written by another version of crater or for another scenario)");
-  }
-  template <class T>
-  T value() {
-    T v;
-    std::memcpy(&v, take(sizeof(T)).data(), sizeof(T));
-    return v;
-  }
-  template <class T>
-  void value(T& v) {
-    v = value<T>();
-  }
-  template <class T>
-  void vector(std::vector<T>& v) {
-    const auto n = value<std::uint64_t>();
-    if (n > (bytes_.size() - pos_) / (sizeof(T) > 0 ? sizeof(T) : 1)) fail("truncated array");
-    v.resize(static_cast<std::size_t>(n));
-    if (n > 0) std::memcpy(static_cast<void*>(v.data()), take(sizeof(T) * n).data(), sizeof(T) * n);
-  }
-  std::string string() {
-    const auto n = value<std::uint64_t>();
-    return std::string(take(n));
-  }
-  bool done() const { return pos_ == bytes_.size(); }
-  [[noreturn]] void fail(const std::string& why) const {
-    throw InputError({source_, 0, 0}, "checkpoint", "a checkpoint crater can use; " + why);
-  }
-
- private:
-  std::string_view take(std::uint64_t n) {
-    if (n > bytes_.size() - pos_) fail("the file ends early");
-    const std::string_view s = bytes_.substr(pos_, n);
-    pos_ += n;
-    return s;
-  }
-  std::string_view bytes_;
-  std::size_t pos_ = 0;
-  std::string source_;
-};
+// The state archive's classes, as the checkpoint code names them.
+using parts::StateReader;
+using parts::StateWriter;
 
 struct CheckpointHeader {
   int dimension = 0;

@@ -13,9 +13,9 @@
 
 #include "core/types.hpp"
 #include "fields/field_set.hpp"
-#include "io/checkpoint/checkpoint.hpp"
+#include "parts/state_archive.hpp"
 
-namespace crater::solver {
+namespace crater::parts {
 
 /// Energies of one part [J] (per metre of depth in 2D). Work terms are accumulated since t = 0.
 struct Energies {
@@ -147,11 +147,11 @@ class Part {
   /// part freshly built from the same scenario (fields, accumulators, contact histories, and
   /// what its neighbour lists were built from, so that they are rebuilt identically).
   /// A method without checkpoint support says so when a checkpoint is asked for.
-  virtual void save_state(io::StateWriter& /*w*/) const {
+  virtual void save_state(parts::StateWriter& /*w*/) const {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
                              ") cannot write checkpoints yet");
   }
-  virtual void load_state(io::StateReader& /*r*/) {
+  virtual void load_state(parts::StateReader& /*r*/) {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
                              ") cannot read checkpoints yet");
   }
@@ -172,4 +172,4 @@ class Part {
   virtual std::vector<Diagnostic> diagnostics() const { return {}; }
 };
 
-}  // namespace crater::solver
+}  // namespace crater::parts
