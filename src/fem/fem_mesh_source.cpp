@@ -202,7 +202,7 @@ NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face) {
 }
 
 template <int D>
-MeshSource<D> mesh_from_gmsh(const io::GmshMesh& gmsh, const std::string& file,
+MeshSource<D> mesh_from_gmsh(const mesh::GmshMesh& gmsh, const std::string& file,
                              const std::string& group, Index& reordered) {
   constexpr int kNodes = kElementNodes<D>;
   const int wanted_type = D == 2 ? 3 : 5;  // quadrangle, hexahedron
@@ -211,7 +211,7 @@ MeshSource<D> mesh_from_gmsh(const io::GmshMesh& gmsh, const std::string& file,
     throw InputError({file, line, 0}, "", what);
   };
   // The part's elements: blocks of the scenario's dimension (of the named group).
-  std::vector<const io::GmshMesh::Block*> blocks;
+  std::vector<const mesh::GmshMesh::Block*> blocks;
   bool group_seen = false;
   for (const auto& b : gmsh.blocks) {
     if (b.dim != D) continue;
@@ -341,9 +341,9 @@ MeshSource<D> build_mesh_source(const io::Config& /*config*/, const io::PartConf
   return source;
 }
 
-template MeshSource<2> mesh_from_gmsh<2>(const io::GmshMesh&, const std::string&,
+template MeshSource<2> mesh_from_gmsh<2>(const mesh::GmshMesh&, const std::string&,
                                          const std::string&, Index&);
-template MeshSource<3> mesh_from_gmsh<3>(const io::GmshMesh&, const std::string&,
+template MeshSource<3> mesh_from_gmsh<3>(const mesh::GmshMesh&, const std::string&,
                                          const std::string&, Index&);
 template struct MeshSource<2>;
 template struct MeshSource<3>;

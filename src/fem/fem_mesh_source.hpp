@@ -10,8 +10,8 @@
 
 #include "core/types.hpp"
 #include "fem/explicit_mesh.hpp"
-#include "io/mesh/gmsh.hpp"
 #include "io/scenario/config.hpp"
+#include "mesh/gmsh.hpp"
 
 namespace crater::fem {
 
@@ -53,7 +53,7 @@ MeshSource<D> build_mesh_source(const io::Config& config, const io::PartConfig& 
 /// element at fault: no elements, triangles or tetrahedra where the part's elements are, a
 /// 2D mesh that is not flat, a degenerate (zero or twisted) element.
 template <int D>
-MeshSource<D> mesh_from_gmsh(const io::GmshMesh& gmsh, const std::string& file,
+MeshSource<D> mesh_from_gmsh(const mesh::GmshMesh& gmsh, const std::string& file,
                              const std::string& group, Index& reordered);
 
 /// The nodes on a face of the mesh's bounding box (within 1e-9 of its extent).

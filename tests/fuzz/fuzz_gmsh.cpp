@@ -1,4 +1,4 @@
-// libFuzzer target: the Gmsh MSH 4.1 reader (io::parse_gmsh) and the FEM part's use of what it
+// libFuzzer target: the Gmsh MSH 4.1 reader (mesh::parse_gmsh) and the FEM part's use of what it
 // returns (fem::mesh_from_gmsh: element selection, node compaction, orientation, node sets).
 //
 // Expected outcomes: a mesh, or an InputError (exit 2: the file is wrong). Anything else that
@@ -18,7 +18,7 @@
 
 #include "core/error.hpp"
 #include "fem/fem_mesh_source.hpp"
-#include "io/mesh/gmsh.hpp"
+#include "mesh/gmsh.hpp"
 
 namespace {
 
@@ -36,7 +36,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    const crater::io::GmshMesh mesh = crater::io::parse_gmsh(text, "fuzz.msh");
+    const crater::mesh::GmshMesh mesh = crater::mesh::parse_gmsh(text, "fuzz.msh");
     crater::Index reordered = 0;
     if (mesh.dimension == 2)
       (void)crater::fem::mesh_from_gmsh<2>(mesh, "fuzz.msh", "", reordered);

@@ -8,8 +8,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "core/file_kind.hpp"
 #include "core/hash.hpp"
-#include "io/file_kind.hpp"
 #include "io/output/atomic_file.hpp"
 
 namespace crater::io {

@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
-#include "io/file_kind.hpp"
+#include "core/file_kind.hpp"
 #include "io/output/atomic_file.hpp"
 
 namespace crater::io {

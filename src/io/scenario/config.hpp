@@ -11,10 +11,10 @@
 
 #include "core/error.hpp"
 #include "core/types.hpp"
-#include "io/mesh/gmsh.hpp"
 #include "materials/damage/johnson_cook_damage.hpp"
 #include "materials/eos/eos.hpp"
 #include "materials/strength/strength.hpp"
+#include "mesh/gmsh.hpp"
 #include "sph/kernels.hpp"
 
 namespace crater::io {
@@ -232,9 +232,9 @@ struct FemConfig {
   Real erosion_step_ratio = 0;  // erode elements whose step < this x the part's initial step
   std::vector<FemBoundaryConfig> boundaries;
   std::vector<FemLoadConfig> loads;
-  std::string mesh_file;                 // Gmsh .msh 4.1; empty: structured mesh of the region box
-  std::string mesh_group;                // physical group of the elements in mesh_file; empty: all
-  std::shared_ptr<const GmshMesh> mesh;  // mesh_file as read when the scenario was loaded
+  std::string mesh_file;   // Gmsh .msh 4.1; empty: structured mesh of the region box
+  std::string mesh_group;  // physical group of the elements in mesh_file; empty: all
+  std::shared_ptr<const mesh::GmshMesh> mesh;  // mesh_file as read when the scenario was loaded
 };
 
 struct DetonationPoint {

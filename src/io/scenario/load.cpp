@@ -10,12 +10,12 @@
 #include <map>
 #include <sstream>
 
+#include "core/file_kind.hpp"
 #include "fem/fem_mesh_source.hpp"
-#include "io/file_kind.hpp"
-#include "io/mesh/gmsh.hpp"
 #include "io/scenario/schema.hpp"
 #include "io/scenario/size_estimate.hpp"
 #include "io/scenario/validate.hpp"
+#include "mesh/gmsh.hpp"
 
 namespace crater::io {
 namespace fs = std::filesystem;
@@ -1035,7 +1035,7 @@ class Builder {
       return;
     }
     try {
-      f.mesh = std::make_shared<const GmshMesh>(read_gmsh(f.mesh_file));
+      f.mesh = std::make_shared<const mesh::GmshMesh>(mesh::read_gmsh(f.mesh_file));
       Index reordered = 0;
       std::vector<std::string> groups;
       std::map<std::string, int> normal_axis;

@@ -1,4 +1,4 @@
-// Unit tests of the Gmsh MSH 4.1 reader (src/io/mesh/gmsh.*): physical groups and element
+// Unit tests of the Gmsh MSH 4.1 reader (src/mesh/gmsh.*): physical groups and element
 // blocks of a 2D and a 3D mesh (the 3D one written by Gmsh itself), sparse node tags, files
 // without physical groups, and one test per kind of input error, each naming the line.
 #include <gtest/gtest.h>
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "io/mesh/gmsh.hpp"
+#include "mesh/gmsh.hpp"
 
-namespace crater::io {
+namespace crater::mesh {
 namespace {
 
 // gtest without gmock: whether `message` contains `part`, showing the message if not.
@@ -488,4 +488,4 @@ TEST(GmshReaderErrors, EveryPrefixAndByteChangeFailsCleanly) {
 }
 
 }  // namespace
-}  // namespace crater::io
+}  // namespace crater::mesh

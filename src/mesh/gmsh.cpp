@@ -1,4 +1,4 @@
-#include "io/mesh/gmsh.hpp"
+#include "mesh/gmsh.hpp"
 
 #include <fmt/format.h>
 #include <algorithm>
@@ -12,9 +12,9 @@
 #include <utility>
 
 #include "core/error.hpp"
-#include "io/file_kind.hpp"
+#include "core/file_kind.hpp"
 
-namespace crater::io {
+namespace crater::mesh {
 namespace {
 
 // Lines are counted in an int (SourceLocation), so the text stays well below 2^31 bytes.
@@ -708,4 +708,4 @@ GmshMesh read_gmsh(const std::filesystem::path& file) {
   return parse_gmsh(text, file.string());
 }
 
-}  // namespace crater::io
+}  // namespace crater::mesh

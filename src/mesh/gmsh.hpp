@@ -33,7 +33,7 @@
 #include <string_view>
 #include <vector>
 
-namespace crater::io {
+namespace crater::mesh {
 
 /// Largest node and element counts accepted (each), far above what one explicit FE part needs.
 inline constexpr std::int64_t kMaxGmshNodes = 50'000'000;
@@ -77,4 +77,4 @@ GmshMesh read_gmsh(const std::filesystem::path& file);
 /// Parses the text of a .msh file; `source_name` is the file name used in error messages.
 GmshMesh parse_gmsh(std::string_view text, const std::string& source_name);
 
-}  // namespace crater::io
+}  // namespace crater::mesh

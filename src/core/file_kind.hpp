@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-namespace crater::io {
+namespace crater {
 
 /// For a path that exists but is not a regular file (symbolic links followed): what it is,
 /// "is a directory", "is a FIFO (named pipe)", ...; empty for a regular file and for a path
@@ -33,4 +33,4 @@ inline std::string not_a_regular_file(const std::filesystem::path& path) {
   }
 }
 
-}  // namespace crater::io
+}  // namespace crater
