@@ -38,11 +38,11 @@
 #include "dem/laws/rolling_resistance.hpp"
 #include "dem/packing.hpp"
 #include "fields/field_set.hpp"
-#include "io/scenario/region.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
 #include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
+#include "parts/region.hpp"
 
 namespace crater::dem {
 namespace {
@@ -131,7 +131,7 @@ BondRadiusRule bond_rule(io::BondRadius r) {
   return BondRadiusRule::MinRadius;
 }
 
-using io::to_vec;
+using parts::to_vec;
 
 template <int D>
 std::vector<AngularVec<D>>& add_angular(fields::FieldSet<D>& f, const char* name, const char* unit,
@@ -252,7 +252,7 @@ class DemPart final : public parts::Part<D> {
         vel.push_back(to_vec<D>(q.velocity_m_s));
       }
     } else {
-      pts = io::region_lattice<D>(pc.region, pc.spacing_m);
+      pts = parts::region_lattice<D>(pc.region, pc.spacing_m);
       std::mt19937_64 rng(cfg_.seed);
       std::uniform_real_distribution<Real> draw(cfg_.radius_min_m, cfg_.radius_max_m);
       for (std::size_t k = 0; k < pts.size(); ++k) {
@@ -262,9 +262,10 @@ class DemPart final : public parts::Part<D> {
     }
     if (!pc.carve.empty()) {
       // Leave the carved parts' regions empty (a charge, a plate inside the soil box).
+      const std::vector<parts::RegionConfig> carving = io::carving_regions(c, pc.carve);
       std::size_t kept = 0;
       for (std::size_t k = 0; k < pts.size(); ++k) {
-        if (io::carved<D>(c, pc.carve, pts[k], radii[k])) continue;
+        if (parts::carved<D>(carving, pts[k], radii[k])) continue;
         pts[kept] = pts[k];
         radii[kept] = radii[k];
         vel[kept] = vel[k];

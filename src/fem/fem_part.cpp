@@ -18,8 +18,8 @@
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
-#include "io/scenario/region.hpp"
 #include "parallel/parallel.hpp"
+#include "parts/region.hpp"
 
 namespace crater::fem {
 namespace {
@@ -84,7 +84,7 @@ class FemPart final : public parts::Part<D> {
       for (int k = 0; k < D; ++k)
         vz[k] = (*z.velocity_m_s)[at(k)];
       for (Index i = 0; i < nn; ++i)
-        if (io::region_contains<D>(z.region, mesh_.reference_position[at(i)]))
+        if (parts::region_contains<D>(z.region, mesh_.reference_position[at(i)]))
           mesh_.velocity[at(i)] = vz;
     }
     initial_mass_ = total_mass();

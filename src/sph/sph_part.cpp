@@ -26,12 +26,12 @@
 #include <limits>
 
 #include "fields/field_set.hpp"
-#include "io/scenario/region.hpp"
 #include "materials/eos/eos.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
 #include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
+#include "parts/region.hpp"
 #include "sph/kernels.hpp"
 
 namespace crater::sph {
@@ -46,7 +46,7 @@ using fields::kStateRoles;
 constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of the largest support
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
-using io::to_vec;
+using parts::to_vec;
 
 /// Dummy wall particles behind the walled faces of the domain box, `layers` deep at pitch s
 /// (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057). A corner shared by faces of axes
@@ -158,17 +158,18 @@ class SphPart final : public parts::Part<D> {
     auto owner = [&](const Vec<D>& x) {  // index of the last spacing zone holding x, or -1
       int k = -1;
       for (std::size_t z = 0; z < pc.zones.size(); ++z)
-        if (pc.zones[z].spacing_m && io::region_contains<D>(pc.zones[z].region, x))
+        if (pc.zones[z].spacing_m && parts::region_contains<D>(pc.zones[z].region, x))
           k = static_cast<int>(z);
       return k;
     };
-    for (const auto& x : io::region_lattice<D>(pc.region, spacing_))
-      if (owner(x) < 0 && !io::carved<D>(c, pc.carve, x, 0.5 * spacing_))
+    const std::vector<parts::RegionConfig> carving = io::carving_regions(c, pc.carve);
+    for (const auto& x : parts::region_lattice<D>(pc.region, spacing_))
+      if (owner(x) < 0 && !parts::carved<D>(carving, x, 0.5 * spacing_))
         pts.push_back(x), pitch.push_back(spacing_);
     for (std::size_t z = 0; z < pc.zones.size(); ++z) {
       if (!pc.zones[z].spacing_m) continue;
-      for (const auto& x : io::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
-        if (io::region_contains<D>(pc.region, x) && owner(x) == static_cast<int>(z))
+      for (const auto& x : parts::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
+        if (parts::region_contains<D>(pc.region, x) && owner(x) == static_cast<int>(z))
           pts.push_back(x), pitch.push_back(*pc.zones[z].spacing_m);
     }
     const Index n = static_cast<Index>(pts.size());
@@ -191,7 +192,7 @@ class SphPart final : public parts::Part<D> {
       std::optional<Real> pressure = pc.initial.pressure_pa;
       Vec<D> vel = to_vec<D>(pc.initial.velocity_m_s);
       for (const auto& z : pc.zones) {
-        if (!io::region_contains<D>(z.region, pts[i])) continue;
+        if (!parts::region_contains<D>(z.region, pts[i])) continue;
         if (z.density_kg_m3) rho = *z.density_kg_m3;
         if (z.pressure_pa) pressure = z.pressure_pa;
         if (z.velocity_m_s) vel = to_vec<D>(*z.velocity_m_s);

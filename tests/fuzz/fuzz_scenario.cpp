@@ -36,7 +36,7 @@
 #include "core/error.hpp"
 #include "io/scenario/config.hpp"
 #include "io/scenario/load.hpp"
-#include "io/scenario/region.hpp"
+#include "parts/region.hpp"
 #include "solver/simulation.hpp"
 
 namespace {
@@ -77,7 +77,7 @@ std::vector<std::string> overrides_of(const std::string& text) {
   return out;
 }
 
-// Lattice points over the bounding box of a region at pitch s (as io::region_lattice lays them).
+// Lattice points over the bounding box of a region at pitch s (as parts::region_lattice lays them).
 double lattice_points(const RegionConfig& r, Real s, int dim) {
   double n = 1;
   for (int d = 0; d < dim; ++d) {

@@ -15,11 +15,12 @@
 #include "materials/eos/eos.hpp"
 #include "materials/strength/strength.hpp"
 #include "mesh/gmsh.hpp"
+#include "parts/region.hpp"
 #include "sph/kernels.hpp"
 
 namespace crater::io {
 
-using Vec3 = std::array<Real, 3>;
+using parts::Vec3;
 
 struct TimeConfig {
   Real safety_factor = 0.9;
@@ -83,15 +84,8 @@ struct MaterialConfig {
   SourceLocation where;
 };
 
-enum class RegionType { Box, Disk, Sphere };
-
-struct RegionConfig {
-  RegionType type = RegionType::Box;
-  Vec3 min_m{}, max_m{};  // box
-  Vec3 center_m{};        // disk, sphere
-  Real radius_m = 0;
-  SourceLocation where;
-};
+using parts::RegionConfig;
+using parts::RegionType;
 
 struct InitialConfig {
   std::optional<Real> density_kg_m3;
@@ -306,5 +300,14 @@ struct Config {
   std::vector<std::string> warnings;  // non-fatal remarks shown by check and run
   std::string effective_toml;         // the scenario with defaults filled in
 };
+
+/// The regions of the parts that `carve` names (indices into config.parts), for parts::carved.
+inline std::vector<RegionConfig> carving_regions(const Config& config,
+                                                 const std::vector<std::size_t>& carve) {
+  std::vector<RegionConfig> regions;
+  for (std::size_t k : carve)
+    regions.push_back(config.parts[k].region);
+  return regions;
+}
 
 }  // namespace crater::io

@@ -1,14 +1,29 @@
-// Geometry of a scenario's regions, shared by the methods that fill them with entities.
+// Regions of space that parts are filled over (box, disk, sphere), and their geometry: shared
+// by the methods that lay entities in them and by the scenario reader that describes them.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/types.hpp"
-#include "io/scenario/config.hpp"
 
-namespace crater::io {
+namespace crater::parts {
+
+/// A point or vector as the scenario gives it: 3 entries, the first `dimension` meaningful.
+using Vec3 = std::array<Real, 3>;
+
+enum class RegionType { Box, Disk, Sphere };
+
+struct RegionConfig {
+  RegionType type = RegionType::Box;
+  Vec3 min_m{}, max_m{};  // box
+  Vec3 center_m{};        // disk, sphere
+  Real radius_m = 0;
+  SourceLocation where;
+};
 
 /// The first D entries of a config vector.
 template <int D>
@@ -47,13 +62,12 @@ Real region_distance(const RegionConfig& r, const Vec<D>& x) {
   return std::max(Real(0), (x - to_vec<D>(r.center_m)).norm() - r.radius_m);
 }
 
-/// Whether a particle of radius `radius` at x reaches into one of `carve` (indices into
-/// config.parts): such particles are not laid.
+/// Whether a particle of radius `radius` at x reaches into one of the `carving` regions: such
+/// particles are not laid.
 template <int D>
-bool carved(const Config& config, const std::vector<std::size_t>& carve, const Vec<D>& x,
-            Real radius) {
-  for (std::size_t k : carve)
-    if (region_distance<D>(config.parts[k].region, x) < radius) return true;
+bool carved(const std::vector<RegionConfig>& carving, const Vec<D>& x, Real radius) {
+  for (const RegionConfig& r : carving)
+    if (region_distance<D>(r, x) < radius) return true;
   return false;
 }
 
@@ -89,4 +103,4 @@ std::vector<Vec<D>> region_lattice(const RegionConfig& r, Real s) {
   return pts;
 }
 
-}  // namespace crater::io
+}  // namespace crater::parts
