@@ -118,12 +118,14 @@ class PressureLoad(unittest.TestCase):
 
     @staticmethod
     def cell_centres_y(path):
-        import vtk
-        from vtk.util.numpy_support import vtk_to_numpy
-        reader = vtk.vtkXMLUnstructuredGridReader()
+        # vtkmodules, as tests/lib/crater_test.py: python3-vtk9 and ParaView's Python both have it
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkFiltersCore import vtkCellCenters
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+        reader = vtkXMLUnstructuredGridReader()
         reader.SetFileName(str(path))
         reader.Update()
-        f = vtk.vtkCellCenters()
+        f = vtkCellCenters()
         f.SetInputData(reader.GetOutput())
         f.Update()
         return vtk_to_numpy(f.GetOutput().GetPoints().GetData())[:, 1]
