@@ -510,14 +510,14 @@ std::vector<std::string> check_output_cadence(const io::Config& c,
   if (!c.output.vtu) return warnings;
   double frames = std::ceil(c.end_time_s / c.output.interval_s) + 1;
   if (c.time.max_steps > 0) frames = std::min(frames, static_cast<double>(c.time.max_steps) + 1);
-  const double bytes = frames * frame_bytes(parts);
+  const double per_frame = frame_bytes(parts);
+  const double bytes = frames * per_frame;
   if (bytes > c.output.max_bytes)
-    throw InputError(
-        c.output.interval_where, "output.interval_s",
-        fmt::format("frames of at most output.max_bytes = {:.3g} GB in all; {:.0f} "
-                    "frames of {:.3g} MB each would take {:.3g} GB (raise "
-                    "interval_s, set output.vtu = false, or raise max_bytes)",
-                    c.output.max_bytes / 1e9, frames, frame_bytes(parts) / 1e6, bytes / 1e9));
+    throw InputError(c.output.interval_where, "output.interval_s",
+                     fmt::format("frames of at most output.max_bytes = {:.3g} GB in all; {:.0f} "
+                                 "frames of {:.3g} MB each would take {:.3g} GB (raise "
+                                 "interval_s, set output.vtu = false, or raise max_bytes)",
+                                 c.output.max_bytes / 1e9, frames, per_frame / 1e6, bytes / 1e9));
   std::error_code ec;
   fs::path probe = out_dir.empty() ? fs::current_path(ec) : out_dir;
   while (!probe.empty() && !fs::exists(probe, ec) && probe.has_parent_path() &&
