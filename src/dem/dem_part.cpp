@@ -119,13 +119,13 @@ template <int D, class Law>
                                 prepare_contact<D, Law>(p, g, mass_eff, pitch, shear_history), dt);
 }
 
-BondRadiusRule bond_rule(io::BondRadius r) {
+BondRadiusRule bond_rule(BondRadius r) {
   switch (r) {
-    case io::BondRadius::Mean:
+    case BondRadius::Mean:
       return BondRadiusRule::MeanRadius;
-    case io::BondRadius::Effective:
+    case BondRadius::Effective:
       return BondRadiusRule::EffectiveRadius;
-    case io::BondRadius::Min:
+    case BondRadius::Min:
       break;
   }
   return BondRadiusRule::MinRadius;
@@ -165,16 +165,15 @@ class DemPart final : public parts::Part<D> {
 
   /// The grains are `grains` if given (a packing, docs/theory.md), else those placed by hand,
   /// else one per lattice site. `local_damping` overrides the part's (settling).
-  DemPart(const io::Config& c, const io::PartConfig& pc,
-          const std::vector<Grain<D>>* grains = nullptr,
-          std::optional<Real> local_damping = std::nullopt)
-      : name_(pc.name),
-        cfg_(pc.dem),
-        gravity_(to_vec<D>(c.domain.gravity_m_s2)),
-        domain_lo_(to_vec<D>(c.domain.min_m)),
-        domain_hi_(to_vec<D>(c.domain.max_m)),
+  explicit DemPart(const PartSettings& settings, const std::vector<Grain<D>>* grains = nullptr,
+                   std::optional<Real> local_damping = std::nullopt)
+      : name_(settings.part.name),
+        cfg_(settings.dem),
+        gravity_(to_vec<D>(settings.part.domain.gravity_m_s2)),
+        domain_lo_(to_vec<D>(settings.part.domain.min_m)),
+        domain_hi_(to_vec<D>(settings.part.domain.max_m)),
         // A settling part keeps every grain: one that leaves fails the settling.
-        outflow_remove_(c.domain.outflow == io::Outflow::Remove && !local_damping),
+        outflow_remove_(settings.part.domain.outflow == parts::Outflow::Remove && !local_damping),
         id_(f_.add_integer("id", "1", kStateRoles)),
         x_(f_.add_vector("position", "m", kRestart | kHalo)),
         v_(f_.add_vector("velocity", "m/s", kStateRoles)),
@@ -188,7 +187,7 @@ class DemPart final : public parts::Part<D> {
         elastic_(f_.add_scalar("contact_energy", "J", kNone)),
         dissipated_(f_.add_scalar("contact_dissipation_rate", "W", kNone)),
         local_power_(f_.add_scalar("local_damping_rate", "W", kNone)),
-        bonds_(f_.add_scalar("bonds", "1", pc.dem.bonds.enabled ? kOutput : kNone)),
+        bonds_(f_.add_scalar("bonds", "1", settings.dem.bonds.enabled ? kOutput : kNone)),
         bond_breaks_(f_.add_scalar("bond_breaks", "1", kNone)),
         bond_released_(f_.add_scalar("bond_released_energy", "J", kNone)),
         static_reaction_(f_.add_vector("absorbing_wall_reaction", "N", kRestart)),
@@ -197,30 +196,30 @@ class DemPart final : public parts::Part<D> {
         contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)),
         surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)),
         surface_overlap_(f_.add_scalar("coupling_surface_overlap", "m", kRestart)) {
-    const auto& mat = c.materials[pc.material];
-    rho_ = mat.rho0_kg_m3;
-    const ElasticMaterial grain{
-        youngs_modulus_from_shear(mat.granular.shear_modulus_pa, mat.granular.poisson_ratio),
-        mat.granular.poisson_ratio};
-    shear_modulus_ = mat.granular.shear_modulus_pa;
-    poisson_ = mat.granular.poisson_ratio;
-    if (cfg_.contact == io::DemContact::LinearSpring) {
+    const parts::PartSetup& pc = settings.part;
+    const GranularMaterial& mat = settings.grain;
+    rho_ = settings.rho0_kg_m3;
+    const ElasticMaterial grain{youngs_modulus_from_shear(mat.shear_modulus_pa, mat.poisson_ratio),
+                                mat.poisson_ratio};
+    shear_modulus_ = mat.shear_modulus_pa;
+    poisson_ = mat.poisson_ratio;
+    if (cfg_.contact == ContactLawKind::LinearSpring) {
       // Walls take the grain's springs (k_n, k_s) with their own friction and restitution.
       laws_ = LawPair<LinearSpring>{
-          linear_spring_params(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m,
-                               mat.granular.restitution, mat.granular.friction),
+          linear_spring_params(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m, mat.restitution,
+                               mat.friction),
           linear_spring_params(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m,
                                cfg_.wall_restitution, cfg_.wall_friction)};
     } else {
       // Rigid walls of the grain's own elastic constants (as LIGGGHTS' walls of the same
       // material): E* halves the grain-grain one, for a wall radius of infinity.
       laws_ = LawPair<HertzMindlin>{
-          hertz_mindlin_params(grain, grain, mat.granular.restitution, mat.granular.friction),
+          hertz_mindlin_params(grain, grain, mat.restitution, mat.friction),
           hertz_mindlin_params(grain, grain, cfg_.wall_restitution, cfg_.wall_friction)};
     }
     rolling_ = RollingResistanceParams{.friction = cfg_.rolling_friction,
                                        .damping_ratio = cfg_.rolling_damping};
-    grain_rate_ = rate_dependent_friction(mat.granular.friction, cfg_.friction_rate_beta,
+    grain_rate_ = rate_dependent_friction(mat.friction, cfg_.friction_rate_beta,
                                           cfg_.friction_reference_strain_rate);
     wall_rate_ = rate_dependent_friction(cfg_.wall_friction, cfg_.friction_rate_beta,
                                          cfg_.friction_reference_strain_rate);
@@ -260,9 +259,9 @@ class DemPart final : public parts::Part<D> {
         vel.push_back(to_vec<D>(pc.initial.velocity_m_s));
       }
     }
-    if (!pc.carve.empty()) {
+    if (!pc.carving.empty()) {
       // Leave the carved parts' regions empty (a charge, a plate inside the soil box).
-      const std::vector<parts::RegionConfig> carving = io::carving_regions(c, pc.carve);
+      const std::vector<parts::RegionConfig>& carving = pc.carving;
       std::size_t kept = 0;
       for (std::size_t k = 0; k < pts.size(); ++k) {
         if (parts::carved<D>(carving, pts[k], radii[k])) continue;
@@ -275,11 +274,11 @@ class DemPart final : public parts::Part<D> {
       radii.resize(kept);
       vel.resize(kept);
     }
-    if (pc.packing.agitation_m_s > 0 && !local_damping) {  // not while settling
+    if (settings.packing.agitation_m_s > 0 && !local_damping) {  // not while settling
       // Random agitation, uniform in +-a per component, drawn in grain order (seeded).
-      std::mt19937_64 jitter(pc.dem.seed ^ 0x5deece66dULL);
-      std::uniform_real_distribution<Real> draw(-pc.packing.agitation_m_s,
-                                                pc.packing.agitation_m_s);
+      std::mt19937_64 jitter(settings.dem.seed ^ 0x5deece66dULL);
+      std::uniform_real_distribution<Real> draw(-settings.packing.agitation_m_s,
+                                                settings.packing.agitation_m_s);
       for (auto& v : vel)
         for (int d = 0; d < D; ++d)
           v[d] += draw(jitter);
@@ -288,7 +287,7 @@ class DemPart final : public parts::Part<D> {
       throw InputError(pc.where, fmt::format("parts[{}].region", pc.name),
                        "the part holds no grains: its region, less what `carve` removes, has "
                        "no lattice point or room for a grain");
-    rows_ = D == 2 && cfg_.contact == io::DemContact::HertzMindlin && cfg_.hertz_row_of_spheres;
+    rows_ = D == 2 && cfg_.contact == ContactLawKind::HertzMindlin && cfg_.hertz_row_of_spheres;
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
     std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
@@ -310,10 +309,10 @@ class DemPart final : public parts::Part<D> {
     xi_.assign(static_cast<std::size_t>(n) * kMaxContacts, Vec<D>::Zero());
     if (rolling_.friction > 0)
       roll_.assign(static_cast<std::size_t>(n) * kMaxContacts, angular_zero<D>());
-    for (const io::Face face : cfg_.walls)
+    for (const parts::Face face : cfg_.walls)
       wall_planes_.push_back(wall_plane(face));
     guard_planes_ = wall_planes_;
-    for (const io::Face face : cfg_.absorbing_walls)
+    for (const parts::Face face : cfg_.absorbing_walls)
       guard_planes_.push_back(wall_plane(face));
     clear_lo_ = Vec<D>::Constant(-std::numeric_limits<Real>::infinity());
     clear_hi_ = Vec<D>::Constant(std::numeric_limits<Real>::infinity());
@@ -334,7 +333,7 @@ class DemPart final : public parts::Part<D> {
     // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
     // the run, between the settled grains.
     if (cfg_.bonds.enabled && !local_damping) make_bonds();
-    if (!cfg_.absorbing_walls.empty()) init_absorbing_walls(c, pc);
+    if (!cfg_.absorbing_walls.empty()) init_absorbing_walls(settings);
   }
 
   const std::string& name() const override { return name_; }
@@ -352,7 +351,7 @@ class DemPart final : public parts::Part<D> {
         break;
       }
     s.dt_s = std::numeric_limits<Real>::infinity();
-    if (cfg_.contact == io::DemContact::HertzMindlin) {
+    if (cfg_.contact == ContactLawKind::HertzMindlin) {
       // Rayleigh step of the smallest grain (Li, Xu & Thornton 2005): the time a Rayleigh
       // wave takes across it; DEM codes run at 10-30 % of it.
       s.dt_s = cfg_.rayleigh_fraction * rayleigh_time_step(r_min_, rho_, shear_modulus_, poisson_);
@@ -363,7 +362,7 @@ class DemPart final : public parts::Part<D> {
     // rotational modes and several contacts per grain; 2 sqrt(m/k) is the bare oscillator's
     // limit). Bonds act in parallel with the contact, so their stiffness adds.
     Real k = 0;
-    if (cfg_.contact == io::DemContact::LinearSpring)
+    if (cfg_.contact == ContactLawKind::LinearSpring)
       k += std::max(cfg_.normal_stiffness_n_m, cfg_.shear_stiffness_n_m);
     if (cfg_.bonds.enabled)
       k += std::max(bond_law_.normal_stiffness_pa_m, bond_law_.shear_stiffness_pa_m) *
@@ -663,7 +662,7 @@ class DemPart final : public parts::Part<D> {
   // The bed's impedance behind the absorbing walls (defaults from the grains, see the schema)
   // and each touching grain's static reaction: the rigid wall law's elastic normal force at its
   // overlap now (t = 0: after settling, or as placed).
-  void init_absorbing_walls(const io::Config& c, const io::PartConfig& pc) {
+  void init_absorbing_walls(const PartSettings& settings) {
     const Index n = f_.size();
     Real mass = 0, radius = 0;
     for (Index i = 0; i < n; ++i) {
@@ -671,16 +670,17 @@ class DemPart final : public parts::Part<D> {
       radius += r_[i];
     }
     const Real grains = static_cast<Real>(std::max<Index>(n, 1));
-    const Real rho = cfg_.absorbing_density_kg_m3 > 0 ? cfg_.absorbing_density_kg_m3
-                                                      : mass / region_volume<D>(pc.region);
+    const Real rho = cfg_.absorbing_density_kg_m3 > 0
+                         ? cfg_.absorbing_density_kg_m3
+                         : mass / region_volume<D>(settings.part.region);
     Real cp = cfg_.absorbing_p_wave_speed_m_s;
     if (!(cp > 0)) {
-      if (cfg_.contact != io::DemContact::LinearSpring)
+      if (cfg_.contact != ContactLawKind::LinearSpring)
         throw std::logic_error("absorbing walls with Hertz contacts need a P-wave speed");
       // A chain (square/cubic lattice) of the mean grain: 2r sqrt(k_n / m).
       cp = 2 * (radius / grains) * std::sqrt(cfg_.normal_stiffness_n_m / (mass / grains));
     }
-    const Real nu = c.materials[pc.material].granular.poisson_ratio;
+    const Real nu = settings.grain.poisson_ratio;
     const Real cs = cfg_.absorbing_s_wave_speed_m_s > 0
                         ? cfg_.absorbing_s_wave_speed_m_s
                         : cp * std::sqrt((1 - 2 * nu) / (2 - 2 * nu));
@@ -693,7 +693,7 @@ class DemPart final : public parts::Part<D> {
         [&](const auto& laws) {
           using Law = typename std::decay_t<decltype(laws)>::Type;
           for (Index i = 0; i < n; ++i)
-            for (const io::Face face : cfg_.absorbing_walls) {
+            for (const parts::Face face : cfg_.absorbing_walls) {
               const WallPlane w = wall_plane(face);
               Vec<D> foot = x_[i];
               foot[w.axis] = w.plane;
@@ -862,7 +862,7 @@ class DemPart final : public parts::Part<D> {
     bool upper = false;  // the face at domain_hi_ (else domain_lo_)
     Real plane = 0;      // its coordinate on the axis [m]
   };
-  WallPlane wall_plane(io::Face face) const {
+  WallPlane wall_plane(parts::Face face) const {
     WallPlane w;
     w.axis = static_cast<int>(face) / 2;
     w.upper = static_cast<int>(face) % 2 == 1;
@@ -1333,7 +1333,7 @@ class DemPart final : public parts::Part<D> {
     }
     // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
     Real absorbed = 0, static_power = 0;
-    for (const io::Face face : cfg_.absorbing_walls) {
+    for (const parts::Face face : cfg_.absorbing_walls) {
       const WallPlane w = wall_plane(face);
       Vec<D> foot = x_[i];
       foot[w.axis] = w.plane;
@@ -1590,7 +1590,7 @@ class DemPart final : public parts::Part<D> {
   }
 
   std::string name_;
-  io::DemConfig cfg_;
+  Settings cfg_;
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool outflow_remove_ = false;  // domain.outflow = "remove" (remove_outflow)
   Real rho_ = 0, shear_modulus_ = 0, poisson_ = 0;
@@ -1678,21 +1678,23 @@ class DemPart final : public parts::Part<D> {
   Real time_s_ = 0;                 // of the last force stage, for the log
 };
 
+}  // namespace
+
 // Everything that shapes a settled packing, as text for its cache key (hex floats: exact).
 template <int D>
-std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
+std::string packing_key_text(const PartSettings& settings) {
+  const parts::PartSetup& pc = settings.part;
   std::string s = fmt::format("crater packing v2|D={}|", D);
-  auto v3 = [](const io::Vec3& v) { return fmt::format("{:a},{:a},{:a}", v[0], v[1], v[2]); };
-  const auto& mat = c.materials[pc.material];
-  const auto& g = mat.granular;
-  s += fmt::format("domain={};{};g={}|", v3(c.domain.min_m), v3(c.domain.max_m),
-                   v3(c.domain.gravity_m_s2));
-  s += fmt::format("mat={:a},{:a},{:a},{:a},{:a}|", mat.rho0_kg_m3, g.shear_modulus_pa,
+  auto v3 = [](const parts::Vec3& v) { return fmt::format("{:a},{:a},{:a}", v[0], v[1], v[2]); };
+  const auto& g = settings.grain;
+  s += fmt::format("domain={};{};g={}|", v3(pc.domain.min_m), v3(pc.domain.max_m),
+                   v3(pc.domain.gravity_m_s2));
+  s += fmt::format("mat={:a},{:a},{:a},{:a},{:a}|", settings.rho0_kg_m3, g.shear_modulus_pa,
                    g.poisson_ratio, g.friction, g.restitution);
   s += fmt::format("region={},{},{},{},{:a}|spacing={:a}|", static_cast<int>(pc.region.type),
                    v3(pc.region.min_m), v3(pc.region.max_m), v3(pc.region.center_m),
                    pc.region.radius_m, pc.spacing_m);
-  const auto& d = pc.dem;
+  const auto& d = settings.dem;
   s += fmt::format("dem={:a},{:a},{},{:a},{:a},{:a}|walls=", d.radius_min_m, d.radius_max_m, d.seed,
                    d.rayleigh_fraction, d.wall_friction, d.wall_restitution);
   for (const auto f : d.walls)
@@ -1709,61 +1711,40 @@ std::string packing_key_text(const io::Config& c, const io::PartConfig& pc) {
                    d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,
                    d.friction_rate_beta, d.friction_reference_strain_rate);
   if (d.hertz_row_of_spheres) s += "|hertz_2d=row_of_spheres";
-  const auto& k = pc.packing;
+  const auto& k = settings.packing;
   s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.random, k.porosity,
                    k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,
-                   c.time.safety_factor);
+                   settings.safety_factor);
   for (std::size_t j = 0; j < k.sieve_diameter_m.size(); ++j)
     s += fmt::format("{:a}:{:a},", k.sieve_diameter_m[j], k.sieve_passing[j]);
   return s;
 }
 
-struct PackingReport {
-  bool reused = false;
-  Real settle_time_s = 0;
-  long long settle_steps = 0;
-  std::string file;
-};
-
-// The grains of a packed and/or settled part: from the cache if it holds this packing, else
-// generated (and settled under gravity with the domain's walls, then saved). The run starts
-// from the saved state (positions and radii; grains at rest, no contact history) in both
-// cases, so a run that settled and a run that reused give identical results.
 template <int D>
-std::vector<Grain<D>> prepare_packing(const io::Config& c, const io::PartConfig& pc,
-                                      PackingReport& report) {
-  const auto& k = pc.packing;
+std::vector<Grain<D>> random_grains(const PartSettings& settings) {
+  const parts::PartSetup& pc = settings.part;
+  const auto& k = settings.packing;
   const std::string key_name = fmt::format("parts[{}].packing", pc.name);
-  std::uint64_t key = 0;
-  std::filesystem::path file;
-  if (k.settle) {
-    key = fnv1a(packing_key_text<D>(c, pc));
-    file = std::filesystem::path(k.cache_dir) / fmt::format("{}-{:016x}.pack", pc.name, key);
-    report.file = file.string();
-    if (auto g = load_packing<D>(file.string(), key)) {
-      report.reused = true;
-      spdlog::info("part '{}': settled packing of {} grains reused from {}", pc.name, g->size(),
-                   file.string());
-      return std::move(*g);
-    }
-  }
-  std::vector<Grain<D>> grains;
-  if (k.random) {
-    const Real solid = (1 - k.porosity) * region_volume<D>(pc.region);
-    std::vector<Real> radii =
-        draw_radii<D>(k, pc.dem.radius_min_m, pc.dem.radius_max_m, solid, pc.dem.seed,
-                      std::size_t{50'000'000}, pc.where, key_name);
-    grains = random_packing<D>(pc.region, std::move(radii), to_vec<D>(c.domain.gravity_m_s2),
-                               to_vec<D>(c.domain.min_m), to_vec<D>(c.domain.max_m), pc.dem.seed,
-                               pc.where, key_name);
-  }
-  if (!k.settle) return grains;
+  const Real solid = (1 - k.porosity) * region_volume<D>(pc.region);
+  std::vector<Real> radii =
+      draw_radii<D>(k, settings.dem.radius_min_m, settings.dem.radius_max_m, solid,
+                    settings.dem.seed, std::size_t{50'000'000}, pc.where, key_name);
+  return random_packing<D>(pc.region, std::move(radii), to_vec<D>(pc.domain.gravity_m_s2),
+                           to_vec<D>(pc.domain.min_m), to_vec<D>(pc.domain.max_m),
+                           settings.dem.seed, pc.where, key_name);
+}
 
-  // Settle: the part alone under gravity, with its walls and the settling damping, until the
-  // grains have had the time to fall the column's height and their mean kinetic energy is
-  // below settle_kinetic_ratio x m g r.
-  DemPart<D> part(c, pc, k.random ? &grains : nullptr, k.settle_damping);
-  const Vec<D> g = to_vec<D>(c.domain.gravity_m_s2);
+// Settle: the part alone under gravity, with its walls and the settling damping, until the
+// grains have had the time to fall the column's height and their mean kinetic energy is
+// below settle_kinetic_ratio x m g r.
+template <int D>
+std::vector<Grain<D>> settle_grains(const PartSettings& settings,
+                                    const std::vector<Grain<D>>* grains, PackingReport& report) {
+  const parts::PartSetup& pc = settings.part;
+  const auto& k = settings.packing;
+  const std::string key_name = fmt::format("parts[{}].packing", pc.name);
+  DemPart<D> part(settings, grains, k.settle_damping);
+  const Vec<D> g = to_vec<D>(pc.domain.gravity_m_s2);
   Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
   for (const auto& q : part.grains()) {
     lo = std::min(lo, q.x.dot(g) / g.norm());
@@ -1776,7 +1757,7 @@ std::vector<Grain<D>> prepare_packing(const io::Config& c, const io::PartConfig&
   long long steps = 0;
   part.compute_forces(t);
   while (true) {
-    const Real dt = c.time.safety_factor * part.stable_step().dt_s;
+    const Real dt = settings.safety_factor * part.stable_step().dt_s;
     part.advance(t, dt);
     t += dt;
     part.compute_forces(t);
@@ -1798,35 +1779,25 @@ std::vector<Grain<D>> prepare_packing(const io::Config& c, const io::PartConfig&
   }
   report.settle_time_s = t;
   report.settle_steps = steps;
-  grains = part.grains();
-  std::filesystem::create_directories(file.parent_path());
-  save_packing<D>(file.string(), key, grains);
-  spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", pc.name, t, steps,
-               file.string());
-  // Read back what was saved, so this run starts from exactly what a reuse would.
-  if (auto back = load_packing<D>(file.string(), key)) return std::move(*back);
-  throw std::runtime_error("could not read back the settled packing " + file.string());
+  return part.grains();
 }
 
-}  // namespace
-
 template <int D>
-std::unique_ptr<parts::Part<D>> make_dem_part(const io::Config& config,
-                                              const io::PartConfig& part) {
-  if (!part.packing.random && !part.packing.settle)
-    return std::make_unique<DemPart<D>>(config, part);
-  PackingReport report;
-  const std::vector<Grain<D>> grains = prepare_packing<D>(config, part, report);
-  auto p = std::make_unique<DemPart<D>>(config, part, &grains);
+std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
+                                              const std::vector<Grain<D>>* grains,
+                                              const PackingReport& report) {
+  if (!grains) return std::make_unique<DemPart<D>>(settings);
+  const parts::PartSetup& part = settings.part;
+  auto p = std::make_unique<DemPart<D>>(settings, grains);
   // Porosity of the packed grains over the region's cross-section times the bed's height
   // (box regions; along gravity), and how the packing was obtained.
-  if (part.region.type == io::RegionType::Box && !grains.empty()) {
-    const Vec<D> g = to_vec<D>(config.domain.gravity_m_s2);
+  if (part.region.type == parts::RegionType::Box && !grains->empty()) {
+    const Vec<D> g = to_vec<D>(part.domain.gravity_m_s2);
     int up = 0;
     for (int d = 1; d < D; ++d)
       if (std::abs(g[d]) > std::abs(g[up])) up = d;
     Real top = -std::numeric_limits<Real>::infinity(), bottom = -top, solid = 0;
-    for (const auto& q : grains) {
+    for (const auto& q : *grains) {
       top = std::max(top, q.x[up] + q.r);
       bottom = std::min(bottom, q.x[up] - q.r);
       solid += grain_volume<D>(q.r);
@@ -1839,7 +1810,7 @@ std::unique_ptr<parts::Part<D>> make_dem_part(const io::Config& config,
     p->add_diagnostic("packing_porosity", 1 - solid / (area * (top - bottom)));
     p->add_diagnostic("packing_bed_height_m", top - bottom);
   }
-  if (part.packing.settle) {
+  if (settings.packing.settle) {
     p->add_diagnostic("packing_reused", report.reused ? 1.0 : 0.0);
     if (!report.reused) {
       p->add_diagnostic("settle_time_s", report.settle_time_s);
@@ -1849,7 +1820,15 @@ std::unique_ptr<parts::Part<D>> make_dem_part(const io::Config& config,
   return p;
 }
 
-template std::unique_ptr<parts::Part<2>> make_dem_part<2>(const io::Config&, const io::PartConfig&);
-template std::unique_ptr<parts::Part<3>> make_dem_part<3>(const io::Config&, const io::PartConfig&);
+#define CRATER_DEM_PART(D)                                                                       \
+  template std::string packing_key_text<D>(const PartSettings&);                                 \
+  template std::vector<Grain<D>> random_grains<D>(const PartSettings&);                          \
+  template std::vector<Grain<D>> settle_grains<D>(const PartSettings&,                           \
+                                                  const std::vector<Grain<D>>*, PackingReport&); \
+  template std::unique_ptr<parts::Part<D>> make_dem_part<D>(                                     \
+      const PartSettings&, const std::vector<Grain<D>>*, const PackingReport&);
+CRATER_DEM_PART(2)
+CRATER_DEM_PART(3)
+#undef CRATER_DEM_PART
 
 }  // namespace crater::dem

@@ -1,18 +1,55 @@
 // A DEM part: grains (disks in 2D, per metre of depth; spheres in 3D) with rotation, contact
 // laws from src/dem/laws, rigid and absorbing (viscous) walls on domain faces, gravity and
 // Cundall local damping (paper section II-A).
+//
+// A packed part ([parts.packing]) is built in steps the solver's assembly takes: the grains
+// of a random packing (random_grains), settled under gravity (settle_grains), then the part
+// from them (make_dem_part). Between the steps the assembly keeps settled packings in a file
+// cache keyed by packing_key_text; this folder reads and writes no files.
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
-#include "io/scenario/config.hpp"
+#include "dem/packing.hpp"
+#include "dem/settings.hpp"
 #include "parts/part.hpp"
 
 namespace crater::dem {
 
-/// Builds the DEM part described by `part`: grains on the region's lattice (radii drawn from
-/// the part's seed) or placed one by one.
+/// How a packed part's grains were obtained (its diagnostics packing_reused, settle_time_s,
+/// settle_steps).
+struct PackingReport {
+  bool reused = false;  // read from the cache
+  Real settle_time_s = 0;
+  long long settle_steps = 0;
+};
+
+/// Builds the DEM part `settings` describe, from `grains` if given (a packing), else from the
+/// grains placed by hand, else one per lattice site of its region (radii from its seed).
 template <int D>
-std::unique_ptr<parts::Part<D>> make_dem_part(const io::Config& config, const io::PartConfig& part);
+std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
+                                              const std::vector<Grain<D>>* grains = nullptr,
+                                              const PackingReport& report = {});
+
+/// Everything that shapes the part's settled packing, as text (hex floats: exact); a hash of it
+/// keys the packing cache.
+template <int D>
+std::string packing_key_text(const PartSettings& settings);
+
+/// The grains of the part's random packing (packing.random): radii for the target porosity,
+/// placed by random sequential addition (packing.hpp).
+template <int D>
+std::vector<Grain<D>> random_grains(const PartSettings& settings);
+
+/// The part alone under gravity, with its walls (absorbing faces rigid) and the settling
+/// damping, from `grains` (nullptr: the part's own lattice or placed grains), until the grains
+/// have had the time to fall the column's height and their mean kinetic energy is below
+/// settle_kinetic_ratio x m g r. Returns the grains at rest; throws InputError if a grain
+/// fails or they do not settle within settle_max_time_s.
+template <int D>
+std::vector<Grain<D>> settle_grains(const PartSettings& settings,
+                                    const std::vector<Grain<D>>* grains, PackingReport& report);
 
 }  // namespace crater::dem

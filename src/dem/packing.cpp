@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <functional>
 #include <iterator>
 #include <numbers>
@@ -14,7 +12,6 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
-#include "io/output/atomic_file.hpp"
 
 namespace crater::dem {
 
@@ -27,8 +24,8 @@ Real grain_volume(Real r) {
 }
 
 template <int D>
-Real region_volume(const io::RegionConfig& region) {
-  if (region.type == io::RegionType::Box) {
+Real region_volume(const parts::RegionConfig& region) {
+  if (region.type == parts::RegionType::Box) {
     Real v = 1;
     for (int d = 0; d < D; ++d) {
       const auto k = static_cast<std::size_t>(d);
@@ -40,7 +37,7 @@ Real region_volume(const io::RegionConfig& region) {
 }
 
 template <int D>
-std::vector<Real> draw_radii(const io::PackingConfig& packing, Real r_min, Real r_max,
+std::vector<Real> draw_radii(const PackingSettings& packing, Real r_min, Real r_max,
                              Real solid_volume, std::uint64_t seed, std::size_t max_grains,
                              const SourceLocation& where, const std::string& key) {
   std::mt19937_64 rng(seed);
@@ -109,12 +106,12 @@ struct HashGrid {
 }  // namespace
 
 template <int D>
-std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector<Real> radii,
+std::vector<Grain<D>> random_packing(const parts::RegionConfig& region, std::vector<Real> radii,
                                      const Vec<D>& gravity, const Vec<D>& domain_lo,
                                      const Vec<D>& domain_hi, std::uint64_t seed,
                                      const SourceLocation& where, const std::string& key) {
   std::sort(radii.begin(), radii.end(), std::greater<>());
-  const bool box = region.type == io::RegionType::Box;
+  const bool box = region.type == parts::RegionType::Box;
   Vec<D> lo, hi, center;
   for (int d = 0; d < D; ++d) {
     const auto k = static_cast<std::size_t>(d);
@@ -199,68 +196,15 @@ std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector
   return out;
 }
 
-namespace {
-constexpr const char* kMagic = "crater settled packing v1";
-
-std::uint64_t checksum(const std::string& payload) {
-  return fnv1a(payload);
-}
-}  // namespace
-
-template <int D>
-void save_packing(const std::string& path, std::uint64_t key, const std::vector<Grain<D>>& g) {
-  std::string payload;
-  payload.resize(g.size() * (D + 1) * sizeof(double));
-  char* p = payload.data();
-  for (const auto& q : g) {
-    for (int d = 0; d < D; ++d, p += sizeof(double))
-      std::memcpy(p, &q.x[d], sizeof(double));
-    std::memcpy(p, &q.r, sizeof(double));
-    p += sizeof(double);
-  }
-  const std::string header = fmt::format("{} key={:016x} dim={} count={} checksum={:016x}\n",
-                                         kMagic, key, D, g.size(), checksum(payload));
-  io::write_file_atomic(path, header + payload);
-}
-
-template <int D>
-std::optional<std::vector<Grain<D>>> load_packing(const std::string& path, std::uint64_t key) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::string header;
-  if (!std::getline(in, header)) return std::nullopt;
-  unsigned long long k = 0, sum = 0;
-  int dim = 0;
-  std::size_t count = 0;
-  const std::string expect = std::string(kMagic) + " key=%16llx dim=%d count=%zu checksum=%16llx";
-  if (std::sscanf(header.c_str(), expect.c_str(), &k, &dim, &count, &sum) != 4) return std::nullopt;
-  if (k != key || dim != D || count > (std::size_t{1} << 32)) return std::nullopt;
-  std::string payload((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (payload.size() != count * (D + 1) * sizeof(double) || checksum(payload) != sum)
-    return std::nullopt;
-  std::vector<Grain<D>> g(count);
-  const char* p = payload.data();
-  for (auto& q : g) {
-    for (int d = 0; d < D; ++d, p += sizeof(double))
-      std::memcpy(&q.x[d], p, sizeof(double));
-    std::memcpy(&q.r, p, sizeof(double));
-    p += sizeof(double);
-    if (!q.x.allFinite() || !(q.r > 0)) return std::nullopt;
-  }
-  return g;
-}
-
 #define CRATER_PACKING(D)                                                                         \
   template Real grain_volume<D>(Real);                                                            \
-  template Real region_volume<D>(const io::RegionConfig&);                                        \
-  template std::vector<Real> draw_radii<D>(const io::PackingConfig&, Real, Real, Real,            \
+  template Real region_volume<D>(const parts::RegionConfig&);                                     \
+  template std::vector<Real> draw_radii<D>(const PackingSettings&, Real, Real, Real,              \
                                            std::uint64_t, std::size_t, const SourceLocation&,     \
                                            const std::string&);                                   \
   template std::vector<Grain<D>> random_packing<D>(                                               \
-      const io::RegionConfig&, std::vector<Real>, const Vec<D>&, const Vec<D>&, const Vec<D>&,    \
-      std::uint64_t, const SourceLocation&, const std::string&);                                  \
-  template void save_packing<D>(const std::string&, std::uint64_t, const std::vector<Grain<D>>&); \
-  template std::optional<std::vector<Grain<D>>> load_packing<D>(const std::string&, std::uint64_t);
+      const parts::RegionConfig&, std::vector<Real>, const Vec<D>&, const Vec<D>&, const Vec<D>&, \
+      std::uint64_t, const SourceLocation&, const std::string&);
 CRATER_PACKING(2)
 CRATER_PACKING(3)
 #undef CRATER_PACKING

@@ -4,7 +4,6 @@
 //   - random sequential addition: grains placed one by one, largest first, at uniformly random
 //     positions that overlap no grain already placed; a column that cannot hold them all is
 //     extended against gravity (the settled bed then comes down to about the target porosity);
-//   - a file cache for settled packings, keyed by a hash of every input that shapes them.
 #pragma once
 
 #include <cstdint>
@@ -12,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "core/hash.hpp"  // fnv1a: the cache key of a settled packing
 #include "core/types.hpp"
-#include "io/scenario/config.hpp"
+#include "dem/settings.hpp"
+#include "parts/region.hpp"
 
 namespace crater::dem {
 
@@ -32,7 +31,7 @@ Real grain_volume(Real r);
 /// `seed`: from the sieve curve of `packing` if it has one, else uniform in [r_min, r_max].
 /// Throws InputError (key `key`) if that takes more than `max_grains` grains.
 template <int D>
-std::vector<Real> draw_radii(const io::PackingConfig& packing, Real r_min, Real r_max,
+std::vector<Real> draw_radii(const PackingSettings& packing, Real r_min, Real r_max,
                              Real solid_volume, std::uint64_t seed, std::size_t max_grains,
                              const SourceLocation& where, const std::string& key);
 
@@ -40,22 +39,13 @@ std::vector<Real> draw_radii(const io::PackingConfig& packing, Real r_min, Real 
 /// `region`, extended against `gravity` up to the domain's face when they do not fit. Throws
 /// InputError when even the tallest column cannot hold them.
 template <int D>
-std::vector<Grain<D>> random_packing(const io::RegionConfig& region, std::vector<Real> radii,
+std::vector<Grain<D>> random_packing(const parts::RegionConfig& region, std::vector<Real> radii,
                                      const Vec<D>& gravity, const Vec<D>& domain_lo,
                                      const Vec<D>& domain_hi, std::uint64_t seed,
                                      const SourceLocation& where, const std::string& key);
 
 /// Volume of the region (area in 2D).
 template <int D>
-Real region_volume(const io::RegionConfig& region);
-
-/// Settled packing file: header line, raw little-endian doubles (x, r per grain), checksum.
-template <int D>
-void save_packing(const std::string& path, std::uint64_t key, const std::vector<Grain<D>>& g);
-
-/// The grains of a packing file, or nothing if it is missing, of another key or dimension, or
-/// damaged (a cache miss, never an error).
-template <int D>
-std::optional<std::vector<Grain<D>>> load_packing(const std::string& path, std::uint64_t key);
+Real region_volume(const parts::RegionConfig& region);
 
 }  // namespace crater::dem

@@ -183,7 +183,7 @@ SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
 }
 
 template <int D>
-NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face) {
+NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, parts::Face face) {
   const int axis = static_cast<int>(face) / 2;
   const bool upper = static_cast<int>(face) % 2 == 1;
   Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
@@ -202,121 +202,54 @@ NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face) {
 }
 
 template <int D>
-MeshSource<D> mesh_from_gmsh(const mesh::GmshMesh& gmsh, const std::string& file,
-                             const std::string& group, Index& reordered) {
+MeshSource<D> mesh_from_elements(const mesh::SolidElements& elements, const std::string& file,
+                                 Index& reordered) {
   constexpr int kNodes = kElementNodes<D>;
-  const int wanted_type = D == 2 ? 3 : 5;  // quadrangle, hexahedron
-  const char* wanted = D == 2 ? "4-node quadrangles" : "8-node hexahedra";
-  auto fail = [&](int line, const std::string& what) {
-    throw InputError({file, line, 0}, "", what);
-  };
-  // The part's elements: blocks of the scenario's dimension (of the named group).
-  std::vector<const mesh::GmshMesh::Block*> blocks;
-  bool group_seen = false;
-  for (const auto& b : gmsh.blocks) {
-    if (b.dim != D) continue;
-    if (!group.empty() && b.physical_name != group) continue;
-    group_seen = true;
-    if (b.gmsh_type != wanted_type)
-      fail(b.source_lines.empty() ? 0 : b.source_lines.front(),
-           fmt::format("the part's elements must be {}; this {} has {} (Gmsh: "
-                       "Mesh.RecombineAll = 1{} and Mesh.ElementOrder = 1)",
-                       wanted, group.empty() ? "mesh" : "group '" + group + "'",
-                       b.gmsh_type == 2   ? "triangles"
-                       : b.gmsh_type == 4 ? "tetrahedra"
-                                          : "other elements",
-                       D == 3 ? " with a transfinite or extruded volume" : ""));
-    blocks.push_back(&b);
-  }
-  if (blocks.empty()) {
-    std::string known;
-    for (const auto& b : gmsh.blocks)
-      if (b.dim == D && !b.physical_name.empty())
-        known += (known.empty() ? "'" : ", '") + b.physical_name + "'";
-    fail(0, group.empty() || !group_seen
-                ? fmt::format("no {} {}{} in the mesh (groups of dimension {}: {})", wanted,
-                              group.empty() ? "" : "in group '", group.empty() ? "" : group + "'",
-                              D, known.empty() ? "none" : known)
-                : "no elements");
-  }
-
-  // Nodes the part uses, in file order.
-  const std::size_t n_all = gmsh.nodes.size();
-  std::vector<Index> new_index(n_all, -1);
-  for (const auto* b : blocks)
-    for (std::int64_t n : b->connectivity)
-      new_index[static_cast<std::size_t>(n)] = 0;
   MeshSource<D> source;
   ExplicitMesh<D>& mesh = source.mesh;
-  for (std::size_t n = 0; n < n_all; ++n) {
-    if (new_index[n] < 0) continue;
-    new_index[n] = static_cast<Index>(mesh.position.size());
+  for (const auto& q : elements.nodes) {
     Vec<D> x;
     for (int k = 0; k < D; ++k)
-      x[k] = gmsh.nodes[n][at(k)];
-    if constexpr (D == 2) {
-      if (gmsh.nodes[n][2] != 0)
-        fail(0, fmt::format("a 2D part needs a flat mesh in the plane z = 0; node {} has z = {}",
-                            gmsh.node_tags[n], gmsh.nodes[n][2]));
-    }
+      x[k] = q[at(k)];
     mesh.position.push_back(x);
   }
   mesh.reference_position = mesh.position;
 
   reordered = 0;
-  for (const auto* b : blocks) {
-    for (std::int64_t e = 0; e < b->element_count(); ++e) {
-      ElementNodes<D> nodes;
-      for (int k = 0; k < kNodes; ++k)
-        nodes[at(k)] = new_index[static_cast<std::size_t>(
-            b->connectivity[static_cast<std::size_t>(e * kNodes + k)])];
-      NodeArray<D> x;
+  for (std::int64_t e = 0; e < elements.element_count(); ++e) {
+    ElementNodes<D> nodes;
+    for (int k = 0; k < kNodes; ++k)
+      nodes[at(k)] =
+          static_cast<Index>(elements.connectivity[static_cast<std::size_t>(e * kNodes + k)]);
+    NodeArray<D> x;
+    for (int k = 0; k < kNodes; ++k)
+      x[at(k)] = mesh.position[at(nodes[at(k)])];
+    Real v = uniform_strain_gradients<D>(x).volume;
+    if (v < 0) {
+      // Numbered the other way round (e.g. a surface whose normal is -z): mirror the order.
+      if constexpr (D == 2) {
+        std::swap(nodes[1], nodes[3]);
+      } else {
+        std::swap(nodes[1], nodes[3]);
+        std::swap(nodes[5], nodes[7]);
+      }
       for (int k = 0; k < kNodes; ++k)
         x[at(k)] = mesh.position[at(nodes[at(k)])];
-      Real v = uniform_strain_gradients<D>(x).volume;
-      if (v < 0) {
-        // Numbered the other way round (e.g. a surface whose normal is -z): mirror the order.
-        if constexpr (D == 2) {
-          std::swap(nodes[1], nodes[3]);
-        } else {
-          std::swap(nodes[1], nodes[3]);
-          std::swap(nodes[5], nodes[7]);
-        }
-        for (int k = 0; k < kNodes; ++k)
-          x[at(k)] = mesh.position[at(nodes[at(k)])];
-        v = uniform_strain_gradients<D>(x).volume;
-        ++reordered;
-      }
-      if (!(v > 0))
-        fail(b->source_lines[static_cast<std::size_t>(e)],
-             "degenerate element (zero volume, or twisted: its nodes are not in Gmsh's order)");
-      mesh.elements.push_back(nodes);
+      v = uniform_strain_gradients<D>(x).volume;
+      ++reordered;
     }
+    if (!(v > 0))
+      throw InputError(
+          {file, elements.source_lines[static_cast<std::size_t>(e)], 0}, "",
+          "degenerate element (zero volume, or twisted: its nodes are not in Gmsh's order)");
+    mesh.elements.push_back(nodes);
   }
 
-  // Every physical group is a node set (of the nodes the part uses).
-  std::map<std::string, std::vector<Index>> members;
-  for (const auto& b : gmsh.blocks) {
-    if (b.physical_name.empty()) continue;
-    auto& list = members[b.physical_name];
-    for (std::int64_t n : b.connectivity)
-      if (const Index k = new_index[static_cast<std::size_t>(n)]; k >= 0) list.push_back(k);
-  }
-  for (auto& [name, list] : members) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-    if (list.empty()) continue;
+  // Every physical group is a node set, with the boundary faces it holds.
+  for (const auto& [name, group] : elements.groups) {
     NodeSet<D> set;
-    set.nodes = std::move(list);
-    // A plane normal to an axis: the set's extent along it is ~0.
-    Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-    for (Index n : set.nodes) {
-      lo = lo.cwiseMin(mesh.position[at(n)]);
-      hi = hi.cwiseMax(mesh.position[at(n)]);
-    }
-    const Vec<D> extent = hi - lo;
-    for (int k = 0; k < D; ++k)
-      if (extent[k] <= 1e-9 * extent.maxCoeff()) set.normal_axis = k;
+    set.nodes.assign(group.nodes.begin(), group.nodes.end());
+    set.normal_axis = group.normal_axis;
     set.faces = boundary_faces_within(mesh, set.nodes);
     source.groups.emplace(name, std::move(set));
   }
@@ -324,11 +257,20 @@ MeshSource<D> mesh_from_gmsh(const mesh::GmshMesh& gmsh, const std::string& file
 }
 
 template <int D>
-MeshSource<D> build_mesh_source(const io::Config& /*config*/, const io::PartConfig& part) {
+MeshSource<D> mesh_from_gmsh(const mesh::GmshMesh& gmsh, const std::string& file,
+                             const std::string& group, Index& reordered) {
+  return mesh_from_elements<D>(mesh::solid_elements(gmsh, file, group, D), file, reordered);
+}
+
+template <int D>
+MeshSource<D> build_mesh_source(const PartSettings& settings) {
+  const parts::PartSetup& part = settings.part;
   MeshSource<D> source;
-  if (part.fem.mesh) {
+  if (settings.fem.elements) {
     Index reordered = 0;
-    return mesh_from_gmsh<D>(*part.fem.mesh, part.fem.mesh_file, part.fem.mesh_group, reordered);
+    source = mesh_from_elements<D>(*settings.fem.elements, settings.fem.mesh_file, reordered);
+    source.reordered = reordered;
+    return source;
   }
   StructuredMeshSpec<D> spec;
   for (int d = 0; d < D; ++d) {
@@ -341,18 +283,22 @@ MeshSource<D> build_mesh_source(const io::Config& /*config*/, const io::PartConf
   return source;
 }
 
+template MeshSource<2> mesh_from_elements<2>(const mesh::SolidElements&, const std::string&,
+                                             Index&);
+template MeshSource<3> mesh_from_elements<3>(const mesh::SolidElements&, const std::string&,
+                                             Index&);
 template MeshSource<2> mesh_from_gmsh<2>(const mesh::GmshMesh&, const std::string&,
                                          const std::string&, Index&);
 template MeshSource<3> mesh_from_gmsh<3>(const mesh::GmshMesh&, const std::string&,
                                          const std::string&, Index&);
 template struct MeshSource<2>;
 template struct MeshSource<3>;
-template MeshSource<2> build_mesh_source<2>(const io::Config&, const io::PartConfig&);
-template MeshSource<3> build_mesh_source<3>(const io::Config&, const io::PartConfig&);
+template MeshSource<2> build_mesh_source<2>(const PartSettings&);
+template MeshSource<3> build_mesh_source<3>(const PartSettings&);
 template SurfaceFaces<2> surface_faces<2>(const ExplicitMesh<2>&);
 template SurfaceFaces<3> surface_faces<3>(const ExplicitMesh<3>&);
-template NodeSet<2> face_node_set<2>(const ExplicitMesh<2>&, io::Face);
-template NodeSet<3> face_node_set<3>(const ExplicitMesh<3>&, io::Face);
+template NodeSet<2> face_node_set<2>(const ExplicitMesh<2>&, parts::Face);
+template NodeSet<3> face_node_set<3>(const ExplicitMesh<3>&, parts::Face);
 template std::vector<BoundaryFace<2>> boundary_faces_within<2>(const ExplicitMesh<2>&,
                                                                const std::vector<Index>&);
 template std::vector<BoundaryFace<3>> boundary_faces_within<3>(const ExplicitMesh<3>&,

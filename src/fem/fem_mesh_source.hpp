@@ -10,8 +10,9 @@
 
 #include "core/types.hpp"
 #include "fem/explicit_mesh.hpp"
-#include "io/scenario/config.hpp"
+#include "fem/settings.hpp"
 #include "mesh/gmsh.hpp"
+#include "mesh/solid_mesh.hpp"
 
 namespace crater::fem {
 
@@ -37,6 +38,7 @@ template <int D>
 struct MeshSource {
   ExplicitMesh<D> mesh;
   std::map<std::string, NodeSet<D>> groups;
+  Index reordered = 0;  // elements of a mesh file numbered the other way round (mirrored)
   /// The named group; throws std::runtime_error naming the known groups if there is none.
   const NodeSet<D>& group(const std::string& name) const;
 };
@@ -44,21 +46,25 @@ struct MeshSource {
 /// Builds the mesh of an FEM part: the structured mesh of its box region (about spacing_m per
 /// element, whole elements), or the elements of its mesh file.
 template <int D>
-MeshSource<D> build_mesh_source(const io::Config& config, const io::PartConfig& part);
+MeshSource<D> build_mesh_source(const PartSettings& settings);
 
-/// The part's mesh from the elements of a Gmsh file: the quadrangles (2D) or hexahedra (3D) of
-/// physical group `group` (empty: all of them), with only the nodes they use (in file order);
-/// elements numbered the other way round are reordered (`reordered` counts them). Every
-/// physical group becomes a node set. Throws InputError naming `file` and the line of the
-/// element at fault: no elements, triangles or tetrahedra where the part's elements are, a
-/// 2D mesh that is not flat, a degenerate (zero or twisted) element.
+/// The part's mesh from its solid elements (mesh::solid_elements): elements numbered the other
+/// way round are reordered (`reordered` counts them); every physical group becomes a node set
+/// with its boundary faces. Throws InputError naming `file` and the line of a degenerate (zero
+/// or twisted) element.
+template <int D>
+MeshSource<D> mesh_from_elements(const mesh::SolidElements& elements, const std::string& file,
+                                 Index& reordered);
+
+/// mesh_from_elements of mesh::solid_elements(gmsh, file, group, D): the elements of a Gmsh
+/// file in one step (the fuzz target's way in).
 template <int D>
 MeshSource<D> mesh_from_gmsh(const mesh::GmshMesh& gmsh, const std::string& file,
                              const std::string& group, Index& reordered);
 
 /// The nodes on a face of the mesh's bounding box (within 1e-9 of its extent).
 template <int D>
-NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, io::Face face);
+NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, parts::Face face);
 
 /// Area vector of a face in its node numbering's sense: (t_y, -t_x) x 1 m of depth in 2D,
 /// (x_2 - x_0) x (x_3 - x_1) / 2 in 3D (exact for segments and planar quadrilaterals).

@@ -2,6 +2,7 @@
 #include "fem/fem_part.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -32,20 +33,19 @@ template <int D>
 using MatD = Eigen::Matrix<Real, D, D>;
 
 /// The element-loop material of a part.
-SolidMaterial solid_material(const io::Config& config, const io::PartConfig& pc) {
-  const io::MaterialConfig& m = config.materials[pc.material];
+SolidMaterial solid_material(const PartSettings& settings) {
+  const Settings& f = settings.fem;
   SolidMaterial s;
-  s.strength = m.solid.strength;
-  s.damage = m.solid.damage;
-  s.density_kg_m3 = m.rho0_kg_m3;
-  s.initial_temperature_k = pc.fem.initial_temperature_k;
-  s.hourglass.form =
-      pc.fem.hourglass_stiffness ? HourglassForm::kStiffness : HourglassForm::kViscous;
-  s.hourglass.coefficient = pc.fem.hourglass_coefficient;
-  s.bulk_viscosity.quadratic = pc.fem.bulk_viscosity_quadratic;
-  s.bulk_viscosity.linear = pc.fem.bulk_viscosity_linear;
-  if (pc.fem.erosion_plastic_strain) s.erosion_plastic_strain = *pc.fem.erosion_plastic_strain;
-  s.erode_inverted = pc.fem.erode_inverted;
+  s.strength = settings.material.strength;
+  s.damage = settings.material.damage;
+  s.density_kg_m3 = settings.rho0_kg_m3;
+  s.initial_temperature_k = f.initial_temperature_k;
+  s.hourglass.form = f.hourglass_stiffness ? HourglassForm::kStiffness : HourglassForm::kViscous;
+  s.hourglass.coefficient = f.hourglass_coefficient;
+  s.bulk_viscosity.quadratic = f.bulk_viscosity_quadratic;
+  s.bulk_viscosity.linear = f.bulk_viscosity_linear;
+  if (f.erosion_plastic_strain) s.erosion_plastic_strain = *f.erosion_plastic_strain;
+  s.erode_inverted = f.erode_inverted;
   return s;
 }
 
@@ -62,17 +62,24 @@ Real tabulated(const std::vector<Real>& t, const std::vector<Real>& v, Real time
 template <int D>
 class FemPart final : public parts::Part<D> {
  public:
-  FemPart(const io::Config& config, const io::PartConfig& pc)
-      : name_(pc.name), material_(solid_material(config, pc)) {
-    MeshSource<D> source = build_mesh_source<D>(config, pc);
+  explicit FemPart(const PartSettings& settings)
+      : name_(settings.part.name), material_(solid_material(settings)) {
+    const parts::PartSetup& pc = settings.part;
+    MeshSource<D> source = build_mesh_source<D>(settings);
+    if (source.reordered > 0)
+      spdlog::warn(
+          "part '{}': {} elements of {} were numbered clockwise (as seen along the normal); "
+          "their node order was mirrored",
+          name_, source.reordered, settings.fem.mesh_file);
     mesh_ = std::move(source.mesh);
     initialise(mesh_, material_);
     // The erosion floor follows from the mesh at rest (the same on a restart).
-    if (pc.fem.erosion_step_ratio > 0)
-      material_.erosion_min_step_s = pc.fem.erosion_step_ratio * stable_time_step(mesh_, material_);
+    if (settings.fem.erosion_step_ratio > 0)
+      material_.erosion_min_step_s =
+          settings.fem.erosion_step_ratio * stable_time_step(mesh_, material_);
     const Index nn = mesh_.node_count();
     for (int k = 0; k < D; ++k)
-      gravity_[k] = config.domain.gravity_m_s2[at(k)];
+      gravity_[k] = pc.domain.gravity_m_s2[at(k)];
     Vec<D> v0;
     for (int k = 0; k < D; ++k)
       v0[k] = pc.initial.velocity_m_s[at(k)];
@@ -102,9 +109,9 @@ class FemPart final : public parts::Part<D> {
     dashpot_force_.assign(at(nn), Vec<D>::Zero());
     contact_force_.assign(at(nn), Vec<D>::Zero());
     rebuild_surface();
-    for (const auto& b : pc.fem.boundaries)
-      apply_boundary_config(source, b, config);
-    for (const auto& l : pc.fem.loads)
+    for (const auto& b : settings.fem.boundaries)
+      apply_boundary_config(source, b);
+    for (const auto& l : settings.fem.loads)
       add_pressure_load(l);
     if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
     impose_velocities();
@@ -528,7 +535,7 @@ class FemPart final : public parts::Part<D> {
   /// The surface faces of a pressure load: those of the live mesh (outward numbering, as the
   /// contact surface) with every node on the chosen face of the bounding box and the centre
   /// in the load's box (along the other axes).
-  void add_pressure_load(const io::FemLoadConfig& l) {
+  void add_pressure_load(const LoadSettings& l) {
     const NodeSet<D> set = face_node_set(mesh_, l.face);
     std::vector<std::uint8_t> on_face(at(mesh_.node_count()), 0);
     for (Index n : set.nodes)
@@ -587,17 +594,16 @@ class FemPart final : public parts::Part<D> {
   }
 
   /// Nodes of a boundary condition and, for dashpots, their boundary faces.
-  void apply_boundary_config(const MeshSource<D>& source, const io::FemBoundaryConfig& b,
-                             const io::Config& config) {
+  void apply_boundary_config(const MeshSource<D>& source, const BoundarySettings& b) {
     const NodeSet<D> set = b.face ? face_node_set(mesh_, *b.face) : source.group(b.group);
     switch (b.type) {
-      case io::FemBoundaryType::Fixed:
+      case BoundaryType::Fixed:
         for (Index n : set.nodes) {
           constrained_[at(n)] = (1u << D) - 1;
           imposed_velocity_[at(n)].setZero();
         }
         break;
-      case io::FemBoundaryType::Symmetry: {
+      case BoundaryType::Symmetry: {
         const int axis = set.normal_axis;
         if (axis < 0)
           throw std::runtime_error(
@@ -608,7 +614,7 @@ class FemPart final : public parts::Part<D> {
         }
         break;
       }
-      case io::FemBoundaryType::Velocity:
+      case BoundaryType::Velocity:
         for (Index n : set.nodes)
           for (int k = 0; k < D; ++k)
             if (b.components[at(k)]) {
@@ -616,14 +622,14 @@ class FemPart final : public parts::Part<D> {
               imposed_velocity_[at(n)][k] = b.velocity_m_s[at(k)];
             }
         break;
-      case io::FemBoundaryType::NonReflecting:
-        add_dashpots(set, config);
+      case BoundaryType::NonReflecting:
+        add_dashpots(set);
         break;
     }
   }
 
   /// Lysmer-Kuhlemeyer dashpots on the boundary faces of `set` (reference configuration).
-  void add_dashpots(const NodeSet<D>& set, const io::Config& /*config*/) {
+  void add_dashpots(const NodeSet<D>& set) {
     const materials::ElasticParams& el = materials::elastic_of(material_.strength);
     const Real rho = material_.density_kg_m3;
     const Real cp = std::sqrt(materials::p_wave_modulus(el) / rho);
@@ -700,12 +706,11 @@ class FemPart final : public parts::Part<D> {
 }  // namespace
 
 template <int D>
-std::unique_ptr<parts::Part<D>> make_fem_part(const io::Config& config,
-                                              const io::PartConfig& part) {
-  return std::make_unique<FemPart<D>>(config, part);
+std::unique_ptr<parts::Part<D>> make_fem_part(const PartSettings& settings) {
+  return std::make_unique<FemPart<D>>(settings);
 }
 
-template std::unique_ptr<parts::Part<2>> make_fem_part<2>(const io::Config&, const io::PartConfig&);
-template std::unique_ptr<parts::Part<3>> make_fem_part<3>(const io::Config&, const io::PartConfig&);
+template std::unique_ptr<parts::Part<2>> make_fem_part<2>(const PartSettings&);
+template std::unique_ptr<parts::Part<3>> make_fem_part<3>(const PartSettings&);
 
 }  // namespace crater::fem

@@ -26,14 +26,14 @@
 
 #include <memory>
 
-#include "io/scenario/config.hpp"
+#include "fem/settings.hpp"
 #include "parts/part.hpp"
 
 namespace crater::fem {
 
-/// Builds the FEM part described by `part`: a structured mesh of its box region, or the
+/// Builds the FEM part `settings` describe: a structured mesh of its box region, or the
 /// elements of its mesh file.
 template <int D>
-std::unique_ptr<parts::Part<D>> make_fem_part(const io::Config& config, const io::PartConfig& part);
+std::unique_ptr<parts::Part<D>> make_fem_part(const PartSettings& settings);
 
 }  // namespace crater::fem

@@ -12,37 +12,19 @@
 
 #include "contact/coupling.hpp"
 #include "core/error.hpp"
-#include "dem/dem_part.hpp"
-#include "fem/fem_part.hpp"
 #include "io/checkpoint/checkpoint.hpp"
 #include "io/output/atomic_file.hpp"
 #include "io/output/json.hpp"
 #include "io/output/run_directory.hpp"
 #include "io/output/vtu_writer.hpp"
 #include "parallel/parallel.hpp"
+#include "solver/assembly.hpp"
 #include "solver/memory_estimate.hpp"
 #include "solver/probes.hpp"
 #include "solver/progress.hpp"
-#include "sph/sph_part.hpp"
 
 namespace crater::solver {
 namespace fs = std::filesystem;
-
-// ---- part construction: one line per method ------------------------------------------------
-
-template <int D>
-std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
-  std::vector<std::unique_ptr<Part<D>>> parts;
-  for (const auto& pc : config.parts) {
-    if (pc.method == "sph") parts.push_back(sph::make_sph_part<D>(config, pc));
-    if (pc.method == "dem") parts.push_back(dem::make_dem_part<D>(config, pc));
-    if (pc.method == "fem") parts.push_back(fem::make_fem_part<D>(config, pc));
-  }
-  return parts;
-}
-
-template std::vector<std::unique_ptr<Part<2>>> build_parts<2>(const io::Config&);
-template std::vector<std::unique_ptr<Part<3>>> build_parts<3>(const io::Config&);
 
 namespace {
 

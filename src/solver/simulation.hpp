@@ -46,9 +46,6 @@ struct RunResult {
   int threads = 1;
 };
 
-template <int D>
-std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config);
-
 /// Builds the parts, checks the time step, and reports counts, masses and stable steps.
 /// Throws InputError for a fixed step above the stable limit.
 std::vector<PartReport> check_scenario(const io::Config& config);

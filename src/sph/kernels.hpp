@@ -13,11 +13,9 @@
 #include <numbers>
 
 #include "core/types.hpp"
+#include "sph/settings.hpp"  // KernelKind
 
 namespace crater::sph {
-
-/// Which kernel a scenario selects; the solver maps it once to a kernel type.
-enum class KernelKind { WendlandC2, CubicSpline };
 
 namespace detail {
 

@@ -60,9 +60,9 @@ struct WallLattice {
 };
 
 template <int D>
-WallLattice<D> wall_lattice(const io::Config& c, const std::vector<io::Face>& faces, int layers,
-                            Real s) {
-  const Vec<D> lo = to_vec<D>(c.domain.min_m), hi = to_vec<D>(c.domain.max_m);
+WallLattice<D> wall_lattice(const parts::Domain& domain, const std::vector<parts::Face>& faces,
+                            int layers, Real s) {
+  const Vec<D> lo = to_vec<D>(domain.min_m), hi = to_vec<D>(domain.max_m);
   auto walled = [&](int axis, int side) {
     for (auto f : faces)
       if (static_cast<int>(f) == 2 * axis + side) return true;
@@ -118,15 +118,15 @@ WallLattice<D> wall_lattice(const io::Config& c, const std::vector<io::Face>& fa
 template <int D>
 class SphPart final : public parts::Part<D> {
  public:
-  SphPart(const io::Config& c, const io::PartConfig& pc)
-      : name_(pc.name),
-        eos_(c.materials[pc.material].eos),
-        cfg_(pc.sph),
-        spacing_(pc.spacing_m),
-        gravity_(to_vec<D>(c.domain.gravity_m_s2)),
-        domain_lo_(to_vec<D>(c.domain.min_m)),
-        domain_hi_(to_vec<D>(c.domain.max_m)),
-        outflow_remove_(c.domain.outflow == io::Outflow::Remove),
+  explicit SphPart(const PartSettings& settings)
+      : name_(settings.part.name),
+        eos_(settings.eos),
+        cfg_(settings.sph),
+        spacing_(settings.part.spacing_m),
+        gravity_(to_vec<D>(settings.part.domain.gravity_m_s2)),
+        domain_lo_(to_vec<D>(settings.part.domain.min_m)),
+        domain_hi_(to_vec<D>(settings.part.domain.max_m)),
+        outflow_remove_(settings.part.domain.outflow == parts::Outflow::Remove),
         id_(f_.add_integer("id", "1", kStateRoles)),
         x_(f_.add_vector("position", "m", kRestart | kHalo)),
         v_(f_.add_vector("velocity", "m/s", kStateRoles)),
@@ -149,7 +149,7 @@ class SphPart final : public parts::Part<D> {
         fc_(f_.add_vector("contact_force", "N", kRestart)),
         surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)),
         surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)) {
-    const auto& mat = c.materials[pc.material];
+    const parts::PartSetup& pc = settings.part;
     // Particles: the part's lattice, except where a zone with its own spacing lays its own
     // (equal-mass particles across a density jump, as a shock tube wants); each particle
     // remembers its lattice pitch.
@@ -162,9 +162,8 @@ class SphPart final : public parts::Part<D> {
           k = static_cast<int>(z);
       return k;
     };
-    const std::vector<parts::RegionConfig> carving = io::carving_regions(c, pc.carve);
     for (const auto& x : parts::region_lattice<D>(pc.region, spacing_))
-      if (owner(x) < 0 && !parts::carved<D>(carving, x, 0.5 * spacing_))
+      if (owner(x) < 0 && !parts::carved<D>(pc.carving, x, 0.5 * spacing_))
         pts.push_back(x), pitch.push_back(spacing_);
     for (std::size_t z = 0; z < pc.zones.size(); ++z) {
       if (!pc.zones[z].spacing_m) continue;
@@ -188,7 +187,7 @@ class SphPart final : public parts::Part<D> {
 
     for (Index i = 0; i < n; ++i) {
       // The part's initial state, then the last zone containing the particle.
-      Real rho = pc.initial.density_kg_m3.value_or(mat.rho0_kg_m3);
+      Real rho = pc.initial.density_kg_m3.value_or(settings.rho0_kg_m3);
       std::optional<Real> pressure = pc.initial.pressure_pa;
       Vec<D> vel = to_vec<D>(pc.initial.velocity_m_s);
       for (const auto& z : pc.zones) {
@@ -221,13 +220,13 @@ class SphPart final : public parts::Part<D> {
                  static_cast<int>(std::ceil(WendlandC2<D>::support * h_max_ / spacing_ - 1e-9)));
     has_walls_ = !cfg_.walls.empty();
     if (cfg_.wall_no_slip) {
-      WallLattice<D> wl = wall_lattice<D>(c, cfg_.walls, layers, spacing_);
+      WallLattice<D> wl = wall_lattice<D>(pc.domain, cfg_.walls, layers, spacing_);
       wall_x_ = std::move(wl.x);
       wall_mirror_ = std::move(wl.mirror);
     }
     const std::size_t nw = wall_x_.size();
     wall_p_.assign(nw, 0);
-    wall_rho_.assign(nw, mat.rho0_kg_m3);
+    wall_rho_.assign(nw, settings.rho0_kg_m3);
     wall_c_.assign(nw, 0);
     wall_v_.assign(nw, Vec<D>::Zero());
     resort();
@@ -421,7 +420,7 @@ class SphPart final : public parts::Part<D> {
   // pressure is about zero, can dip below it by round-off-sized amounts: the image's push
   // vanishes as the kernel gradient does at r = 0).
   void reflect_at_walls(Index i) {
-    for (const io::Face f : cfg_.walls) {
+    for (const parts::Face f : cfg_.walls) {
       const int axis = static_cast<int>(f) / 2;
       const bool low = static_cast<int>(f) % 2 == 0;
       const Real face = low ? domain_lo_[axis] : domain_hi_[axis];
@@ -581,7 +580,7 @@ class SphPart final : public parts::Part<D> {
       std::array<int, D> count{};
       for (int a = 0; a < D; ++a) {
         options[a][count[a]++] = 0;
-        for (const io::Face f : cfg_.walls) {
+        for (const parts::Face f : cfg_.walls) {
           if (static_cast<int>(f) / 2 != a) continue;
           const bool low = static_cast<int>(f) % 2 == 0;
           const Vec<D>& xj = x[static_cast<std::size_t>(j)];
@@ -829,7 +828,7 @@ class SphPart final : public parts::Part<D> {
 
   std::string name_;
   materials::EosParams eos_;
-  io::SphConfig cfg_;
+  Settings cfg_;
   Real spacing_;
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool outflow_remove_ = false;  // domain.outflow = "remove" (remove_outflow)
@@ -900,12 +899,11 @@ class SphPart final : public parts::Part<D> {
 }  // namespace
 
 template <int D>
-std::unique_ptr<parts::Part<D>> make_sph_part(const io::Config& config,
-                                              const io::PartConfig& part) {
-  return std::make_unique<SphPart<D>>(config, part);
+std::unique_ptr<parts::Part<D>> make_sph_part(const PartSettings& settings) {
+  return std::make_unique<SphPart<D>>(settings);
 }
 
-template std::unique_ptr<parts::Part<2>> make_sph_part<2>(const io::Config&, const io::PartConfig&);
-template std::unique_ptr<parts::Part<3>> make_sph_part<3>(const io::Config&, const io::PartConfig&);
+template std::unique_ptr<parts::Part<2>> make_sph_part<2>(const PartSettings&);
+template std::unique_ptr<parts::Part<3>> make_sph_part<3>(const PartSettings&);
 
 }  // namespace crater::sph

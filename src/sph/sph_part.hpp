@@ -5,13 +5,13 @@
 
 #include <memory>
 
-#include "io/scenario/config.hpp"
 #include "parts/part.hpp"
+#include "sph/settings.hpp"
 
 namespace crater::sph {
 
-/// Builds the SPH part described by `part` (particles on a lattice filling its region).
+/// Builds the SPH part `settings` describe (particles on a lattice filling its region).
 template <int D>
-std::unique_ptr<parts::Part<D>> make_sph_part(const io::Config& config, const io::PartConfig& part);
+std::unique_ptr<parts::Part<D>> make_sph_part(const PartSettings& settings);
 
 }  // namespace crater::sph

@@ -156,6 +156,19 @@ class MeshFileErrors(unittest.TestCase):
         self.check_fails(HEAD.replace("max_m = [0.2, 0.02]", "max_m = [0.1, 0.02]", 1) + FROM_MESH,
                          "parts[0].fem.mesh_file", "inside the domain")
 
+    def test_degenerate_element_names_its_line(self):
+        # The first element's first node moved onto its third: zero area. Found when the part
+        # is built from the mesh (after the scenario is read), still an input error naming the
+        # element's line and the scenario's key.
+        text = self.good_mesh_text()
+        lines = text.split("\n")
+        k = lines.index("$Elements") + 3  # the first element: tag n0 n1 n2 n3
+        fields = lines[k].split()
+        fields[1] = fields[3]
+        lines[k] = " ".join(fields)
+        self.check_fails(HEAD + FROM_MESH, f"plate.msh:{k + 1}", "parts[0].fem.mesh_file",
+                         "degenerate element", mesh="\n".join(lines))
+
     def test_mesh_and_region_together(self):
         self.good_mesh_text()
         self.check_fails(HEAD + "spacing_m = 0.005\n" + FROM_MESH, "parts[0].spacing_m",

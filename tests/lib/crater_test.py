@@ -75,7 +75,9 @@ def assert_bit_identical_runs(scenario, work_dir, sets=(), threads=(1, 2)):
     try:
         for n in threads:
             d = Path(work_dir) / f"threads{n}"
-            run_scenario(scenario, d, threads=n, sets=sets)
+            # Checkpoints by wall-clock time (output.checkpoint_every_s) come when a run is
+            # slow, e.g. beside other tests: off, so that both runs write the same files.
+            run_scenario(scenario, d, threads=n, sets=["output.checkpoint_every_s=0", *sets])
             dirs.append(d)
     finally:
         if old is None:

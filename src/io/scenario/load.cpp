@@ -11,11 +11,11 @@
 #include <sstream>
 
 #include "core/file_kind.hpp"
-#include "fem/fem_mesh_source.hpp"
 #include "io/scenario/schema.hpp"
 #include "io/scenario/size_estimate.hpp"
 #include "io/scenario/validate.hpp"
 #include "mesh/gmsh.hpp"
+#include "mesh/solid_mesh.hpp"
 
 namespace crater::io {
 namespace fs = std::filesystem;
@@ -1019,7 +1019,8 @@ class Builder {
   }
 
   // Mesh files are read when the scenario is, so that a malformed mesh is an input error
-  // (exit 2) before anything runs; the part reads the file again when it is built.
+  // (exit 2) before anything runs; the part is built from the elements taken from it here
+  // (a degenerate element is found then: still an input error, at `crater check` too).
   void read_fem_mesh(const Config& c, const toml::table& ft, const SourceLocation& fw,
                      const std::string& key, PartConfig& p) {
     FemConfig& f = p.fem;
@@ -1035,34 +1036,9 @@ class Builder {
       return;
     }
     try {
-      f.mesh = std::make_shared<const mesh::GmshMesh>(mesh::read_gmsh(f.mesh_file));
-      Index reordered = 0;
-      std::vector<std::string> groups;
-      std::map<std::string, int> normal_axis;
-      std::array<Real, 3> lo{}, hi{};
-      auto inspect = [&](const auto& source) {
-        for (const auto& [name, set] : source.groups) {
-          groups.push_back(name);
-          normal_axis[name] = set.normal_axis;
-        }
-        const auto& x = source.mesh.position;
-        for (int d = 0; d < c.dimension; ++d) {
-          lo[static_cast<std::size_t>(d)] = hi[static_cast<std::size_t>(d)] = x.front()[d];
-          for (const auto& q : x) {
-            lo[static_cast<std::size_t>(d)] = std::min(lo[static_cast<std::size_t>(d)], q[d]);
-            hi[static_cast<std::size_t>(d)] = std::max(hi[static_cast<std::size_t>(d)], q[d]);
-          }
-        }
-      };
-      if (c.dimension == 2)
-        inspect(fem::mesh_from_gmsh<2>(*f.mesh, f.mesh_file, f.mesh_group, reordered));
-      else
-        inspect(fem::mesh_from_gmsh<3>(*f.mesh, f.mesh_file, f.mesh_group, reordered));
-      if (reordered > 0)
-        c_warnings_.push_back(fmt::format(
-            "part '{}': {} elements of {} were numbered clockwise (as seen along the normal); "
-            "their node order was mirrored",
-            p.name, reordered, f.mesh_file));
+      f.elements = std::make_shared<const mesh::SolidElements>(mesh::solid_elements(
+          mesh::read_gmsh(f.mesh_file), f.mesh_file, f.mesh_group, c.dimension));
+      const std::array<Real, 3> lo = f.elements->lo, hi = f.elements->hi;
       // The mesh's bounding box stands for the region: inside the domain, not overlapping.
       p.region.type = RegionType::Box;
       p.region.min_m = lo;
@@ -1081,8 +1057,8 @@ class Builder {
       for (std::size_t j = 0; j < f.boundaries.size(); ++j) {
         const auto& b = f.boundaries[j];
         if (b.group.empty()) continue;
-        if (std::find(groups.begin(), groups.end(), b.group) != groups.end()) {
-          if (b.type == FemBoundaryType::Symmetry && normal_axis[b.group] < 0)
+        if (const auto g = f.elements->groups.find(b.group); g != f.elements->groups.end()) {
+          if (b.type == FemBoundaryType::Symmetry && g->second.normal_axis < 0)
             error(b.where, fmt::format("{}.fem.boundary[{}].group", key, j),
                   fmt::format("a symmetry condition needs a plane normal to x, y{}; the nodes of "
                               "group '{}' are not on one",
@@ -1090,8 +1066,8 @@ class Builder {
           continue;
         }
         std::string known;
-        for (const auto& g : groups)
-          known += (known.empty() ? "'" : ", '") + g + "'";
+        for (const auto& [name, g] : f.elements->groups)
+          known += (known.empty() ? "'" : ", '") + name + "'";
         error(b.where, fmt::format("{}.fem.boundary[{}].group", key, j),
               fmt::format("no physical group '{}' with nodes of the part in {} (groups: {})",
                           b.group, f.mesh_file, known.empty() ? "none" : known));

@@ -133,13 +133,7 @@ Real packed_grains(const Config& c, const PartConfig& p) {
 }
 
 Real fem_elements(const Config& c, const PartConfig& p) {
-  if (p.fem.mesh) {
-    Real n = 0;
-    for (const auto& b : p.fem.mesh->blocks)
-      if (b.dim == c.dimension && (p.fem.mesh_group.empty() || b.physical_name == p.fem.mesh_group))
-        n += static_cast<Real>(b.element_count());
-    return n;
-  }
+  if (p.fem.elements) return static_cast<Real>(p.fem.elements->element_count());
   if (!(p.spacing_m > 0)) return 0;
   Real n = 1;
   for (int d = 0; d < c.dimension; ++d)

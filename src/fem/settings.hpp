@@ -1,0 +1,80 @@
+// Settings of an FEM part ([parts.fem] and its solid material), as the scenario reader builds
+// them: plain values and the mesh file as read, no strings from the file. The solver's
+// assembly hands a PartSettings to make_fem_part (fem_part.hpp).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/types.hpp"
+#include "materials/damage/johnson_cook_damage.hpp"
+#include "materials/strength/strength.hpp"
+#include "mesh/solid_mesh.hpp"
+#include "parts/setup.hpp"
+
+namespace crater::fem {
+
+/// Solid material of an FEM part (models "elastic", "johnson_cook", "drucker_prager").
+struct MaterialSettings {
+  materials::StrengthParams strength = materials::ElasticParams{};
+  std::optional<materials::JohnsonCookDamageParams> damage;  // [materials.damage]; none: no erosion
+};
+
+/// How the nodes of an FEM boundary condition are chosen and what is imposed on them.
+enum class BoundaryType { Fixed, Symmetry, Velocity, NonReflecting };
+
+struct BoundarySettings {
+  BoundaryType type = BoundaryType::Fixed;
+  std::optional<parts::Face> face;                   // a face of the part's bounding box
+  std::string group;                                 // or a physical group of the mesh file
+  parts::Vec3 velocity_m_s{};                        // Velocity: imposed components
+  std::array<bool, 3> components{true, true, true};  // Velocity: which components are imposed
+  SourceLocation where;
+};
+
+/// A load on boundary faces of an FEM part ([[parts.fem.loads]]). type "pressure": a pressure
+/// history p(t) (linear between the table's points, zero outside), positive into the body,
+/// on the current (deformed) faces of one face of the part's bounding box, optionally only
+/// those whose centre lies in a box (its extent along the face normal is not used).
+enum class LoadType { Pressure };
+
+struct LoadSettings {
+  LoadType type = LoadType::Pressure;
+  parts::Face face = parts::Face::Bottom;
+  std::optional<parts::RegionConfig> region;  // a box; unset: the whole face
+  std::vector<Real> time_s;                   // strictly increasing
+  std::vector<Real> pressure_pa;              // same length
+  SourceLocation where;
+};
+
+/// Numerics, boundaries and mesh of an FEM part ([parts.fem]).
+struct Settings {
+  bool hourglass_stiffness = false;  // false: viscous form
+  Real hourglass_coefficient = 0.1;
+  Real bulk_viscosity_quadratic = 1.5;
+  Real bulk_viscosity_linear = 0.06;
+  Real initial_temperature_k = 293.15;
+  std::optional<Real> erosion_plastic_strain;  // erode elements at this plastic strain
+  bool erode_inverted = false;                 // inverted elements erode (else: exit 3)
+  Real erosion_step_ratio = 0;  // erode elements whose step < this x the part's initial step
+  std::vector<BoundarySettings> boundaries;
+  std::vector<LoadSettings> loads;
+  std::string mesh_file;   // Gmsh .msh 4.1; empty: structured mesh of the region box
+  std::string mesh_group;  // physical group of the elements in mesh_file; empty: all
+  // The part's elements in mesh_file, taken from it once when the scenario was read.
+  std::shared_ptr<const mesh::SolidElements> elements;
+};
+
+/// Everything an FEM part is built from.
+struct PartSettings {
+  parts::PartSetup part;
+  Settings fem;
+  MaterialSettings material;
+  Real rho0_kg_m3 = 0;  // the material's reference density
+};
+
+}  // namespace crater::fem

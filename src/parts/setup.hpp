@@ -1,0 +1,65 @@
+// What a part of any method is built from, as the scenario reader hands it over: the domain it
+// lives in, its region and lattice pitch, how it starts (initial state, zones), the regions of
+// other parts it leaves empty and its detonation points. Each method adds its own settings
+// (sph/settings.hpp, dem/settings.hpp, fem/settings.hpp); the solver's assembly puts the two
+// together, so no method sees the scenario as a whole.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/types.hpp"
+#include "parts/region.hpp"
+
+namespace crater::parts {
+
+/// Faces of the domain box, for walls: 2*axis + (0 = min side, 1 = max side).
+enum class Face { Left = 0, Right = 1, Bottom = 2, Top = 3, Back = 4, Front = 5 };
+
+/// What happens to a particle (SPH or DEM) that leaves the domain box: the run stops (exit 3),
+/// or the particle is removed at the end of the step and booked as having left.
+enum class Outflow { Stop, Remove };
+
+struct Domain {
+  Vec3 min_m{};
+  Vec3 max_m{};
+  Vec3 gravity_m_s2{};
+  Outflow outflow = Outflow::Stop;
+};
+
+struct InitialState {
+  std::optional<Real> density_kg_m3;
+  std::optional<Real> pressure_pa;
+  Vec3 velocity_m_s{};
+};
+
+/// A sub-region with its own initial state; unset values fall back to the part's.
+struct Zone {
+  RegionConfig region;
+  std::optional<Real> spacing_m;  // own lattice pitch (unset: the part's lattice)
+  std::optional<Real> density_kg_m3;
+  std::optional<Real> pressure_pa;
+  std::optional<Vec3> velocity_m_s;
+};
+
+struct DetonationPoint {
+  Vec3 point_m{};
+  Real time_s = 0;
+};
+
+/// The method-independent description of one part.
+struct PartSetup {
+  std::string name;
+  Domain domain;
+  Real spacing_m = 0;
+  RegionConfig region;
+  InitialState initial;
+  std::vector<Zone> zones;
+  std::vector<RegionConfig> carving;  // regions of other parts this part's particles leave empty
+  std::vector<DetonationPoint> detonations;
+  SourceLocation where;  // of the part in the scenario, for errors found while building it
+};
+
+}  // namespace crater::parts

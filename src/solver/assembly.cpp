@@ -1,0 +1,117 @@
+// Assembly of the parts from the scenario; see assembly.hpp.
+#include "solver/assembly.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/error.hpp"
+#include "core/hash.hpp"
+#include "dem/dem_part.hpp"
+#include "fem/fem_part.hpp"
+#include "solver/packing_cache.hpp"
+#include "sph/sph_part.hpp"
+
+namespace crater::solver {
+
+parts::PartSetup part_setup(const io::Config& config, const io::PartConfig& part) {
+  parts::PartSetup s;
+  s.name = part.name;
+  s.domain = config.domain;
+  s.spacing_m = part.spacing_m;
+  s.region = part.region;
+  s.initial = part.initial;
+  s.zones = part.zones;
+  for (std::size_t k : part.carve)
+    s.carving.push_back(config.parts[k].region);
+  s.detonations = part.detonations;
+  s.where = part.where;
+  return s;
+}
+
+sph::PartSettings sph_settings(const io::Config& config, const io::PartConfig& part) {
+  const io::MaterialConfig& m = config.materials[part.material];
+  return {part_setup(config, part), part.sph, m.eos, m.rho0_kg_m3};
+}
+
+dem::PartSettings dem_settings(const io::Config& config, const io::PartConfig& part) {
+  const io::MaterialConfig& m = config.materials[part.material];
+  return {part_setup(config, part), part.dem, part.packing, m.granular, m.rho0_kg_m3,
+          config.time.safety_factor};
+}
+
+fem::PartSettings fem_settings(const io::Config& config, const io::PartConfig& part) {
+  const io::MaterialConfig& m = config.materials[part.material];
+  return {part_setup(config, part), part.fem, m.solid, m.rho0_kg_m3};
+}
+
+namespace {
+
+// A packed DEM part: its grains from the cache if it holds this packing, else generated (and
+// settled under gravity with the domain's walls, then saved). The run starts from the saved
+// state (positions and radii; grains at rest, no contact history) in both cases, so a run
+// that settled and a run that reused give identical results.
+template <int D>
+std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
+  const dem::PackingSettings& k = settings.packing;
+  const std::string& name = settings.part.name;
+  dem::PackingReport report;
+  if (!k.settle) {
+    const std::vector<dem::Grain<D>> grains = dem::random_grains<D>(settings);
+    return dem::make_dem_part<D>(settings, &grains, report);
+  }
+  const std::uint64_t key = fnv1a(dem::packing_key_text<D>(settings));
+  const std::filesystem::path file =
+      std::filesystem::path(k.cache_dir) / fmt::format("{}-{:016x}.pack", name, key);
+  if (auto cached = load_packing<D>(file.string(), key)) {
+    report.reused = true;
+    spdlog::info("part '{}': settled packing of {} grains reused from {}", name, cached->size(),
+                 file.string());
+    return dem::make_dem_part<D>(settings, &*cached, report);
+  }
+  std::vector<dem::Grain<D>> grains;
+  if (k.random) grains = dem::random_grains<D>(settings);
+  const std::vector<dem::Grain<D>> settled =
+      dem::settle_grains<D>(settings, k.random ? &grains : nullptr, report);
+  std::filesystem::create_directories(file.parent_path());
+  save_packing<D>(file.string(), key, settled);
+  spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
+               report.settle_steps, file.string());
+  // Read back what was saved, so this run starts from exactly what a reuse would.
+  if (auto back = load_packing<D>(file.string(), key))
+    return dem::make_dem_part<D>(settings, &*back, report);
+  throw std::runtime_error("could not read back the settled packing " + file.string());
+}
+
+}  // namespace
+
+template <int D>
+std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
+  std::vector<std::unique_ptr<Part<D>>> parts;
+  for (std::size_t i = 0; i < config.parts.size(); ++i) {
+    const io::PartConfig& pc = config.parts[i];
+    if (pc.method == "sph") parts.push_back(sph::make_sph_part<D>(sph_settings(config, pc)));
+    if (pc.method == "fem") {
+      try {
+        parts.push_back(fem::make_fem_part<D>(fem_settings(config, pc)));
+      } catch (const InputError& e) {
+        // A degenerate element of the mesh file: the file's line, and the scenario's key.
+        if (!e.key().empty()) throw;
+        throw InputError(e.where(), fmt::format("parts[{}].fem.mesh_file", i), e.what());
+      }
+    }
+    if (pc.method != "dem") continue;
+    const dem::PartSettings settings = dem_settings(config, pc);
+    if (settings.packing.random || settings.packing.settle)
+      parts.push_back(packed_dem_part<D>(settings));
+    else
+      parts.push_back(dem::make_dem_part<D>(settings));
+  }
+  return parts;
+}
+
+template std::vector<std::unique_ptr<Part<2>>> build_parts<2>(const io::Config&);
+template std::vector<std::unique_ptr<Part<3>>> build_parts<3>(const io::Config&);
+
+}  // namespace crater::solver
