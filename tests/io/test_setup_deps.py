@@ -48,7 +48,7 @@ echo "python $*" >> "$FAKE_LOG"
 
 ALL = ("g++ cmake ninja-build make pkg-config libeigen3-dev libtomlplusplus-dev libcli11-dev "
        "libfmt-dev libspdlog-dev libgtest-dev libgmock-dev libbenchmark-dev python3 "
-       "python3-numpy python3-matplotlib clang-format")
+       "python3-numpy python3-matplotlib clang-format universal-ctags")
 
 
 class SetupDeps(unittest.TestCase):
