@@ -6,6 +6,8 @@ import sys
 import unittest
 
 from crater_test import SOURCE_DIR, crater, read_vtu, scratch
+from scenario_blocks import (AIR, SAND, box, compose_scenario, domain, material, part,
+                             scenario_text)
 
 
 class Cli(unittest.TestCase):
@@ -39,16 +41,12 @@ class Cli(unittest.TestCase):
         # Fuzzing found it: a random packing whose first grain outweighs the region's solid
         # volume placed none, and the empty part failed in the cell grid (exit 1).
         scenario = scratch("cli_empty_dem") / "empty.toml"
-        scenario.write_text(EMPTY_DEM)
+        scenario.write_text(soil_box(random_packing=True, radius_max_m=1.0))
         p = crater("check", scenario, check=False)
         self.assertEqual(p.returncode, 2, p.stderr)
         self.assertIn("key 'parts[soil].packing': no grain to place", p.stderr)
         # A lattice part whose every grain is carved away by another part's region.
-        lattice = EMPTY_DEM.replace('[parts.packing]\nmethod = "random"\nporosity = 0.5\n', "")
-        lattice = lattice.replace("radius_max_m = 1.0", "radius_max_m = 0.004")
-        lattice = lattice.replace("max_m = [0.1, 0.1] }\n", 'max_m = [0.1, 0.1] }\ncarve = ["block"]\n')
-        lattice += CARVER
-        scenario.write_text(lattice)
+        scenario.write_text(soil_box(random_packing=False, radius_max_m=0.004, carved=True))
         p = crater("check", scenario, check=False)
         self.assertEqual(p.returncode, 2, p.stderr)
         self.assertIn("holds no grains", p.stderr)
@@ -92,49 +90,20 @@ class Cli(unittest.TestCase):
         self.assertTrue((out / "charge_failure.vtu").exists())
 
 
+def soil_box(random_packing, radius_max_m, carved=False):
+    """A 0.1 m box of sand grains ("soil", radii from 3 mm to radius_max_m), by random packing
+    or on a lattice; with `carved`, a gas block ("block") covering it carves it away."""
+    materials = [material(SAND, shear_modulus_pa=5e8, friction=0.5)]
+    parts = [part("soil", "dem", "sand", 0.01, box([0.0, 0.0], [0.1, 0.1]),
+                  carve=["block"] if carved else None,
+                  dem={"radius_min_m": 0.003, "radius_max_m": radius_max_m},
+                  packing={"method": "random", "porosity": 0.5} if random_packing else None)]
+    if carved:
+        materials.append(material(AIR, name="gas"))
+        parts.append(part("block", "sph", "gas", 0.01, box([0.0, 0.0], [0.12, 0.12])))
+    return scenario_text(compose_scenario("empty", 2, 1e-4, domain=domain([0.0, 0.0], [1.0, 1.0]),
+                                          materials=materials, parts=parts))
 
-EMPTY_DEM = """
-[scenario]
-name = "empty"
-dimension = 2
-end_time_s = 1e-4
-[domain]
-min_m = [0.0, 0.0]
-max_m = [1.0, 1.0]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = 5e8
-poisson_ratio = 0.2
-friction = 0.5
-restitution = 0.5
-[[parts]]
-name = "soil"
-method = "dem"
-material = "sand"
-spacing_m = 0.01
-region = { type = "box", min_m = [0.0, 0.0], max_m = [0.1, 0.1] }
-[parts.dem]
-radius_min_m = 0.003
-radius_max_m = 1.0
-[parts.packing]
-method = "random"
-porosity = 0.5
-"""
-
-CARVER = """[[materials]]
-name = "gas"
-model = "ideal_gas"
-rho0_kg_m3 = 1.0
-gamma = 1.4
-[[parts]]
-name = "block"
-method = "sph"
-material = "gas"
-spacing_m = 0.01
-region = { type = "box", min_m = [0.0, 0.0], max_m = [0.12, 0.12] }
-"""
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -9,56 +9,24 @@ import numpy as np
 
 from crater_test import crater, read_vtu, run_scenario, scratch
 from fem_meshes import rectangle_quads, write_msh41
+from scenario_blocks import (STEEL_JC, box, boundary, compose_scenario, domain, material, output,
+                             part, scenario_text)
 
-HEAD = """
-[scenario]
-name = "fem-mesh"
-description = "a clamped plate struck in its middle"
-dimension = 2
-end_time_s = 2e-5
-[output]
-interval_s = 1e-5
-[domain]
-min_m = [0, 0]
-max_m = [0.2, 0.02]
-[[materials]]
-name = "steel"
-model = "johnson_cook"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-a_pa = 50e6
-b_pa = 176e6
-n = 0.52
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-"""
-STRUCTURED = """spacing_m = 0.005
-region = { type = "box", min_m = [0, 0], max_m = [0.2, 0.02] }
-[[parts.zones]]
-region = { type = "box", min_m = [0.09, 0], max_m = [0.11, 0.02] }
-velocity_m_s = [0, -100.0]
-[[parts.fem.boundary]]
-type = "fixed"
-face = "left"
-[[parts.fem.boundary]]
-type = "fixed"
-face = "right"
-"""
-FROM_MESH = """[[parts.zones]]
-region = { type = "box", min_m = [0.09, 0], max_m = [0.11, 0.02] }
-velocity_m_s = [0, -100.0]
-[parts.fem]
-mesh_file = "plate.msh"
-[[parts.fem.boundary]]
-type = "fixed"
-group = "clamp_left"
-[[parts.fem.boundary]]
-type = "fixed"
-face = "right"
-"""
+
+def plate(mesh=None, group="clamp_left", top=(0.2, 0.02), spacing_m=None):
+    """A clamped steel plate struck in its middle, in a domain [0, 0] to `top`: from the
+    structured generator (mesh None) or from the Gmsh file `mesh`, clamped on its left by the
+    physical group `group` (and, with spacing_m, a structured spacing as well)."""
+    left = boundary("fixed", "left") if mesh is None else boundary("fixed", group=group)
+    fem = {"mesh_file": mesh, "boundary": [left, boundary("fixed", "right")]}
+    return scenario_text(compose_scenario(
+        "fem-mesh", 2, 2e-5, description="a clamped plate struck in its middle",
+        output=output(1e-5), domain=domain([0, 0], list(top)),
+        materials=[material(STEEL_JC, a_pa=50e6, b_pa=176e6, n=0.52, c=None, m=None)],
+        parts=[part("plate", "fem", "steel", 0.005 if mesh is None else spacing_m,
+                    box([0, 0], [0.2, 0.02]) if mesh is None else None,
+                    zones=[{"region": box([0.09, 0], [0.11, 0.02]), "velocity_m_s": [0, -100.0]}],
+                    fem=fem)]))
 
 
 def write_plate(path, clockwise=False, triangle=False):
@@ -73,8 +41,8 @@ class MeshFileRuns(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.work = scratch("fem_mesh_input")
-        (cls.work / "structured.toml").write_text(HEAD + STRUCTURED)
-        (cls.work / "mesh.toml").write_text(HEAD + FROM_MESH)
+        (cls.work / "structured.toml").write_text(plate())
+        (cls.work / "mesh.toml").write_text(plate("plate.msh"))
         write_plate(cls.work / "plate.msh")
 
     def test_mesh_file_equals_structured_mesh(self):
@@ -94,7 +62,7 @@ class MeshFileRuns(unittest.TestCase):
 
     def test_clockwise_quads_are_reordered_with_a_warning(self):
         write_plate(self.work / "cw.msh", clockwise=True)
-        (self.work / "cw.toml").write_text(HEAD + FROM_MESH.replace("plate.msh", "cw.msh"))
+        (self.work / "cw.toml").write_text(plate("cw.msh"))
         proc = crater("check", self.work / "cw.toml")
         self.assertIn("numbered clockwise", proc.stderr + proc.stdout)
         b = run_scenario(self.work / "cw.toml", self.work / "cw")
@@ -124,12 +92,13 @@ class MeshFileErrors(unittest.TestCase):
 
     def test_missing_mesh_file(self):
         (self.work / "plate.msh").unlink(missing_ok=True)
-        text = HEAD + FROM_MESH
+        text = plate("plate.msh")
         line = text.split("\n").index('mesh_file = "plate.msh"') + 1
         self.check_fails(text, f"case.toml:{line}:", "parts[0].fem.mesh_file", "does not exist")
 
     def test_triangles_are_refused(self):
-        self.check_fails(HEAD + FROM_MESH, "plate.msh:", "triangles", mesh=self.good_mesh_text(triangle=True))
+        self.check_fails(plate("plate.msh"), "plate.msh:", "triangles",
+                         mesh=self.good_mesh_text(triangle=True))
 
     def test_undefined_node_names_the_line(self):
         text = self.good_mesh_text()
@@ -138,22 +107,22 @@ class MeshFileErrors(unittest.TestCase):
         fields = lines[k].split()
         fields[1] = "99999"
         lines[k] = " ".join(fields)
-        self.check_fails(HEAD + FROM_MESH, f"plate.msh:{k + 1}", mesh="\n".join(lines))
+        self.check_fails(plate("plate.msh"), f"plate.msh:{k + 1}", mesh="\n".join(lines))
 
     def test_truncated_mesh(self):
         text = self.good_mesh_text()
-        self.check_fails(HEAD + FROM_MESH, "plate.msh", mesh=text[: len(text) // 2])
+        self.check_fails(plate("plate.msh"), "plate.msh", mesh=text[: len(text) // 2])
 
     def test_unknown_group(self):
         self.good_mesh_text()
-        err = self.check_fails(HEAD + FROM_MESH.replace('group = "clamp_left"', 'group = "clamp"'),
+        err = self.check_fails(plate("plate.msh", group="clamp"),
                                "parts[0].fem.boundary[0].group", "no physical group 'clamp'",
                                "'clamp_left'")
         self.assertIn("case.toml:", err)
 
     def test_mesh_outside_domain(self):
         self.good_mesh_text()
-        self.check_fails(HEAD.replace("max_m = [0.2, 0.02]", "max_m = [0.1, 0.02]", 1) + FROM_MESH,
+        self.check_fails(plate("plate.msh", top=(0.1, 0.02)),
                          "parts[0].fem.mesh_file", "inside the domain")
 
     def test_degenerate_element_names_its_line(self):
@@ -171,7 +140,7 @@ class MeshFileErrors(unittest.TestCase):
 
     def test_mesh_and_region_together(self):
         self.good_mesh_text()
-        self.check_fails(HEAD + "spacing_m = 0.005\n" + FROM_MESH, "parts[0].spacing_m",
+        self.check_fails(plate("plate.msh", spacing_m=0.005), "parts[0].spacing_m",
                          "not used with fem.mesh_file")
 
 

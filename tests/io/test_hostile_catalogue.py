@@ -36,6 +36,8 @@ import unittest
 from pathlib import Path
 
 from crater_test import BIN, SOURCE_DIR, TMP
+from scenario_blocks import (AIR, SAND, STEEL, box, compose_scenario, disk, domain, material, part,
+                             scenario_text)
 
 GIB = 1 << 30
 MEMORY_LIMIT = GIB            # what a refusal may use at most (peak RSS)
@@ -102,102 +104,45 @@ def run_args(d, scenario, *extra):
     return ["run", scenario, "--out", d / "out", "--quiet", *extra]
 
 
-SECOND_PART = """
-[[parts]]
-name = "{name}"
-method = "sph"
-material = "{material}"
-spacing_m = 0.005
-region = {{ type = "disk", center_m = [{x}, 0.0], radius_m = 0.1 }}
-"""
+def second_part(name, x):
+    """A [[parts]] entry to append to the demo: a TNT disk of radius 0.1 m centred at (x, 0)."""
+    return "\n" + scenario_text({"parts": [part(name, "sph", "tnt", 0.005, disk([x, 0.0], 0.1))]})
 
-SECOND_MATERIAL = """
-[[materials]]
-name = "tnt"
-model = "ideal_gas"
-rho0_kg_m3 = 1.2
-gamma = 1.4
-"""
 
-MESH_SCENARIO = """
-[scenario]
-name = "hostile-mesh"
-dimension = 2
-end_time_s = 1e-5
-[domain]
-min_m = [-0.5, -0.5]
-max_m = [2.5, 1.5]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-[parts.fem]
-mesh_file = "{mesh}"
-"""
+# A [[materials]] entry to append to the demo: a second material named "tnt".
+SECOND_MATERIAL = "\n" + scenario_text({"materials": [material(AIR, name="tnt", rho0_kg_m3=1.2)]})
 
-FEM_BOX = """
-[scenario]
-name = "hostile-fem-box"
-dimension = 2
-end_time_s = 1e-5
-[domain]
-min_m = [0.0, 0.0]
-max_m = [0.2, 0.02]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-spacing_m = {spacing}
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.2, 0.02] }}
-"""
 
-DEM_BOX = """
-[scenario]
-name = "hostile-dem-box"
-dimension = 2
-end_time_s = 1e-3
-[domain]
-min_m = [0.0, 0.0]
-max_m = [0.2, 0.3]
-gravity_m_s2 = [0.0, -9.81]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920.0
-shear_modulus_pa = 29.0e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-[[parts]]
-name = "sand"
-method = "dem"
-material = "sand"
-spacing_m = 0.0101
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.2, 0.2] }}
-[parts.dem]
-radius_min_m = {rmin}
-radius_max_m = {rmax}
-walls = ["left", "right", "bottom"]
-{extra}
-"""
+def mesh_scenario(mesh, **fem):
+    """A 2D steel plate read from the mesh file `mesh` (more [parts.fem] keys in `fem`)."""
+    return scenario_text(compose_scenario(
+        "hostile-mesh", 2, 1e-5, domain=domain([-0.5, -0.5], [2.5, 1.5]), materials=[STEEL],
+        parts=[part("plate", "fem", "steel", fem={"mesh_file": mesh, **fem})]))
+
+
+def fem_box(spacing):
+    """A 2D steel plate, 0.2 m x 0.02 m, meshed by the structured generator at `spacing`."""
+    return scenario_text(compose_scenario(
+        "hostile-fem-box", 2, 1e-5, domain=domain([0.0, 0.0], [0.2, 0.02]), materials=[STEEL],
+        parts=[part("plate", "fem", "steel", spacing, box([0.0, 0.0], [0.2, 0.02]))]))
+
+
+def dem_box(radius, spacing=0.0101, packing=None):
+    """A 2D box of sand grains of one radius, on a lattice of pitch `spacing` or packed by
+    `packing` ([parts.packing])."""
+    return scenario_text(compose_scenario(
+        "hostile-dem-box", 2, 1e-3,
+        domain=domain([0.0, 0.0], [0.2, 0.3], gravity=[0.0, -9.81]), materials=[SAND],
+        parts=[part("sand", "dem", "sand", spacing, box([0.0, 0.0], [0.2, 0.2]),
+                    dem={"radius_min_m": radius, "radius_max_m": radius,
+                         "walls": ["left", "right", "bottom"]},
+                    packing=packing)]))
 
 
 def mesh_case(mesh_text_or_bytes, mesh_name="plate.msh", command="check"):
     def build(d):
         write(d, mesh_name, mesh_text_or_bytes)
-        scen = write(d, "mesh.toml", MESH_SCENARIO.format(mesh=mesh_name))
+        scen = write(d, "mesh.toml", mesh_scenario(mesh_name))
         return run_args(d, scen) if command == "run" else ["check", scen]
     return build
 
@@ -525,15 +470,14 @@ CASES = [
          "max_m = [0.05, 0.05] }\nspacing_m = 1e-9\n[[parts.detonation]]"))),
      E_IN, ["zone.toml", ("zones[0].spacing_m", "zones.0.spacing_m")]),
     ("fem_structured_spacing_1e-9",
-     lambda d: run_args(d, write(d, "fem_tiny.toml", FEM_BOX.format(spacing="1e-9"))),
+     lambda d: run_args(d, write(d, "fem_tiny.toml", fem_box(spacing=1e-9))),
      E_IN, ["fem_tiny.toml", ("parts[0].spacing_m", "parts.plate.spacing_m")]),
     ("dem_grains_1e-9",
-     lambda d: run_args(d, write(d, "dem_tiny.toml", DEM_BOX.format(
-         rmin="1e-9", rmax="1e-9", extra="").replace("spacing_m = 0.0101", "spacing_m = 2.1e-9"))),
+     lambda d: run_args(d, write(d, "dem_tiny.toml", dem_box(1e-9, spacing=2.1e-9))),
      E_IN, ["dem_tiny.toml", ("parts[0].spacing_m", "parts.sand.spacing_m")]),
     ("dem_random_packing_of_1e-7_grains",
-     lambda d: run_args(d, write(d, "dem_random.toml", DEM_BOX.format(
-         rmin="1e-7", rmax="1e-7", extra='[parts.packing]\nmethod = "random"\nporosity = 0.4\n'))),
+     lambda d: run_args(d, write(d, "dem_random.toml", dem_box(
+         1e-7, packing={"method": "random", "porosity": 0.4}))),
      E_IN, ["dem_random.toml", ("parts[0]", "parts.sand", "'sand'")]),
     ("output_interval_1e-15",
      lambda d: run_args(d, DEMO_PATH, *sets("output.interval_s=1e-15")),
@@ -578,7 +522,7 @@ CASES = [
      E_IN, ["rdx.toml", "parts[0].material", "rdx"]),
     ("duplicate_part_names",
      lambda d: ["check", write(d, "dup_parts.toml",
-                              DEMO + SECOND_PART.format(name="charge", material="tnt", x=0.5))],
+                              DEMO + second_part("charge", x=0.5))],
      E_IN, ["dup_parts.toml", "parts[1].name"]),
     ("duplicate_material_names",
      lambda d: ["check", write(d, "dup_mats.toml", DEMO + SECOND_MATERIAL)],
@@ -589,7 +533,7 @@ CASES = [
      E_IN, ["outside.toml", "parts[0].region"]),
     ("overlapping_parts",
      lambda d: ["check", write(d, "overlap.toml",
-                              DEMO + SECOND_PART.format(name="booster", material="tnt", x=0.05))],
+                              DEMO + second_part("booster", x=0.05))],
      E_IN, ["overlap.toml", "booster"]),
     ("detonation_point_outside_charge",
      lambda d: ["check", write(d, "det_out.toml", demo_with("point_m = [0.0, 0.0]",
@@ -715,18 +659,17 @@ CASES = [
      mesh_case(mesh_edit(replace_line("4.1 0 8", "2.2 0 8")), "old.msh"),
      E_IN, ["old.msh"]),
     ("mesh_group_that_does_not_exist",
-     lambda d: ["check", write(d, "group.toml", MESH_SCENARIO.format(mesh=write(
-         d, "plate.msh", PLATE_MSH)) + 'mesh_group = "no_such_group"\n')],
+     lambda d: ["check", write(d, "group.toml", mesh_scenario(
+         write(d, "plate.msh", PLATE_MSH), mesh_group="no_such_group"))],
      E_IN, ["parts[0].fem.mesh_group", "no_such_group"]),
     ("mesh_path_is_a_directory",
-     lambda d: ["check", write(d, "mesh.toml", MESH_SCENARIO.format(mesh=d))],
+     lambda d: ["check", write(d, "mesh.toml", mesh_scenario(d))],
      E_IN, ["parts[0].fem.mesh_file"]),
     ("mesh_path_is_dev_zero",
-     lambda d: ["check", write(d, "mesh.toml", MESH_SCENARIO.format(mesh="/dev/zero"))],
+     lambda d: ["check", write(d, "mesh.toml", mesh_scenario("/dev/zero"))],
      E_IN, ["parts[0].fem.mesh_file", "/dev/zero"]),
     ("mesh_path_is_a_fifo",
-     lambda d: ["check", write(d, "mesh.toml", MESH_SCENARIO.format(
-         mesh=make_fifo(d, "mesh.fifo")))],
+     lambda d: ["check", write(d, "mesh.toml", mesh_scenario(make_fifo(d, "mesh.fifo")))],
      E_IN, ["parts[0].fem.mesh_file", "mesh.fifo"]),
 
     # --- run directories and checkpoints ---

@@ -18,6 +18,8 @@ import unittest
 import numpy as np
 
 from crater_test import BIN, crater, run_scenario, scratch
+from scenario_blocks import (SAND, STEEL_JC, STEEL_JC_DAMAGE, TNT, box, compose_scenario, contact,
+                             disk, domain, material, output, part, scenario_text)
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -83,8 +85,8 @@ class Report(unittest.TestCase):
             "snapshots_von_mises.png", "energy.png"])
         self.assertIn("report-small", text)
         self.assertIn("completed", text)
-        for part in self.scene_summary["parts"]:
-            self.assertRegex(text, rf"\| {part['name']} \| {part['method']} \| {part['count']} \|")
+        for p in self.scene_summary["parts"]:
+            self.assertRegex(text, rf"\| {p['name']} \| {p['method']} \| {p['count']} \|")
         # default snapshots: four output times spread over the run, the first and last included
         self.assertIn("Snapshots at 0 ms, 0.05 ms, 0.15 ms, 0.2 ms;", text)
 
@@ -189,103 +191,24 @@ class Report(unittest.TestCase):
 
 # A small charge under a plate in a box of grains: the paper's scene
 # (scenarios/paper-20cm.toml) at a fifth of its size; runs in about a second.
-SCENE = """
-[scenario]
-name = "report-small"
-description = "a small charge under a plate in a box of grains (crater report test)"
-dimension = 2
-end_time_s = 2.0e-4
+SCENE = scenario_text(compose_scenario(
+    "report-small", 2, 2.0e-4,
+    description="a small charge under a plate in a box of grains (crater report test)",
+    time={"safety_factor": 0.45}, output=output(5.0e-5, history_every=10),
+    domain=domain([0.0, -0.6], [1.0, 1.0], gravity=[0.0, -9.81]),
+    materials=[TNT, material(STEEL_JC, damage=STEEL_JC_DAMAGE), SAND],
+    parts=[part("charge", "sph", "tnt", 0.02, disk([0.35, -0.38], 0.1),
+                sph={"walls": ["left", "right", "bottom"]},
+                detonation=[{"point_m": [0.35, -0.38]}]),
+           part("plate", "fem", "steel", 0.025, box([0.0, -0.2], [1.0, -0.15]),
+                fem={"erode_inverted": True, "erosion_plastic_strain": 2.0}),
+           part("soil", "dem", "sand", 0.03, box([0.0, -0.6], [1.0, 0.0]),
+                carve=["charge", "plate"],
+                dem={"radius_min_m": 0.011, "radius_max_m": 0.014,
+                     "hertz_2d": "row_of_spheres", "walls": ["left", "right", "bottom"]})],
+    contacts=[contact("charge", "plate"), contact("soil", "plate", friction=0.4),
+              contact("charge", "soil")]))
 
-[time]
-safety_factor = 0.45
-
-[output]
-interval_s = 5.0e-5
-history_every = 10
-
-[domain]
-min_m = [0.0, -0.6]
-max_m = [1.0, 1.0]
-gravity_m_s2 = [0.0, -9.81]
-
-[[materials]]
-name = "tnt"
-model = "jwl"
-rho0_kg_m3 = 1630.0
-a_pa = 373.8e9
-b_pa = 3.747e9
-r1 = 4.15
-r2 = 0.90
-omega = 0.35
-e0_j_m3 = 6.0e9
-d_cj_m_s = 6930.0
-
-[[materials]]
-name = "steel"
-model = "johnson_cook"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-a_pa = 50.103e6
-b_pa = 176.091e6
-n = 0.5176
-c = 0.095
-m = 0.6622
-damage = { d1 = 0.05, d2 = 3.44, d3 = -2.12, d4 = 0.002, d5 = 0.61 }
-
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = 29e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-
-[[parts]]
-name = "charge"
-method = "sph"
-material = "tnt"
-spacing_m = 0.02
-region = { type = "disk", center_m = [0.35, -0.38], radius_m = 0.1 }
-[parts.sph]
-walls = ["left", "right", "bottom"]
-[[parts.detonation]]
-point_m = [0.35, -0.38]
-
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-spacing_m = 0.025
-region = { type = "box", min_m = [0.0, -0.2], max_m = [1.0, -0.15] }
-[parts.fem]
-erode_inverted = true
-erosion_plastic_strain = 2.0
-
-[[parts]]
-name = "soil"
-method = "dem"
-material = "sand"
-spacing_m = 0.03
-region = { type = "box", min_m = [0.0, -0.6], max_m = [1.0, 0.0] }
-carve = ["charge", "plate"]
-[parts.dem]
-radius_min_m = 0.011
-radius_max_m = 0.014
-hertz_2d = "row_of_spheres"
-walls = ["left", "right", "bottom"]
-
-[[contacts]]
-parts = ["charge", "plate"]
-
-[[contacts]]
-parts = ["soil", "plate"]
-friction = 0.4
-
-[[contacts]]
-parts = ["charge", "soil"]
-"""
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -10,6 +10,7 @@ import unittest
 from pathlib import Path
 
 from crater_test import SOURCE_DIR, TMP, crater
+from scenario_blocks import STEEL, compose_scenario, domain, part, scenario_text
 
 DEMO = (SOURCE_DIR / "scenarios" / "demo.toml").read_text()
 TIMEOUT = 60  # a read of /dev/zero or of a FIFO without a writer would not end
@@ -17,28 +18,10 @@ TIMEOUT = 60  # a read of /dev/zero or of a FIFO without a writer would not end
 
 def mesh_scenario(mesh_path):
     """A 2D FEM plate read from mesh_path."""
-    return f"""
-[scenario]
-name = "mesh-special"
-description = "an FEM plate from a mesh file"
-dimension = 2
-end_time_s = 1e-5
-[domain]
-min_m = [0, 0]
-max_m = [0.2, 0.02]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-[parts.fem]
-mesh_file = "{mesh_path}"
-"""
+    return scenario_text(compose_scenario(
+        "mesh-special", 2, 1e-5, description="an FEM plate from a mesh file",
+        domain=domain([0, 0], [0.2, 0.02]), materials=[STEEL],
+        parts=[part("plate", "fem", "steel", fem={"mesh_file": mesh_path})]))
 
 
 class SpecialFiles(unittest.TestCase):

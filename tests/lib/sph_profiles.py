@@ -1,5 +1,6 @@
-"""Helpers for the SPH verification tests (tests/verification/sph_*): scenario files written
-from Python dicts, frames read back with VTK, 1D profiles of 2D strips, and figures.
+"""Helpers for the SPH verification tests (tests/verification/sph_*): runs, frames read back
+with VTK, 1D profiles of 2D strips, and figures. Their scenarios are written with
+scenario_blocks.py.
 
 Run by Debian's /usr/bin/python3 (numpy, python3-vtk9; matplotlib only for figures).
 """
@@ -13,86 +14,7 @@ import numpy as np
 
 from crater_test import SOURCE_DIR, TMP, read_pvd, read_vtu, run_scenario
 
-# ---------------------------------------------------------------------------------------------
-# Scenario files
-# ---------------------------------------------------------------------------------------------
-
-# Keys whose table value is written inline (`region = { type = "box", ... }`).
-_INLINE_TABLES = {"region"}
-
-
-def _toml_value(v):
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, (int, np.integer)):
-        return str(int(v))
-    if isinstance(v, (float, np.floating)):
-        return repr(float(v))
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + " }"
-    if isinstance(v, (list, tuple, np.ndarray)):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    raise TypeError(f"no TOML form for {v!r}")
-
-
-def _is_table_array(v):
-    return isinstance(v, (list, tuple)) and len(v) > 0 and all(isinstance(x, dict) for x in v)
-
-
-def _emit(lines, prefix, table):
-    # Plain keys first, then sub-tables, then arrays of tables (TOML attaches a [a.b] header
-    # to the last element of the enclosing [[a]]).
-    subtables, arrays = [], []
-    for k, v in table.items():
-        if v is None:
-            continue
-        if isinstance(v, dict) and k not in _INLINE_TABLES:
-            subtables.append((k, v))
-        elif _is_table_array(v):
-            arrays.append((k, v))
-        else:
-            lines.append(f"{k} = {_toml_value(v)}")
-    for k, v in subtables:
-        name = f"{prefix}.{k}" if prefix else k
-        lines += ["", f"[{name}]"]
-        _emit(lines, name, v)
-    for k, items in arrays:
-        name = f"{prefix}.{k}" if prefix else k
-        for item in items:
-            lines += ["", f"[[{name}]]"]
-            _emit(lines, name, item)
-
-
-def scenario_text(scenario, comment=""):
-    """TOML text of a scenario given as nested dicts: dict values become [tables], lists of
-    dicts [[arrays of tables]], `region` an inline table."""
-    lines = [f"# {c}" for c in comment.splitlines()] if comment else []
-    _emit(lines, "", scenario)
-    return "\n".join(lines).lstrip("\n") + "\n"
-
-
-def write_scenario(path, scenario, comment=""):
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(scenario_text(scenario, comment))
-    return path
-
-
-def box(lo, hi):
-    return {"type": "box", "min_m": [float(x) for x in lo], "max_m": [float(x) for x in hi]}
-
-
-def disk(center, radius):
-    return {"type": "disk", "center_m": [float(x) for x in center], "radius_m": float(radius)}
-
-
-# Standard TNT JWL (Dobratz & Crawford 1985, LLNL Explosives Handbook; as scenarios/demo.toml).
-TNT = {
-    "name": "tnt", "model": "jwl", "rho0_kg_m3": 1630.0, "a_pa": 373.8e9, "b_pa": 3.747e9,
-    "r1": 4.15, "r2": 0.90, "omega": 0.35, "e0_j_m3": 6.0e9, "d_cj_m_s": 6930.0,
-}
+# The Chapman-Jouguet state of scenario_blocks.TNT (Dobratz & Crawford 1985).
 TNT_P_CJ = 21.0e9     # Pa, Dobratz & Crawford 1985
 TNT_U_CJ = 1859.0     # m/s, Dobratz & Crawford 1985 (u = P_CJ / (rho0 D))
 TNT_RHO_CJ = 2228.0   # kg/m^3

@@ -16,97 +16,35 @@ import unittest
 import numpy as np
 
 from crater_test import read_vtu, run_scenario, scratch
+from scenario_blocks import (AIR, SAND, STEEL, STEEL_JC, box, boundary, compose_scenario, contact,
+                             domain, material, output, part, particle, scenario_text, vec)
 
-BLOB = """[scenario]
-name = "sph-fem"
-description = "gas blob hits a free plate"
-dimension = 2
-end_time_s = 2e-4
-[output]
-interval_s = 5e-5
-history_every = 10
-[domain]
-min_m = [-0.2, -0.1]
-max_m = [0.2, 0.3]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[materials]]
-name = "gas"
-model = "ideal_gas"
-rho0_kg_m3 = 100
-gamma = 1.4
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-spacing_m = 0.005
-region = { type = "box", min_m = [-0.1, 0.0], max_m = [0.1, 0.01] }
-[[parts]]
-name = "blob"
-method = "sph"
-material = "gas"
-spacing_m = 0.004
-region = { type = "box", min_m = [-0.03, 0.012], max_m = [0.03, 0.05] }
-initial = { pressure_pa = 1e5, velocity_m_s = [0, -200.0] }
-[[contacts]]
-parts = ["blob", "plate"]
-penalty_scale = 0.1
-"""
+GAS = material(AIR, name="gas", rho0_kg_m3=100)
 
-COLUMN = """[scenario]
-name = "gas-column"
-description = "a gas column at pressure p on a plate"
-dimension = 2
-end_time_s = 2e-3
-[output]
-interval_s = 5e-4
-history_every = 20
-[domain]
-min_m = [0, -0.01]
-max_m = [0.05, 0.05]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[materials]]
-name = "gas"
-model = "ideal_gas"
-rho0_kg_m3 = 1000
-gamma = 1.4
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-spacing_m = 0.0025
-region = { type = "box", min_m = [0, -0.01], max_m = [0.05, 0.0] }
-[[parts.fem.boundary]]
-type = "fixed"
-face = "bottom"
-[[parts]]
-name = "gas"
-method = "sph"
-material = "gas"
-spacing_m = 0.0025
-region = { type = "box", min_m = [0, 0], max_m = [0.05, 0.05] }
-initial = { pressure_pa = 1e8 }
-[parts.sph]
-walls = ["left", "right", "top"]
-[[contacts]]
-parts = ["gas", "plate"]
-penalty_scale = 0.1
-"""
+BLOB = scenario_text(compose_scenario(
+    "sph-fem", 2, 2e-4, description="gas blob hits a free plate",
+    output=output(5e-5, history_every=10), domain=domain([-0.2, -0.1], [0.2, 0.3]),
+    materials=[STEEL, GAS],
+    parts=[part("plate", "fem", "steel", 0.005, box([-0.1, 0.0], [0.1, 0.01])),
+           part("blob", "sph", "gas", 0.004, box([-0.03, 0.012], [0.03, 0.05]),
+                initial={"pressure_pa": 1e5, "velocity_m_s": [0, -200.0]})],
+    contacts=[contact("blob", "plate", penalty_scale=0.1)]))
+
+COLUMN = scenario_text(compose_scenario(
+    "gas-column", 2, 2e-3, description="a gas column at pressure p on a plate",
+    output=output(5e-4, history_every=20), domain=domain([0, -0.01], [0.05, 0.05]),
+    materials=[STEEL, material(GAS, rho0_kg_m3=1000)],
+    parts=[part("plate", "fem", "steel", 0.0025, box([0, -0.01], [0.05, 0.0]),
+                fem={"boundary": [boundary("fixed", "bottom")]}),
+           part("gas", "sph", "gas", 0.0025, box([0, 0], [0.05, 0.05]),
+                initial={"pressure_pa": 1e8}, sph={"walls": ["left", "right", "top"]})],
+    contacts=[contact("gas", "plate", penalty_scale=0.1)]))
 
 
 def momentum(out, parts, frame):
     total = np.zeros(3)
-    for part, mass in parts:
-        _, a, _, _ = read_vtu(out / f"{part}_{frame:06d}.vtu")
+    for name, mass in parts:
+        _, a, _, _ = read_vtu(out / f"{name}_{frame:06d}.vtu")
         total += (a["velocity"] * a[mass][:, None]).sum(axis=0)
     return total
 
@@ -156,64 +94,27 @@ class SphFem(unittest.TestCase):
 
 
 
-GRAIN = """
-[scenario]
-name = "dem-fem-{tag}"
-description = "grains on a steel plate"
-dimension = {dim}
-end_time_s = {end}
-[output]
-interval_s = {frame}
-history_every = 10
-[domain]
-gravity_m_s2 = [0, {g}{z0}]
-min_m = [-0.05, -0.01{zlo}]
-max_m = [0.05, 0.05{zhi}]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = 29e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-spacing_m = 0.0025
-region = {{ type = "box", min_m = [-0.01, -0.005{zplo}], max_m = [0.01, 0.0{zphi}] }}
-{plate_bc}
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.02, 0.001{zlo}], max_m = [0.02, 0.04{zhi}] }}
-[[parts.particles]]
-center_m = [0, {y0}{z0}]
-radius_m = 0.0025
-velocity_m_s = [{vx}, {vy}{z0}]
-[[contacts]]
-parts = ["grains", "plate"]
-friction = 0.4
-"""
+def fixed_bottom(fixed=True):
+    """[parts.fem] of a part whose bottom face is clamped (None: a free part)."""
+    return {"boundary": [boundary("fixed", "bottom")]} if fixed else None
 
 
 def grain_case(work, tag, dim=2, end=2e-4, frame=5e-5, g=0.0, y0=0.0026, vx=0.0, vy=-5.0,
                fixed=False):
-    z = dim == 3
-    text = GRAIN.format(
-        tag=tag, dim=dim, end=end, frame=frame, g=g, y0=y0, vx=vx, vy=vy,
-        z0=", 0" if z else "", zlo=", -0.02" if z else "", zhi=", 0.02" if z else "",
-        zplo=", -0.01" if z else "", zphi=", 0.01" if z else "",
-        plate_bc='[[parts.fem.boundary]]\ntype = "fixed"\nface = "bottom"' if fixed else "")
+    """A sand grain (r = 2.5 mm) at height y0 moving at (vx, vy) onto a steel plate."""
+    text = scenario_text(compose_scenario(
+        f"dem-fem-{tag}", dim, end, description="grains on a steel plate",
+        output=output(frame, history_every=10),
+        domain=domain(vec(dim, -0.05, -0.01, -0.02), vec(dim, 0.05, 0.05, 0.02),
+                      gravity=vec(dim, 0, g, 0)),
+        materials=[STEEL, SAND],
+        parts=[part("plate", "fem", "steel", 0.0025,
+                    box(vec(dim, -0.01, -0.005, -0.01), vec(dim, 0.01, 0.0, 0.01)),
+                    fem=fixed_bottom(fixed)),
+               part("grains", "dem", "sand", 0.005,
+                    box(vec(dim, -0.02, 0.001, -0.02), vec(dim, 0.02, 0.04, 0.02)),
+                    particles=[particle(vec(dim, 0, y0, 0), 0.0025, vec(dim, vx, vy, 0))])],
+        contacts=[contact("grains", "plate", friction=0.4)]))
     path = work / f"{tag}.toml"
     path.write_text(text)
     return path
@@ -278,63 +179,17 @@ class DemFem(unittest.TestCase):
             self.assertGreater(a["velocity"][0][1], 0.0)
 
 
-ERODING = """
-[scenario]
-name = "dem-fem-eroding"
-description = "a grain drives through the eroding top rows of a plate"
-dimension = 2
-end_time_s = 3e-4
-[output]
-interval_s = 5e-5
-history_every = 1
-[domain]
-gravity_m_s2 = [0, 0]
-min_m = [-0.05, -0.02]
-max_m = [0.05, 0.05]
-[[materials]]
-name = "steel"
-model = "johnson_cook"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-a_pa = 50.103e6
-b_pa = 176.091e6
-n = 0.5176
-c = 0.095
-m = 0.6622
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = 29e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-[[parts]]
-name = "plate"
-method = "fem"
-material = "steel"
-spacing_m = 0.001
-region = { type = "box", min_m = [-0.01, -0.01], max_m = [0.01, 0.0] }
-[parts.fem]
-erosion_plastic_strain = 0.3
-[[parts.fem.boundary]]
-type = "fixed"
-face = "bottom"
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = { type = "box", min_m = [-0.02, 0.001], max_m = [0.02, 0.04] }
-[[parts.particles]]
-center_m = [0.0, 0.0051]
-radius_m = 0.005
-velocity_m_s = [0, -300]
-[[contacts]]
-parts = ["grains", "plate"]
-friction = 0.4
-"""
+ERODING = scenario_text(compose_scenario(
+    "dem-fem-eroding", 2, 3e-4,
+    description="a grain drives through the eroding top rows of a plate",
+    output=output(5e-5, history_every=1),
+    domain=domain([-0.05, -0.02], [0.05, 0.05], gravity=[0, 0]),
+    materials=[STEEL_JC, SAND],
+    parts=[part("plate", "fem", "steel", 0.001, box([-0.01, -0.01], [0.01, 0.0]),
+                fem={"erosion_plastic_strain": 0.3, **fixed_bottom()}),
+           part("grains", "dem", "sand", 0.005, box([-0.02, 0.001], [0.02, 0.04]),
+                particles=[particle([0.0, 0.0051], 0.005, [0, -300])])],
+    contacts=[contact("grains", "plate", friction=0.4)]))
 
 
 class DemFemErosion(unittest.TestCase):
@@ -358,46 +213,14 @@ class DemFemErosion(unittest.TestCase):
         self.assertLess(abs(err), 0.02)
 
 
-SPH_DEM = """
-[scenario]
-name = "sph-dem"
-description = "a gas blob hits a few grains"
-dimension = 2
-end_time_s = 2e-4
-[output]
-interval_s = 5e-5
-[domain]
-min_m = [-0.1, -0.1]
-max_m = [0.1, 0.2]
-[[materials]]
-name = "gas"
-model = "ideal_gas"
-rho0_kg_m3 = 100
-gamma = 1.4
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = 29e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-[[parts]]
-name = "blob"
-method = "sph"
-material = "gas"
-spacing_m = 0.004
-region = { type = "box", min_m = [-0.03, 0.012], max_m = [0.03, 0.05] }
-initial = { pressure_pa = 1e5, velocity_m_s = [0, -100.0] }
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.006
-region = { type = "box", min_m = [-0.03, -0.01], max_m = [0.03, 0.01] }
-[[contacts]]
-parts = ["blob", "grains"]
-"""
+SPH_DEM = scenario_text(compose_scenario(
+    "sph-dem", 2, 2e-4, description="a gas blob hits a few grains", output=output(5e-5),
+    domain=domain([-0.1, -0.1], [0.1, 0.2]),
+    materials=[GAS, SAND],
+    parts=[part("blob", "sph", "gas", 0.004, box([-0.03, 0.012], [0.03, 0.05]),
+                initial={"pressure_pa": 1e5, "velocity_m_s": [0, -100.0]}),
+           part("grains", "dem", "sand", 0.006, box([-0.03, -0.01], [0.03, 0.01]))],
+    contacts=[contact("blob", "grains")]))
 
 
 class SphDem(unittest.TestCase):
@@ -416,52 +239,22 @@ class SphDem(unittest.TestCase):
         self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
 
 
-FEM_FEM = """
-[scenario]
-name = "fem-fem-{tag}"
-description = "a steel block on another"
-dimension = {dim}
-end_time_s = {end}
-[output]
-interval_s = {frame}
-history_every = 1
-[domain]
-gravity_m_s2 = [0, {g}{z0}]
-min_m = [-0.05, -0.01{zlo}]
-max_m = [0.05, 0.1{zhi}]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[parts]]
-name = "top"
-method = "fem"
-material = "steel"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.01, {y0}{zlo}], max_m = [0.01, {y1}{zhi}] }}
-initial = {{ velocity_m_s = [{vx}, {vy}{z0}] }}
-[[parts]]
-name = "base"
-method = "fem"
-material = "steel"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.02, 0.0{zlo}], max_m = [0.02, 0.02{zhi}] }}
-{base_bc}
-[[contacts]]
-parts = ["top", "base"]
-friction = 0.3
-"""
-
-
 def fem_fem_case(work, tag, dim=2, end=6e-5, frame=1.5e-5, g=0.0, y0=0.0201, vx=2.0, vy=-10.0,
                  fixed=False):
-    z = dim == 3
-    text = FEM_FEM.format(
-        tag=tag, dim=dim, end=end, frame=frame, g=g, y0=y0, y1=y0 + 0.02, vx=vx, vy=vy,
-        z0=", 0" if z else "", zlo=", -0.01" if z else "", zhi=", 0.01" if z else "",
-        base_bc='[[parts.fem.boundary]]\ntype = "fixed"\nface = "bottom"' if fixed else "")
+    """A 20 mm steel block with its bottom at y0 moving at (vx, vy) onto a steel base."""
+    text = scenario_text(compose_scenario(
+        f"fem-fem-{tag}", dim, end, description="a steel block on another",
+        output=output(frame, history_every=1),
+        domain=domain(vec(dim, -0.05, -0.01, -0.01), vec(dim, 0.05, 0.1, 0.01),
+                      gravity=vec(dim, 0, g, 0)),
+        materials=[STEEL],
+        parts=[part("top", "fem", "steel", 0.005,
+                    box(vec(dim, -0.01, y0, -0.01), vec(dim, 0.01, y0 + 0.02, 0.01)),
+                    initial={"velocity_m_s": vec(dim, vx, vy, 0)}),
+               part("base", "fem", "steel", 0.005,
+                    box(vec(dim, -0.02, 0.0, -0.01), vec(dim, 0.02, 0.02, 0.01)),
+                    fem=fixed_bottom(fixed))],
+        contacts=[contact("top", "base", friction=0.3)]))
     path = work / f"{tag}.toml"
     path.write_text(text)
     return path

@@ -49,8 +49,11 @@ import unittest
 import numpy as np
 
 from crater_test import assert_bit_identical_runs, read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (BEADS, box, compose_scenario, domain, material, output, part,
+                             particle, scenario_text, vec)
 
-R, RHO, KN, V = 0.005, 2500.0, 1.0e6, 0.01
+R, KN, V = 0.005, 1.0e6, 0.01
+RHO = BEADS["rho0_kg_m3"]
 N, X0, L = 240, 40, 30  # grains, pulse start (grain index), pulse length (grains)
 A = 2 * R  # pitch
 
@@ -84,49 +87,22 @@ def scenario(dim, wall, density_factor=1.0):
     c = wave_speed(dim)
     tau = A / c  # a pitch per tau
     end = 2 * (N - X0 - L / 2) * tau  # incident centre half-way at end / 4, at the wall at end / 2
-    z = ", 0.0" if dim == 3 else ""
-    lo = f", {-4 * R}" if dim == 3 else ""
-    hi = f", {4 * R}" if dim == 3 else ""
+    dem = {"contact": "linear_spring", "normal_stiffness_n_m": KN}
     if wall == "rigid":
-        walls = 'walls = ["right"]\nwall_restitution = 1.0'
+        dem.update(walls=["right"], wall_restitution=1.0)
     else:
-        rho_bed = mass(dim) / A**dim * density_factor
-        walls = (f'absorbing_walls = ["right"]\nabsorbing_wall_density_kg_m3 = {rho_bed!r}\n'
-                 f"absorbing_wall_p_wave_speed_m_s = {c!r}")
+        dem.update(absorbing_walls=["right"],
+                   absorbing_wall_density_kg_m3=mass(dim) / A**dim * density_factor,
+                   absorbing_wall_p_wave_speed_m_s=c)
+    lo, hi = vec(dim, 0.0, -4 * R, -4 * R), vec(dim, N * A, 4 * R, 4 * R)
     x, v = chain(dim)
-    grains = "".join(
-        f"[[parts.particles]]\ncenter_m = [{xi!r}, 0.0{z}]\nradius_m = {R}\n"
-        f"velocity_m_s = [{vi!r}, 0.0{z}]\n" for xi, vi in zip(x, v))
-    return f"""
-[scenario]
-name = "absorbing-chain-{dim}d"
-dimension = {dim}
-end_time_s = {end!r}
-[output]
-interval_s = {end / 4!r}
-history_every = 10
-[domain]
-min_m = [0.0, {-4 * R}{lo}]
-max_m = [{N * A!r}, {4 * R}{hi}]
-[[materials]]
-name = "beads"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = 1.0e9
-poisson_ratio = 0.25
-friction = 0.5
-restitution = 1.0
-[[parts]]
-name = "chain"
-method = "dem"
-material = "beads"
-spacing_m = {A}
-region = {{ type = "box", min_m = [0.0, {-4 * R}{lo}], max_m = [{N * A!r}, {4 * R}{hi}] }}
-[parts.dem]
-contact = "linear_spring"
-normal_stiffness_n_m = {KN}
-{walls}
-{grains}"""
+    return scenario_text(compose_scenario(
+        f"absorbing-chain-{dim}d", dim, end, output=output(end / 4, history_every=10),
+        domain=domain(lo, hi),
+        materials=[material(BEADS, restitution=1.0)],
+        parts=[part("chain", "dem", "beads", A, box(lo, hi), dem=dem,
+                    particles=[particle(vec(dim, xi, 0.0), R, vec(dim, vi, 0.0))
+                               for xi, vi in zip(x, v)])]))
 
 
 def waves(path, dim):
@@ -304,45 +280,16 @@ class AbsorbingWall(unittest.TestCase):
 
 
 def bed_scenario(cache, seed):
-    return f"""
-[scenario]
-name = "absorbing-bed"
-dimension = 2
-end_time_s = 0.4
-[output]
-interval_s = 0.2
-[domain]
-min_m = [0.0, 0.0]
-max_m = [0.2, 0.2]
-gravity_m_s2 = [0.0, -9.81]
-[[materials]]
-name = "beads"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = 1.0e9
-poisson_ratio = 0.25
-friction = 0.5
-restitution = 0.5
-[[parts]]
-name = "bed"
-method = "dem"
-material = "beads"
-spacing_m = {A}
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.2, 0.08] }}
-[parts.packing]
-method = "random"
-porosity = 0.2
-settle = true
-cache_dir = "{cache}"
-[parts.dem]
-seed = {seed}
-contact = "linear_spring"
-normal_stiffness_n_m = {KN}
-radius_min_m = {0.8 * R}
-radius_max_m = {R}
-walls = ["left", "right"]
-absorbing_walls = ["bottom"]
-"""
+    return scenario_text(compose_scenario(
+        "absorbing-bed", 2, 0.4, output=output(0.2),
+        domain=domain([0.0, 0.0], [0.2, 0.2], gravity=[0.0, -9.81]),
+        materials=[BEADS],
+        parts=[part("bed", "dem", "beads", A, box([0.0, 0.0], [0.2, 0.08]),
+                    packing={"method": "random", "porosity": 0.2, "settle": True,
+                             "cache_dir": cache},
+                    dem={"seed": seed, "contact": "linear_spring", "normal_stiffness_n_m": KN,
+                         "radius_min_m": 0.8 * R, "radius_max_m": R,
+                         "walls": ["left", "right"], "absorbing_walls": ["bottom"]})]))
 
 
 if __name__ == "__main__":

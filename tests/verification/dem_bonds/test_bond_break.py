@@ -28,8 +28,10 @@ import unittest
 import numpy as np
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (ROCK, approaching_pair, box, compose_scenario, domain, output,
+                             part, scenario_text, vec)
 
-R, RHO, G, NU = 1.0e-3, 2650.0, 1.0e9, 0.2
+R, RHO = 1.0e-3, ROCK["rho0_kg_m3"]
 KN = 1.0e11  # bond normal stiffness per area [Pa/m]
 SIGMA_C = 1.0e6  # tensile strength [Pa]
 LAMBDA = 1.0  # bond radius multiplier
@@ -58,46 +60,16 @@ def reference(dim, v):
 
 
 def scenario(dim, v, end):
-    z = ", 0.0" if dim == 3 else ""
-    lo = ", -0.01" if dim == 3 else ""
-    hi = ", 0.01" if dim == 3 else ""
-    return f"""
-[scenario]
-name = "bond-break-{dim}d"
-dimension = {dim}
-end_time_s = {end}
-[output]
-interval_s = {end / 4}
-history_every = 1
-[domain]
-min_m = [-0.01, -0.01{lo}]
-max_m = [0.01, 0.01{hi}]
-[[materials]]
-name = "rock"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = {G}
-poisson_ratio = {NU}
-friction = 0.5
-restitution = 0.5
-[[parts]]
-name = "grains"
-method = "dem"
-material = "rock"
-spacing_m = 0.002
-region = {{ type = "box", min_m = [-0.004, -0.002{lo}], max_m = [0.004, 0.002{hi}] }}
-[parts.dem]
-stiffness_step_fraction = {STEP_FRACTION}
-bonds = {{ enabled = true, radius_multiplier = {LAMBDA}, normal_stiffness_pa_m = {KN}, tensile_strength_pa = {SIGMA_C}, shear_strength_pa = {10 * SIGMA_C} }}
-[[parts.particles]]
-center_m = [{-R}, 0.0{z}]
-radius_m = {R}
-velocity_m_s = [{-v}, 0.0{z}]
-[[parts.particles]]
-center_m = [{R}, 0.0{z}]
-radius_m = {R}
-velocity_m_s = [{v}, 0.0{z}]
-"""
+    bonds = {"enabled": True, "radius_multiplier": LAMBDA, "normal_stiffness_pa_m": KN,
+             "tensile_strength_pa": SIGMA_C, "shear_strength_pa": 10 * SIGMA_C}
+    return scenario_text(compose_scenario(
+        f"bond-break-{dim}d", dim, end, output=output(end / 4, history_every=1),
+        domain=domain(vec(dim, -0.01, -0.01, -0.01), vec(dim, 0.01, 0.01, 0.01)),
+        materials=[ROCK],
+        parts=[part("grains", "dem", "rock", 0.002,
+                    box(vec(dim, -0.004, -0.002, -0.01), vec(dim, 0.004, 0.002, 0.01)),
+                    dem={"stiffness_step_fraction": STEP_FRACTION, "bonds": bonds},
+                    particles=approaching_pair(dim, R, R, -v))]))
 
 
 def run(dim, v, end, tag):
@@ -110,9 +82,9 @@ def run(dim, v, end, tag):
 
 
 def diagnostics(summary):
-    for part in summary["parts"]:
-        if part["name"] == "grains":
-            return part["diagnostics"]
+    for p in summary["parts"]:
+        if p["name"] == "grains":
+            return p["diagnostics"]
     raise AssertionError("no part 'grains' in summary.json")
 
 

@@ -30,52 +30,25 @@ from pathlib import Path
 import numpy as np
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, approaching_pair, box, compose_scenario, domain, material,
+                             output, part, scenario_text, vec)
 
-R, RHO, G, NU, V = 0.0025, 1920.0, 29.0e9, 0.2, 1.0
+R, V = 0.0025, 1.0
+RHO, G, NU = SAND["rho0_kg_m3"], SAND["shear_modulus_pa"], SAND["poisson_ratio"]
 GAP = 1.0e-5  # initial gap between the surfaces [m]
 
 
 def scenario(dim, restitution, frame_interval, rows=False):
     end = GAP / V + 2.5 * hertz(dim, rows)[1]
-    z = ", 0.0" if dim == 3 else ""
-    zb = ", -0.005" if dim == 3 else ""
-    zt = ", 0.005" if dim == 3 else ""
-    c = R + GAP / 2
-    return f"""
-[scenario]
-name = "hertz-impact-{dim}d"
-dimension = {dim}
-end_time_s = {end}
-[output]
-interval_s = {frame_interval}
-history_every = 1
-[domain]
-min_m = [-0.02, -0.02{', -0.02' if dim == 3 else ''}]
-max_m = [0.02, 0.02{', 0.02' if dim == 3 else ''}]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = {G}
-poisson_ratio = {NU}
-friction = 0.84
-restitution = {restitution}
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.01, -0.005{zb}], max_m = [0.01, 0.005{zt}] }}
-dem = {{ rayleigh_fraction = 0.02{', hertz_2d = "row_of_spheres"' if rows else ''} }}
-[[parts.particles]]
-center_m = [{-c}, 0.0{z}]
-radius_m = {R}
-velocity_m_s = [{V / 2}, 0.0{z}]
-[[parts.particles]]
-center_m = [{c}, 0.0{z}]
-radius_m = {R}
-velocity_m_s = [{-V / 2}, 0.0{z}]
-"""
+    return scenario_text(compose_scenario(
+        f"hertz-impact-{dim}d", dim, end, output=output(frame_interval, history_every=1),
+        domain=domain(vec(dim, -0.02, -0.02, -0.02), vec(dim, 0.02, 0.02, 0.02)),
+        materials=[material(SAND, restitution=restitution)],
+        parts=[part("grains", "dem", "sand", 0.005,
+                    box(vec(dim, -0.01, -0.005, -0.005), vec(dim, 0.01, 0.005, 0.005)),
+                    dem={"rayleigh_fraction": 0.02,
+                         "hertz_2d": "row_of_spheres" if rows else None},
+                    particles=approaching_pair(dim, R + GAP / 2, R, V / 2))]))
 
 
 def hertz(dim, rows=False):

@@ -22,9 +22,24 @@ import unittest
 import numpy as np
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, material, output, part,
+                             particle, scenario_text)
 
 G_MAG, THETA, R = 9.81, math.radians(20.0), 0.0025
 CREEP_TOL = 1e-6  # [m], see StaticPyramid
+
+
+def disks_on_floor(name, grains, interval, gravity, wall_friction=None):
+    """A 2D box of sand (friction 0.5) with a frictional floor and disks (x, y, v_x) of radius
+    R placed in it."""
+    return scenario_text(compose_scenario(
+        name, 2, 0.05, output=output(interval),
+        domain=domain([0.0, 0.0], [0.4, 0.05], gravity=gravity),
+        materials=[material(SAND, friction=0.5)],
+        parts=[part("grains", "dem", "sand", 0.005, box([0.0, 0.0], [0.4, 0.05]),
+                    dem={"walls": ["bottom"], "wall_friction": wall_friction,
+                         "wall_restitution": None if wall_friction is None else 0.5},
+                    particles=[particle([x, y], R, [v, 0.0]) for x, y, v in grains])]))
 
 
 def scenario():
@@ -33,41 +48,7 @@ def scenario():
     # way far to its right, with room to travel.
     y0 = R - 1e-7
     grains = [(0.02, y0, 0.0)] + [(0.30 + 0.02 * k, y0, -2.0) for k in range(3)]
-    parts = "\n".join(f"""[[parts.particles]]
-center_m = [{x}, {y}]
-radius_m = {R}
-velocity_m_s = [{v}, 0.0]""" for x, y, v in grains)
-    return f"""
-[scenario]
-name = "rolling-history"
-dimension = 2
-end_time_s = 0.05
-[output]
-interval_s = 0.025
-[domain]
-min_m = [0.0, 0.0]
-max_m = [0.4, 0.05]
-gravity_m_s2 = [{gx}, {gy}]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920.0
-shear_modulus_pa = 29.0e9
-poisson_ratio = 0.2
-friction = 0.5
-restitution = 0.5
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.4, 0.05] }}
-[parts.dem]
-walls = ["bottom"]
-wall_friction = 0.5
-wall_restitution = 0.5
-{parts}
-"""
+    return disks_on_floor("rolling-history", grains, 0.025, [gx, gy], wall_friction=0.5)
 
 
 def pyramid_scenario():
@@ -79,39 +60,7 @@ def pyramid_scenario():
     top = (0.05, y0 + 2 * R * math.sin(math.radians(60.0)))
     grains = [(0.05 - R, y0, 0.0), (0.05 + R, y0, 0.0), (top[0], top[1], 0.0)]
     grains += [(0.30 + 0.02 * k, y0, -2.0) for k in range(3)]
-    parts = "\n".join(f"""[[parts.particles]]
-center_m = [{x}, {y}]
-radius_m = {R}
-velocity_m_s = [{v}, 0.0]""" for x, y, v in grains)
-    return f"""
-[scenario]
-name = "pyramid-history"
-dimension = 2
-end_time_s = 0.05
-[output]
-interval_s = 0.01
-[domain]
-min_m = [0.0, 0.0]
-max_m = [0.4, 0.05]
-gravity_m_s2 = [0.0, -9.81]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920.0
-shear_modulus_pa = 29.0e9
-poisson_ratio = 0.2
-friction = 0.5
-restitution = 0.5
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.4, 0.05] }}
-[parts.dem]
-walls = ["bottom"]
-{parts}
-"""
+    return disks_on_floor("pyramid-history", grains, 0.01, [0.0, -9.81])
 
 
 class StaticPyramid(unittest.TestCase):

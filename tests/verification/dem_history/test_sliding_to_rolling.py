@@ -28,52 +28,23 @@ import sys
 import unittest
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, material, output, part,
+                             particle, scenario_text, vec)
 
 G, R, MU, V0 = 9.81, 0.0025, 0.5, 0.5
 
 
 def scenario(dim):
-    lo = "[0.0, 0.0]" if dim == 2 else "[0.0, 0.0, 0.0]"
-    hi = "[0.1, 0.02]" if dim == 2 else "[0.1, 0.02, 0.02]"
-    grav = "[0.0, -9.81]" if dim == 2 else "[0.0, -9.81, 0.0]"
+    lo, hi = vec(dim, 0.0, 0.0, 0.0), vec(dim, 0.1, 0.02, 0.02)
     # Resting on the floor: the overlap that carries its weight, so that it starts quietly.
-    centre = f"[0.01, {R - 4e-9}]" if dim == 2 else f"[0.01, {R - 4e-9}, 0.01]"
-    vel = f"[{V0}, 0.0]" if dim == 2 else f"[{V0}, 0.0, 0.0]"
-    return f"""
-[scenario]
-name = "sliding-to-rolling-{dim}d"
-dimension = {dim}
-end_time_s = 0.06
-[output]
-interval_s = 0.06
-history_every = 100
-[domain]
-min_m = {lo}
-max_m = {hi}
-gravity_m_s2 = {grav}
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920.0
-shear_modulus_pa = 29.0e9
-poisson_ratio = 0.2
-friction = {MU}
-restitution = 0.5
-[[parts]]
-name = "grain"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = {lo}, max_m = {hi} }}
-[parts.dem]
-walls = ["bottom"]
-wall_friction = {MU}
-wall_restitution = 0.5
-[[parts.particles]]
-center_m = {centre}
-radius_m = {R}
-velocity_m_s = {vel}
-"""
+    centre = vec(dim, 0.01, R - 4e-9, 0.01)
+    return scenario_text(compose_scenario(
+        f"sliding-to-rolling-{dim}d", dim, 0.06, output=output(0.06, history_every=100),
+        domain=domain(lo, hi, gravity=vec(dim, 0.0, -9.81)),
+        materials=[material(SAND, friction=MU)],
+        parts=[part("grain", "dem", "sand", 0.005, box(lo, hi),
+                    dem={"walls": ["bottom"], "wall_friction": MU, "wall_restitution": 0.5},
+                    particles=[particle(centre, R, vec(dim, V0, 0.0))])]))
 
 
 def run(dim):

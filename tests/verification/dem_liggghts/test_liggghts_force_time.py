@@ -54,8 +54,11 @@ import unittest
 import numpy as np
 
 from crater_test import SOURCE_DIR, read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, material, output, part,
+                             particle, scenario_text)
 
-R, RHO, G, NU, MU, E_REST = 2.5e-3, 1920.0, 29.0e9, 0.2, 0.84, 0.5
+R, MU, E_REST = 2.5e-3, 0.84, 0.5
+RHO, G, NU = SAND["rho0_kg_m3"], SAND["shear_modulus_pa"], SAND["poisson_ratio"]
 VN, GAP, DT, STEPS, EVERY = 1.0, 1.0e-6, 1.0e-8, 1750, 10
 CSV = SOURCE_DIR / "tests" / "data" / "liggghts_hertz_pair_3d.csv"
 TOL = 0.01
@@ -64,42 +67,15 @@ VT = {"head_on": 0.0, "oblique": 1.0}
 
 def scenario(vt):
     c = R + GAP / 2
-    return f"""
-[scenario]
-name = "liggghts-hertz-pair"
-dimension = 3
-end_time_s = {STEPS * DT}
-[time]
-fixed_dt_s = {DT}
-[output]
-interval_s = {EVERY * DT}
-history_every = 100
-[domain]
-min_m = [-0.02, -0.02, -0.02]
-max_m = [0.02, 0.02, 0.02]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = {G}
-poisson_ratio = {NU}
-friction = {MU}
-restitution = {E_REST}
-[[parts]]
-name = "grains"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.01, -0.005, -0.005], max_m = [0.01, 0.005, 0.005] }}
-[[parts.particles]]
-center_m = [{-c}, 0.0, 0.0]
-radius_m = {R}
-velocity_m_s = [{VN / 2}, {-vt / 2}, 0.0]
-[[parts.particles]]
-center_m = [{c}, 0.0, 0.0]
-radius_m = {R}
-velocity_m_s = [{-VN / 2}, {vt / 2}, 0.0]
-"""
+    return scenario_text(compose_scenario(
+        "liggghts-hertz-pair", 3, STEPS * DT, time={"fixed_dt_s": DT},
+        output=output(EVERY * DT, history_every=100),
+        domain=domain([-0.02, -0.02, -0.02], [0.02, 0.02, 0.02]),
+        materials=[material(SAND, friction=MU, restitution=E_REST)],
+        parts=[part("grains", "dem", "sand", 0.005,
+                    box([-0.01, -0.005, -0.005], [0.01, 0.005, 0.005]),
+                    particles=[particle([-c, 0.0, 0.0], R, [VN / 2, -vt / 2, 0.0]),
+                               particle([c, 0.0, 0.0], R, [-VN / 2, vt / 2, 0.0])])]))
 
 
 def read_liggghts(path=CSV):

@@ -20,6 +20,8 @@ import unittest
 import numpy as np
 
 from crater_test import run_scenario, scratch
+from scenario_blocks import (approaching_pair, box, compose_scenario, domain, output, part,
+                             scenario_text, vec)
 
 R, RHO, NU, V = 0.002, 2650.0, 0.25, 0.5
 KN = 1.0e6  # N/m (2D: per metre of depth)
@@ -44,49 +46,17 @@ def contact_time(dim, e):
 
 def scenario(dim, e, fraction):
     end = GAP / V + 1.5 * contact_time(dim, e)
-    z = ", 0.0" if dim == 3 else ""
-    lo = ", -0.01" if dim == 3 else ""
-    hi = ", 0.01" if dim == 3 else ""
-    c = R + GAP / 2
-    frac = f"stiffness_step_fraction = {fraction}" if fraction else ""
-    return f"""
-[scenario]
-name = "linear-contact-{dim}d"
-dimension = {dim}
-end_time_s = {end}
-[output]
-interval_s = {end / 2}
-history_every = 1
-[domain]
-min_m = [-0.02, -0.02{lo}]
-max_m = [0.02, 0.02{hi}]
-[[materials]]
-name = "glass"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = 1.0e9
-poisson_ratio = {NU}
-friction = 0.5
-restitution = {e}
-[[parts]]
-name = "grains"
-method = "dem"
-material = "glass"
-spacing_m = 0.004
-region = {{ type = "box", min_m = [-0.008, -0.004{lo}], max_m = [0.008, 0.004{hi}] }}
-[parts.dem]
-contact = "linear_spring"
-normal_stiffness_n_m = {KN}
-{frac}
-[[parts.particles]]
-center_m = [{-c}, 0.0{z}]
-radius_m = {R}
-velocity_m_s = [{V / 2}, 0.0{z}]
-[[parts.particles]]
-center_m = [{c}, 0.0{z}]
-radius_m = {R}
-velocity_m_s = [{-V / 2}, 0.0{z}]
-"""
+    glass = {"name": "glass", "model": "granular", "rho0_kg_m3": RHO, "shear_modulus_pa": 1.0e9,
+             "poisson_ratio": NU, "friction": 0.5, "restitution": e}
+    return scenario_text(compose_scenario(
+        f"linear-contact-{dim}d", dim, end, output=output(end / 2, history_every=1),
+        domain=domain(vec(dim, -0.02, -0.02, -0.01), vec(dim, 0.02, 0.02, 0.01)),
+        materials=[glass],
+        parts=[part("grains", "dem", "glass", 0.004,
+                    box(vec(dim, -0.008, -0.004, -0.01), vec(dim, 0.008, 0.004, 0.01)),
+                    dem={"contact": "linear_spring", "normal_stiffness_n_m": KN,
+                         "stiffness_step_fraction": fraction or None},
+                    particles=approaching_pair(dim, R + GAP / 2, R, V / 2))]))
 
 
 def run(dim, e, fraction=FRACTION):

@@ -21,49 +21,23 @@ import sys
 import unittest
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, output, part,
+                             particle, scenario_text, vec)
 
 R, V, MU, E = 0.0025, 1.0, 0.3, 0.5
 
 
 def scenario(dim, theta):
     vt, vn = V * math.sin(theta), -V * math.cos(theta)
-    z = ", 0.0" if dim == 3 else ""
-    lo = ", -0.02" if dim == 3 else ""
-    hi = ", 0.02" if dim == 3 else ""
-    return f"""
-[scenario]
-name = "oblique-{dim}d"
-dimension = {dim}
-end_time_s = 3.0e-4
-[output]
-interval_s = 3.0e-4
-[domain]
-min_m = [-0.02, 0.0{lo}]
-max_m = [0.02, 0.02{hi}]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920.0
-shear_modulus_pa = 29.0e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-[[parts]]
-name = "grain"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.01, 0.0{lo}], max_m = [0.01, 0.01{hi}] }}
-[parts.dem]
-walls = ["bottom"]
-wall_friction = {MU}
-wall_restitution = {E}
-rayleigh_fraction = 0.05
-[[parts.particles]]
-center_m = [-0.005, {R + 1e-5}{z}]
-radius_m = {R}
-velocity_m_s = [{vt}, {vn}{z}]
-"""
+    return scenario_text(compose_scenario(
+        f"oblique-{dim}d", dim, 3.0e-4, output=output(3.0e-4),
+        domain=domain(vec(dim, -0.02, 0.0, -0.02), vec(dim, 0.02, 0.02, 0.02)),
+        materials=[SAND],
+        parts=[part("grain", "dem", "sand", 0.005,
+                    box(vec(dim, -0.01, 0.0, -0.02), vec(dim, 0.01, 0.01, 0.02)),
+                    dem={"walls": ["bottom"], "wall_friction": MU, "wall_restitution": E,
+                         "rayleigh_fraction": 0.05},
+                    particles=[particle(vec(dim, -0.005, R + 1e-5), R, vec(dim, vt, vn))])]))
 
 
 class ObliqueImpact(unittest.TestCase):

@@ -37,8 +37,11 @@ import sys
 import unittest
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, material, output,
+                             part, particle, scenario_text, vec)
 
-R, RHO, G, NU, V = 0.0025, 1920.0, 29.0e9, 0.2, 1.0
+R, V = 0.0025, 1.0
+RHO, G, NU = SAND["rho0_kg_m3"], SAND["shear_modulus_pa"], SAND["poisson_ratio"]
 E_MOD = 2 * G * (1 + NU)
 E_STAR = E_MOD / (2 * (1 - NU ** 2))
 G_STAR = G / (2 * (2 - NU))
@@ -91,43 +94,16 @@ def contact_time(dim, vn, rows=False):
 def scenario(dim, theta, fraction, rows=False):
     vt, vn = V * math.sin(theta), -V * math.cos(theta)
     end = GAP / -vn + 1.5 * contact_time(dim, -vn, rows)
-    z = ", 0.0" if dim == 3 else ""
-    lo = ", -0.02" if dim == 3 else ""
-    hi = ", 0.02" if dim == 3 else ""
-    return f"""
-[scenario]
-name = "oblique-sticking-{dim}d"
-dimension = {dim}
-end_time_s = {end}
-[output]
-interval_s = {end}
-[domain]
-min_m = [-0.02, 0.0{lo}]
-max_m = [0.02, 0.02{hi}]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = {G}
-poisson_ratio = {NU}
-friction = 0.84
-restitution = 1.0
-[[parts]]
-name = "grain"
-method = "dem"
-material = "sand"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [-0.01, 0.0{lo}], max_m = [0.01, 0.01{hi}] }}
-[parts.dem]
-walls = ["bottom"]
-wall_friction = 1.0e6
-wall_restitution = 1.0
-rayleigh_fraction = {fraction}{chr(10) + 'hertz_2d = "row_of_spheres"' if rows else ''}
-[[parts.particles]]
-center_m = [-0.005, {R + GAP}{z}]
-radius_m = {R}
-velocity_m_s = [{vt}, {vn}{z}]
-"""
+    return scenario_text(compose_scenario(
+        f"oblique-sticking-{dim}d", dim, end, output=output(end),
+        domain=domain(vec(dim, -0.02, 0.0, -0.02), vec(dim, 0.02, 0.02, 0.02)),
+        materials=[material(SAND, restitution=1.0)],
+        parts=[part("grain", "dem", "sand", 0.005,
+                    box(vec(dim, -0.01, 0.0, -0.02), vec(dim, 0.01, 0.01, 0.02)),
+                    dem={"walls": ["bottom"], "wall_friction": 1.0e6, "wall_restitution": 1.0,
+                         "rayleigh_fraction": fraction,
+                         "hertz_2d": "row_of_spheres" if rows else None},
+                    particles=[particle(vec(dim, -0.005, R + GAP), R, vec(dim, vt, vn))])]))
 
 
 class ObliqueSticking(unittest.TestCase):

@@ -37,6 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from crater_test import crater, read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, material, output, part,
+                             scenario_text)
 
 SIEVE_D = [0.002, 0.003, 0.004, 0.006]
 SIEVE_PASS = [0.0, 0.3, 0.7, 1.0]
@@ -44,76 +46,29 @@ REGION = (0.3, 0.15)
 POROSITY = 0.5
 
 
-def material(g_pa):
-    return f"""
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = {g_pa}
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-"""
+def soil_box(name, *, end, output_, top, spacing, region_top, shear_modulus_pa, dem, packing):
+    """A 2D box of sand under gravity, [0, 0] to `top`, whose part "soil" (the box's lower
+    part, up to `region_top`) is packed by [parts.packing]."""
+    return scenario_text(compose_scenario(
+        name, 2, end, output=output_, domain=domain([0.0, 0.0], top, gravity=[0.0, -9.81]),
+        materials=[material(SAND, shear_modulus_pa=shear_modulus_pa)],
+        parts=[part("soil", "dem", "sand", spacing, box([0.0, 0.0], region_top), dem=dem,
+                    packing=packing)]))
 
 
-GRADING = f"""
-[scenario]
-name = "packing-grading"
-dimension = 2
-end_time_s = 1.0e-7
-[output]
-interval_s = 1.0e-7
-[domain]
-min_m = [0.0, 0.0]
-max_m = [{REGION[0]}, 0.6]
-gravity_m_s2 = [0.0, -9.81]
-{material(29e9)}
-[[parts]]
-name = "soil"
-method = "dem"
-material = "sand"
-spacing_m = 0.01
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [{REGION[0]}, {REGION[1]}] }}
-[parts.dem]
-walls = ["left", "right", "bottom"]
-seed = 7
-[parts.packing]
-method = "random"
-porosity = {POROSITY}
-sieve_diameter_m = {SIEVE_D}
-sieve_passing = {SIEVE_PASS}
-"""
+GRADING = soil_box(
+    "packing-grading", end=1.0e-7, output_=output(1.0e-7), top=[REGION[0], 0.6], spacing=0.01,
+    region_top=REGION, shear_modulus_pa=29e9,
+    dem={"walls": ["left", "right", "bottom"], "seed": 7},
+    packing={"method": "random", "porosity": POROSITY, "sieve_diameter_m": SIEVE_D,
+             "sieve_passing": SIEVE_PASS})
 
-SETTLE = f"""
-[scenario]
-name = "packing-settle"
-dimension = 2
-end_time_s = 0.05
-[output]
-interval_s = 0.01
-history_every = 20
-[domain]
-min_m = [0.0, 0.0]
-max_m = [0.1, 0.15]
-gravity_m_s2 = [0.0, -9.81]
-{material(5e7)}
-[[parts]]
-name = "soil"
-method = "dem"
-material = "sand"
-spacing_m = 0.012
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [0.1, 0.03] }}
-[parts.dem]
-radius_min_m = 0.004
-radius_max_m = 0.006
-walls = ["left", "right", "bottom"]
-local_damping = 0.157
-[parts.packing]
-method = "random"
-porosity = 0.3
-settle = true
-"""
+SETTLE = soil_box(
+    "packing-settle", end=0.05, output_=output(0.01, history_every=20), top=[0.1, 0.15],
+    spacing=0.012, region_top=[0.1, 0.03], shear_modulus_pa=5e7,
+    dem={"radius_min_m": 0.004, "radius_max_m": 0.006, "walls": ["left", "right", "bottom"],
+         "local_damping": 0.157},
+    packing={"method": "random", "porosity": 0.3, "settle": True})
 
 
 def last_frame(out):

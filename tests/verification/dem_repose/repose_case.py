@@ -38,10 +38,12 @@ import math
 import numpy as np
 
 from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from scenario_blocks import (BEADS, box, compose_scenario, domain, material, output, part,
+                             particle, scenario_text)
 
 D = 0.010  # nominal diameter [m]
 R_MIN, R_MAX = 0.45 * D, 0.5 * D
-RHO, KN = 2500.0, 2.0e3
+KN = 2.0e3  # linear springs [N/m]
 ROLLING = 0.02  # crater's mu_r: Zhou's base case for d = 10 mm
 WALL_FRICTION = 0.6
 HALF = 0.3  # the domain's half-width [m]
@@ -61,44 +63,17 @@ def scenario(mu, grains, end, half=HALF, walls=("bottom", "left", "right", "back
              rolling=ROLLING, outflow="stop"):
     """The case's TOML: a box 2 half wide (x, z) and HALF high; drained_heap.py narrows it,
     takes walls away and removes the spheres that leave it (outflow)."""
-    s = f"""[scenario]
-name = "poured-heap"
-dimension = 3
-end_time_s = {end}
-[output]
-interval_s = {end}
-[domain]
-min_m = [{-half}, 0.0, {-half}]
-max_m = [{half}, {HALF}, {half}]
-gravity_m_s2 = [0.0, -9.81, 0.0]
-outflow = "{outflow}"
-[[materials]]
-name = "beads"
-model = "granular"
-rho0_kg_m3 = {RHO}
-shear_modulus_pa = 1.0e9
-poisson_ratio = 0.25
-friction = {mu}
-restitution = 0.4
-[[parts]]
-name = "heap"
-method = "dem"
-material = "beads"
-spacing_m = {D}
-region = {{ type = "box", min_m = [{-half}, 0.0, {-half}], max_m = [{half}, {HALF}, {half}] }}
-[parts.dem]
-contact = "linear_spring"
-normal_stiffness_n_m = {KN}
-rolling_friction = {rolling}
-rolling_damping = 0.3
-walls = [{", ".join(f'"{w}"' for w in walls)}]
-wall_friction = {WALL_FRICTION}
-wall_restitution = 0.4
-"""
-    for x, r, v in grains:
-        s += (f"[[parts.particles]]\ncenter_m = [{x[0]!r}, {x[1]!r}, {x[2]!r}]\n"
-              f"radius_m = {r!r}\nvelocity_m_s = [{v[0]!r}, {v[1]!r}, {v[2]!r}]\n")
-    return s
+    lo, hi = [-half, 0.0, -half], [half, HALF, half]
+    return scenario_text(compose_scenario(
+        "poured-heap", 3, end, output=output(end),
+        domain=domain(lo, hi, gravity=[0.0, -9.81, 0.0], outflow=outflow),
+        materials=[material(BEADS, friction=mu, restitution=0.4)],
+        parts=[part("heap", "dem", "beads", D, box(lo, hi),
+                    dem={"contact": "linear_spring", "normal_stiffness_n_m": KN,
+                         "rolling_friction": rolling, "rolling_damping": 0.3,
+                         "walls": list(walls), "wall_friction": WALL_FRICTION,
+                         "wall_restitution": 0.4},
+                    particles=[particle(list(x), r, list(v)) for x, r, v in grains])]))
 
 
 def batch(rng, apex):

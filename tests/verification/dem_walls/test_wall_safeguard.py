@@ -14,41 +14,16 @@ import sys
 import unittest
 
 from crater_test import crater, read_vtu, run_scenario, scratch
+from scenario_blocks import (SAND, box, compose_scenario, domain, output, part, particle,
+                             scenario_text)
 
-SCENARIO = """
-[scenario]
-name = "wall-safeguard"
-description = "a grain fired into the floor at 3 km/s"
-dimension = 2
-end_time_s = 2e-5
-[output]
-interval_s = 1e-5
-history_every = 1
-[domain]
-min_m = [-0.05, 0.0]
-max_m = [0.05, 0.2]
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 1920
-shear_modulus_pa = 29e9
-poisson_ratio = 0.2
-friction = 0.84
-restitution = 0.5
-[[parts]]
-name = "grain"
-method = "dem"
-material = "sand"
-spacing_m = 0.01
-region = { type = "box", min_m = [-0.02, 0.0], max_m = [0.02, 0.04] }
-[parts.dem]
-walls = ["bottom"]
-wall_restitution = 0.5
-[[parts.particles]]
-center_m = [0.0, 0.0052]
-radius_m = 0.005
-velocity_m_s = [10.0, -3000.0]
-"""
+SCENARIO = scenario_text(compose_scenario(
+    "wall-safeguard", 2, 2e-5, description="a grain fired into the floor at 3 km/s",
+    output=output(1e-5, history_every=1), domain=domain([-0.05, 0.0], [0.05, 0.2]),
+    materials=[SAND],
+    parts=[part("grain", "dem", "sand", 0.01, box([-0.02, 0.0], [0.02, 0.04]),
+                dem={"walls": ["bottom"], "wall_restitution": 0.5},
+                particles=[particle([0.0, 0.0052], 0.005, [10.0, -3000.0])])]))
 
 
 class WallSafeguard(unittest.TestCase):

@@ -24,56 +24,22 @@ import sys
 import unittest
 
 from crater_test import read_vtu_cells, run_scenario, scratch
+from scenario_blocks import (STEEL_JC, box, boundary, compose_scenario, domain, material,
+                             output, part, scenario_text, symmetry)
 
 D1, D2, D3 = 0.05, 3.44, -2.12
 EPS_F = D1 + D2 * math.exp(D3 / 3.0)
-RHO, SIZE = 7850.0, 0.01
+RHO, SIZE = STEEL_JC["rho0_kg_m3"], 0.01
 
-SCENARIO = f"""
-[scenario]
-name = "fem-erosion"
-description = "single element to Johnson-Cook failure"
-dimension = 3
-end_time_s = 0.03
-[output]
-interval_s = 0.005
-history_every = 100
-[domain]
-min_m = [0, 0, 0]
-max_m = [{SIZE}, {SIZE}, {SIZE}]
-[[materials]]
-name = "steel"
-model = "johnson_cook"
-rho0_kg_m3 = {RHO}
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-a_pa = 50.103e6
-b_pa = 176.091e6
-n = 0.5176
-c = 0.095
-m = 0.6622
-damage = {{ d1 = {D1}, d2 = {D2}, d3 = {D3}, d4 = 0, d5 = 0 }}
-[[parts]]
-name = "cube"
-method = "fem"
-material = "steel"
-spacing_m = {SIZE}
-region = {{ type = "box", min_m = [0, 0, 0], max_m = [{SIZE}, {SIZE}, {SIZE}] }}
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "left"
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "bottom"
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "back"
-[[parts.fem.boundary]]
-type = "velocity"
-face = "top"
-velocity_m_s = [0, 2.0, 0]
-components = ["y"]
-"""
+SCENARIO = scenario_text(compose_scenario(
+    "fem-erosion", 3, 0.03, description="single element to Johnson-Cook failure",
+    output=output(0.005, history_every=100), domain=domain([0, 0, 0], [SIZE, SIZE, SIZE]),
+    materials=[material(STEEL_JC,
+                        damage={"d1": D1, "d2": D2, "d3": D3, "d4": 0, "d5": 0})],
+    parts=[part("cube", "fem", "steel", SIZE, box([0, 0, 0], [SIZE, SIZE, SIZE]),
+                fem={"boundary": [*symmetry("left", "bottom", "back"),
+                                  boundary("velocity", "top", velocity_m_s=[0, 2.0, 0],
+                                           components=["y"])]})]))
 
 
 class SingleElementErosion(unittest.TestCase):

@@ -25,49 +25,24 @@ from pathlib import Path
 import numpy as np
 
 from crater_test import read_vtu_cells, run_scenario, scratch
+from scenario_blocks import (STEEL, box, boundary, compose_scenario, domain, output, part,
+                             scenario_text, symmetry)
 
-RHO, E, NU, V0 = 7850.0, 200e9, 0.3, 1.0
+RHO, E, NU = STEEL["rho0_kg_m3"], STEEL["youngs_modulus_pa"], STEEL["poisson_ratio"]
+V0 = 1.0
 M = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))
 C_P = (M / RHO) ** 0.5
 SIGMA = RHO * C_P * V0 / 2
 PRESSURE = SIGMA * (1 + NU) / (3 * (1 - NU))
 
-SCENARIO = """
-[scenario]
-name = "fem-nonreflecting"
-description = "plane P wave into a non-reflecting boundary"
-dimension = 2
-end_time_s = 5e-4
-[output]
-interval_s = 5e-5
-[domain]
-min_m = [0, 0]
-max_m = [0.01, 2.0]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[parts]]
-name = "column"
-method = "fem"
-material = "steel"
-spacing_m = 0.01
-region = { type = "box", min_m = [0, 0], max_m = [0.01, 2.0] }
-[[parts.zones]]
-region = { type = "box", min_m = [0, 1.8], max_m = [0.01, 2.0] }
-velocity_m_s = [0, -1.0]
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "left"
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "right"
-[[parts.fem.boundary]]
-type = "non_reflecting"
-face = "bottom"
-"""
+SCENARIO = scenario_text(compose_scenario(
+    "fem-nonreflecting", 2, 5e-4, description="plane P wave into a non-reflecting boundary",
+    output=output(5e-5), domain=domain([0, 0], [0.01, 2.0]),
+    materials=[STEEL],
+    parts=[part("column", "fem", "steel", 0.01, box([0, 0], [0.01, 2.0]),
+                zones=[{"region": box([0, 1.8], [0.01, 2.0]), "velocity_m_s": [0, -1.0]}],
+                fem={"boundary": [*symmetry("left", "right"),
+                                  boundary("non_reflecting", "bottom")]})]))
 
 
 def amplitudes(out):

@@ -29,54 +29,29 @@ import unittest
 import numpy as np
 
 from crater_test import read_vtu, read_vtu_cells, run_scenario, scratch
+from scenario_blocks import (STEEL, box, compose_scenario, domain, output, part, scenario_text,
+                             symmetry, vec)
 
-RHO, E, NU, P0 = 7850.0, 200e9, 0.3, 1e8
+RHO, E, NU = STEEL["rho0_kg_m3"], STEEL["youngs_modulus_pa"], STEEL["poisson_ratio"]
+P0 = 1e8
 M = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))
 C_P = (M / RHO) ** 0.5
 T_END, T_RAMP, WIDTH = 5e-5, 2e-6, 0.02
 
-SCENARIO = """
-[scenario]
-name = "fem-pressure-{dim}d"
-description = "pressure step on the end of an elastic column"
-dimension = {dim}
-end_time_s = 5e-5
-[time]
-fixed_dt_s = 2.5e-7
-[output]
-interval_s = 2.5e-5
-[domain]
-min_m = [0, 0{z0}]
-max_m = [0.02, 0.4{z1}]
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = 7850
-youngs_modulus_pa = 200e9
-poisson_ratio = 0.3
-[[parts]]
-name = "column"
-method = "fem"
-material = "steel"
-spacing_m = 0.005
-region = {{ type = "box", min_m = [0, 0{z0}], max_m = [0.02, 0.4{z1}] }}
-{sides}
-[[parts.fem.loads]]
-type = "pressure"
-face = "bottom"
-{region}
-time_s = [0.0, 2e-6, 1.0]
-pressure_pa = [0.0, 1e8, 1e8]
-"""
-
 
 def case(work, dim, half=False):
-    faces = ["left", "right"] + (["back", "front"] if dim == 3 else [])
-    sides = "\n".join(f'[[parts.fem.boundary]]\ntype = "symmetry"\nface = "{f}"' for f in faces)
-    region = ('region = { type = "box", min_m = [0.0, -1.0], max_m = [0.01, 1.0] }'
-              if half else "")
-    text = SCENARIO.format(dim=dim, z0=", 0" if dim == 3 else "", z1=", 0.02" if dim == 3 else "",
-                           sides=sides, region=region)
+    lo, hi = vec(dim, 0, 0, 0), vec(dim, WIDTH, 0.4, WIDTH)
+    sides = ["left", "right"] + (["back", "front"] if dim == 3 else [])
+    load = {"type": "pressure", "face": "bottom",
+            "region": box([0.0, -1.0], [0.01, 1.0]) if half else None,
+            "time_s": [0.0, T_RAMP, 1.0], "pressure_pa": [0.0, P0, P0]}
+    text = scenario_text(compose_scenario(
+        f"fem-pressure-{dim}d", dim, T_END,
+        description="pressure step on the end of an elastic column",
+        time={"fixed_dt_s": 2.5e-7}, output=output(2.5e-5), domain=domain(lo, hi),
+        materials=[STEEL],
+        parts=[part("column", "fem", "steel", 0.005, box(lo, hi),
+                    fem={"boundary": symmetry(*sides), "loads": [load]})]))
     tag = f"{dim}d{'_half' if half else ''}"
     path = work / f"column{tag}.toml"
     path.write_text(text)

@@ -25,56 +25,26 @@ import unittest
 import numpy as np
 
 from crater_test import read_vtu, read_vtu_cells, run_scenario, scratch
+from scenario_blocks import compose_scenario, domain, output, part, scenario_text, symmetry
 from fem_meshes import quarter_cylinder_hex, write_msh41
 
 L0, R0, V0 = 32.4e-3, 3.2e-3, 287.0
 REF_L, REF_D = 26.55e-3, 11.22e-3
 
-SCENARIO = """
-[scenario]
-name = "taylor-bar"
-description = "Taylor impact of a 42CrMo4 rod at 287 m/s (DynELA / Abaqus benchmark)"
-dimension = 3
-end_time_s = 8e-5
-[output]
-interval_s = 2e-5
-[domain]
-min_m = [0, 0, 0]
-max_m = [0.004, 0.0325, 0.004]
-[[materials]]
-name = "42CrMo4"
-model = "johnson_cook"
-rho0_kg_m3 = 7830
-youngs_modulus_pa = 206.9e9
-poisson_ratio = 0.3
-a_pa = 806e6
-b_pa = 614e6
-n = 0.168
-c = 0.0089
-m = 1.1
-reference_strain_rate_1_s = 1.0
-thermal_softening = true
-room_temperature_k = 293.15
-melt_temperature_k = 1813.15
-specific_heat_j_kg_k = 460
-taylor_quinney = 0.9
-[[parts]]
-name = "rod"
-method = "fem"
-material = "42CrMo4"
-initial = { velocity_m_s = [0, -287.0, 0] }
-[parts.fem]
-mesh_file = "rod.msh"
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "bottom"
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "left"
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "back"
-"""
+# 42CrMo4 (the references' Johnson-Cook set, see above), with adiabatic heating.
+CRMO4 = {
+    "name": "42CrMo4", "model": "johnson_cook", "rho0_kg_m3": 7830, "youngs_modulus_pa": 206.9e9,
+    "poisson_ratio": 0.3, "a_pa": 806e6, "b_pa": 614e6, "n": 0.168, "c": 0.0089, "m": 1.1,
+    "reference_strain_rate_1_s": 1.0, "thermal_softening": True, "room_temperature_k": 293.15,
+    "melt_temperature_k": 1813.15, "specific_heat_j_kg_k": 460, "taylor_quinney": 0.9,
+}
+
+SCENARIO = scenario_text(compose_scenario(
+    "taylor-bar", 3, 8e-5,
+    description="Taylor impact of a 42CrMo4 rod at 287 m/s (DynELA / Abaqus benchmark)",
+    output=output(2e-5), domain=domain([0, 0, 0], [0.004, 0.0325, 0.004]), materials=[CRMO4],
+    parts=[part("rod", "fem", "42CrMo4", initial={"velocity_m_s": [0, -V0, 0]},
+                fem={"mesh_file": "rod.msh", "boundary": symmetry("bottom", "left", "back")})]))
 
 
 def write_case(work, core=4, ring=4, layers=40):

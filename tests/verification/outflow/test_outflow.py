@@ -44,96 +44,36 @@ import unittest
 import numpy as np
 
 from crater_test import crater, read_pvd, read_vtu, scratch
+from scenario_blocks import (AIR, ROCK, box, compose_scenario, disk, domain, material, output,
+                             part, particle, scenario_text)
 
 BIG = ["--set", "domain.min_m=[-100.0, -100.0]", "--set", "domain.max_m=[100.0, 100.0]"]
 
-SPH_CASE = """
-[scenario]
-name = "outflow-sph"
-dimension = 2
-end_time_s = 4.0e-4
-[output]
-interval_s = 1.0e-4
-history_every = 1
-[domain]
-min_m = [-0.1, -0.1]
-max_m = [0.1, 0.1]
-outflow = "remove"
-[[materials]]
-name = "air"
-model = "ideal_gas"
-rho0_kg_m3 = 1.0
-gamma = 1.4
-[[parts]]
-name = "gas"
-method = "sph"
-material = "air"
-spacing_m = 0.005
-region = { type = "disk", center_m = [0.0, 0.0], radius_m = 0.05 }
-initial = { density_kg_m3 = 1.0, pressure_pa = 1.0e5, velocity_m_s = [0.0, 300.0] }
-"""
+SPH_CASE = scenario_text(compose_scenario(
+    "outflow-sph", 2, 4.0e-4, output=output(1.0e-4, history_every=1),
+    domain=domain([-0.1, -0.1], [0.1, 0.1], outflow="remove"),
+    materials=[AIR],
+    parts=[part("gas", "sph", "air", 0.005, disk([0.0, 0.0], 0.05),
+                initial={"density_kg_m3": 1.0, "pressure_pa": 1.0e5,
+                         "velocity_m_s": [0.0, 300.0]})]))
 
-DEM_CASE = """
-[scenario]
-name = "outflow-dem"
-dimension = 2
-end_time_s = 1.0e-2
-[output]
-interval_s = 2.5e-3
-history_every = 1
-[domain]
-min_m = [-0.1, -0.1]
-max_m = [0.1, 0.1]
-gravity_m_s2 = [0.0, -9.81]
-outflow = "remove"
-[[materials]]
-name = "rock"
-model = "granular"
-rho0_kg_m3 = 2650.0
-shear_modulus_pa = 1.0e7
-poisson_ratio = 0.25
-friction = 0.5
-restitution = 0.5
-[[parts]]
-name = "cloud"
-method = "dem"
-material = "rock"
-spacing_m = 0.005
-region = { type = "box", min_m = [-0.03, -0.08], max_m = [0.03, -0.04] }
-initial = { velocity_m_s = [0.0, 15.0] }
-[parts.dem]
-radius_min_m = 0.0015
-radius_max_m = 0.002
-[parts.packing]
-agitation_m_s = 3.0
-[[parts]]
-name = "pairs"
-method = "dem"
-material = "rock"
-spacing_m = 0.004
-region = { type = "box", min_m = [-0.05, 0.08], max_m = [0.05, 0.1] }
-[parts.dem]
-contact = "linear_spring"
-normal_stiffness_n_m = 1.0e6
-# Pair A: the upper grain (listed first: the lower id) owns the contact and leaves.
-[[parts.particles]]
-center_m = [-0.05, 0.09995]
-radius_m = 0.002
-velocity_m_s = [0.0, 5.0]
-[[parts.particles]]
-center_m = [-0.05, 0.09625]
-radius_m = 0.002
-velocity_m_s = [0.0, 5.0]
-# Pair B: the lower grain owns the contact and stays when the upper one leaves.
-[[parts.particles]]
-center_m = [0.05, 0.09625]
-radius_m = 0.002
-velocity_m_s = [0.0, 5.0]
-[[parts.particles]]
-center_m = [0.05, 0.09995]
-radius_m = 0.002
-velocity_m_s = [0.0, 5.0]
-"""
+# Pair A (left): the upper grain (listed first: the lower id) owns the contact and leaves.
+# Pair B (right): the lower grain owns the contact and stays when the upper one leaves.
+UP, DOWN = 0.09995, 0.09625  # the grains' heights
+PAIRS = [particle([x, y], 0.002, [0.0, 5.0]) for x, y in ((-0.05, UP), (-0.05, DOWN),
+                                                           (0.05, DOWN), (0.05, UP))]
+
+DEM_CASE = scenario_text(compose_scenario(
+    "outflow-dem", 2, 1.0e-2, output=output(2.5e-3, history_every=1),
+    domain=domain([-0.1, -0.1], [0.1, 0.1], gravity=[0.0, -9.81], outflow="remove"),
+    materials=[material(ROCK, shear_modulus_pa=1.0e7, poisson_ratio=0.25)],
+    parts=[part("cloud", "dem", "rock", 0.005, box([-0.03, -0.08], [0.03, -0.04]),
+                initial={"velocity_m_s": [0.0, 15.0]},
+                dem={"radius_min_m": 0.0015, "radius_max_m": 0.002},
+                packing={"agitation_m_s": 3.0}),
+           part("pairs", "dem", "rock", 0.004, box([-0.05, 0.08], [0.05, 0.1]),
+                dem={"contact": "linear_spring", "normal_stiffness_n_m": 1.0e6},
+                particles=PAIRS)]))
 
 
 def history(out):

@@ -34,7 +34,8 @@ import unittest
 import numpy as np
 
 from crater_test import scratch
-from sph_profiles import TNT, box, disk, frames, load_frame, read_history, run, write_scenario
+from scenario_blocks import AIR, TNT, box, disk, write_scenario
+from sph_profiles import frames, load_frame, read_history, run
 
 DRIFT_TOL = 0.005
 WALLS = ["left", "right", "bottom", "top"]
@@ -47,7 +48,7 @@ def ideal_gas_box():
                      "description": "2D blast (ideal gas) in a closed box with Adami walls"},
         "output": {"interval_s": 1.0, "history_every": 10},
         "domain": {"min_m": [0.0, 0.0], "max_m": [side, side]},
-        "materials": [{"name": "air", "model": "ideal_gas", "rho0_kg_m3": 1.0, "gamma": 1.4}],
+        "materials": [dict(AIR)],
         "parts": [{
             "name": "gas", "method": "sph", "material": "air", "spacing_m": dx,
             "region": box([0.0, 0.0], [side, side]),

@@ -5,7 +5,8 @@ import math
 import numpy as np
 
 from crater_test import scratch
-from sph_profiles import box, frames, load_frame, run, write_scenario
+from scenario_blocks import box, write_scenario
+from sph_profiles import frames, load_frame, run
 
 # J. C. Martin and W. J. Moyce, "Part IV. An experimental study of the collapse of liquid columns
 # on a rigid horizontal plane", Phil. Trans. R. Soc. Lond. A 244 (1952) 312-324,

@@ -4,7 +4,8 @@ import numpy as np
 
 import exact_riemann
 from crater_test import scratch
-from sph_profiles import box, frame_at, l1_relative, profile, run, write_scenario
+from scenario_blocks import box, write_scenario
+from sph_profiles import frame_at, l1_relative, profile, run
 
 GAMMA = 1.4
 LEFT = (1.0, 0.0, 1.0)      # rho, u, p

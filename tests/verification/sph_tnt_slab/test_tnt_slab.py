@@ -42,8 +42,9 @@ import unittest
 import numpy as np
 
 from crater_test import scratch
-from sph_profiles import (TNT, TNT_P_CJ, TNT_U_CJ, box, frames, last_crossing, load_frame,
-                          profile, pyplot, run, save_figure, write_scenario)
+from scenario_blocks import TNT, box, write_scenario
+from sph_profiles import (TNT_P_CJ, TNT_U_CJ, frames, last_crossing, load_frame, profile, pyplot,
+                          run, save_figure)
 
 DX = 1.25e-4         # m
 ROWS = 4
