@@ -48,22 +48,33 @@
 //
 // Step limit: each pair is a spring k between the masses, omega = sqrt(k_max / m*) with k_max
 // over the contact's faces (grains) and m* the reduced mass of its lightest particle and its
-// lightest face node (grain); dt <= 1/(2 omega), a quarter of the
+// lightest face node (sph-dem: the code takes the lighter of its lightest particle and its
+// lightest grain, min(m_1, m_2), not their m*); dt <= 1/(2 omega), a quarter of the
 // damped spring's stability limit, so that an impact spans a dozen steps and its energy is
-// booked to ~0.1 % (see spring_step in coupling.cpp). A body pressed by several springs at
+// booked to ~0.1 % (see spring_step in penalty.hpp). A body pressed by several springs at
 // once is stiffer than any one of them: per face node the springs of the pairs in contact are
 // summed with the node's weights in them (sum k w), per particle over its pairs (sum k), and
 // omega = sqrt(sum / m) of the body limits too (a face node left with a quarter of an
 // element's mass where its neighbour eroded may carry three grains). The sums come from the
 // last apply(), or from a search of the current state when there is none (the first step after
 // a resume, `crater check`, particles removed): the same numbers either way.
+//
+// The code: one class per pairing, each in its own file over the parts' state views
+// (parts::ContactPoints, parts::ContactSurface) behind pairing.hpp's interface:
+// particle_surface (sph-fem, dem-fem), surface_surface (fem-fem), particle_particle (sph-dem);
+// the penalty law in penalty.hpp, the face geometry in face_geometry.hpp. registry.cpp picks a
+// contact's pairing from what its two parts offer (a new pairing: its file and one line there).
+// Coupling owns the pairings in scenario order and runs them in that order, so that every sum
+// is taken in the same order whatever the thread count. The solver builds the ContactSettings
+// (settings.hpp) from the scenario; contact/ includes nothing of io/, the methods or solver/.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "io/scenario/config.hpp"
+#include "contact/pairing.hpp"
+#include "contact/settings.hpp"
 #include "parts/part.hpp"
 
 namespace crater::contact {
@@ -71,17 +82,17 @@ namespace crater::contact {
 template <int D>
 class Coupling {
  public:
-  /// The contacts of the scenario between `parts` (built from the same Config).
-  Coupling(const io::Config& config, const std::vector<std::unique_ptr<parts::Part<D>>>& parts);
+  /// The contacts `contacts` (in scenario order) between `parts`.
+  Coupling(const std::vector<ContactSettings>& contacts, const PartList<D>& parts);
 
   bool empty() const { return pairings_.empty(); }
 
   /// Smallest stable step over the contacts, with the contact named in `reason`.
-  parts::StableStep stable_step(const std::vector<std::unique_ptr<parts::Part<D>>>& parts) const;
+  parts::StableStep stable_step(const PartList<D>& parts) const;
 
   /// Forces of the current state, handed to every part in a contact (after compute_forces);
   /// dt_s is the step just taken (0 for the initial state).
-  void apply(const std::vector<std::unique_ptr<parts::Part<D>>>& parts, Real dt_s);
+  void apply(const PartList<D>& parts, Real dt_s);
 
   /// Per contact: pairs in contact, deepest overlap and total normal force at the last apply().
   std::vector<parts::Diagnostic> diagnostics() const;
@@ -92,75 +103,7 @@ class Coupling {
   std::vector<Real> history_values() const;
 
  private:
-  enum class Kind { ParticleSurface, ParticleParticle, SurfaceSurface };
-  struct Pairing {
-    Kind kind;
-    std::size_t points;  // the particle part (sph for sph-dem; the first part for fem-fem)
-    std::size_t other;   // the surface part, or the dem part (the second for fem-fem)
-    io::ContactConfig config;
-    Real grain_modulus_pa = 0;  // particle-particle: E of the grains
-    std::string name;
-    // Last apply():
-    Index active = 0;
-    Real max_overlap_m = 0;
-    Real normal_force_n = 0;
-    Vec<D> force_on_other = Vec<D>::Zero();
-    // The springs summed per body over the pairs in contact (sum k w per face node of the
-    // surface, sum k per particle) [N/m], from the last apply() (load_known) or found afresh.
-    mutable std::vector<Real> load_points, load_other;
-    mutable bool load_known = false;
-  };
-
-  // A particle against a face (particle-surface): which particle and face, where, the normal,
-  // the overlap. surface_hits gives the particles that touch a face, ascending.
-  struct SurfaceHit;
-  std::vector<SurfaceHit> surface_hits(const parts::ContactPoints<D>& pts,
-                                       const parts::ContactSurface<D>& surf) const;
-  // The pairs of overlapping particles (particle-particle), in list order.
-  struct ParticlePair {
-    Index a = -1, b = -1;
-    Real overlap = 0, dist = 0;
-    Vec<D> d = Vec<D>::Zero();  // from b's centre to a's
-  };
-  std::vector<ParticlePair> particle_pairs(const parts::ContactPoints<D>& a,
-                                           const parts::ContactPoints<D>& b) const;
-  Real surface_stiffness(const Pairing& p, const parts::ContactSurface<D>& surf, Index face) const;
-  Real grain_stiffness(const Pairing& p, const parts::ContactPoints<D>& grains, Index j) const;
-  void add_surface_load(const Pairing& p, const parts::ContactSurface<D>& surf,
-                        const SurfaceHit& h) const;
-  void add_particle_load(const Pairing& p, const parts::ContactPoints<D>& grains,
-                         const ParticlePair& pp) const;
-  // Fills p.load_* from the current state (without changing it).
-  void measure_load(const Pairing& p,
-                    const std::vector<std::unique_ptr<parts::Part<D>>>& parts) const;
-
-  void particle_surface(Pairing& p, Real dt, const parts::ContactPoints<D>& pts,
-                        const parts::ContactSurface<D>& surf, std::vector<Vec<D>>& f_points,
-                        std::vector<AxialVec<D>>& t_points, std::vector<Vec<D>>& f_nodes) const;
-  void particle_particle(Pairing& p, const parts::ContactPoints<D>& a,
-                         const parts::ContactPoints<D>& b, std::vector<Vec<D>>& f_a,
-                         std::vector<Vec<D>>& f_b, std::vector<AxialVec<D>>& t_b) const;
-
-  // A surface node against a face of the other part (surface-surface).
-  struct NodeHit;
-  std::vector<NodeHit> node_hits(const parts::ContactSurface<D>& nodes_of,
-                                 const parts::ContactSurface<D>& faces_of) const;
-  // The loads and forces of one direction (nodes of `a` against faces of `b`); the load sums
-  // and forces of a's nodes go to load_a / f_a, of b's face nodes to load_b / f_b.
-  // Without forces (f_a null) only the loads are summed. Returns the contact's diagnostics of
-  // this direction, force_on_other = sign x the sum of the nodes' forces.
-  struct NodeSurfaceSums {
-    Index active = 0;
-    Real max_overlap_m = 0;
-    Real normal_force_n = 0;
-    Vec<D> force_on_other = Vec<D>::Zero();
-  };
-  NodeSurfaceSums node_surface(const Pairing& p, const parts::ContactSurface<D>& a,
-                               const parts::ContactSurface<D>& b, const std::vector<NodeHit>& hits,
-                               std::vector<Real>& load_a, std::vector<Real>& load_b,
-                               std::vector<Vec<D>>* f_a, std::vector<Vec<D>>* f_b, Real sign) const;
-
-  std::vector<Pairing> pairings_;
+  std::vector<std::unique_ptr<Pairing<D>>> pairings_;
   std::vector<std::size_t> involved_;  // parts in any contact, ascending
 };
 

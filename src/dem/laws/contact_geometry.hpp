@@ -38,6 +38,7 @@
 
 #include <Eigen/Geometry>  // Vec<3>::cross
 
+#include "core/axial_vec.hpp"
 #include "core/types.hpp"
 
 namespace crater::dem {
@@ -50,11 +51,7 @@ using AngularVec = std::conditional_t<D == 2, Real, Vec<3>>;
 /// Zero of AngularVec<D> (Eigen's default constructor leaves a Vec<3> uninitialised).
 template <int D>
 inline AngularVec<D> angular_zero() {
-  if constexpr (D == 2) {
-    return Real(0);
-  } else {
-    return Vec<3>::Zero();
-  }
+  return axial_zero<D>();
 }
 
 /// |\omega| of an AngularVec (the absolute value in 2D).
@@ -77,25 +74,10 @@ inline Real angular_dot(const AngularVec<D>& a, const AngularVec<D>& b) {
   }
 }
 
-/// \omega \times r. In 2D, \omega = \omega_3 e_z and r in the plane: (-\omega_3 r_y, \omega_3 r_x).
-template <int D>
-inline Vec<D> spin_cross(const AngularVec<D>& omega, const Vec<D>& r) {
-  if constexpr (D == 2) {
-    return Vec<2>(-omega * r.y(), omega * r.x());
-  } else {
-    return omega.cross(r);
-  }
-}
-
-/// Moment r \times F. In 2D the out-of-plane component r_x F_y - r_y F_x.
-template <int D>
-inline AngularVec<D> moment_of(const Vec<D>& r, const Vec<D>& f) {
-  if constexpr (D == 2) {
-    return r.x() * f.y() - r.y() * f.x();
-  } else {
-    return r.cross(f);
-  }
-}
+// \omega \times r and r \times F (spin_cross, moment_of) are core/axial_vec.hpp's, shared with
+// the contacts between parts (src/contact/).
+using crater::moment_of;
+using crater::spin_cross;
 
 /// The component of v perpendicular to the unit vector n, rescaled to |v|: how an incremental
 /// tangential quantity (shear displacement, bond shear force, rolling or bending moment) is

@@ -1,0 +1,88 @@
+// What the pairings share; see pairing.hpp.
+#include "contact/pairing.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+
+#include "contact/penalty.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::contact {
+
+template <int D>
+Pairing<D>::Pairing(const ContactSettings& settings, std::size_t points, std::size_t other,
+                    const PartList<D>& parts)
+    : settings_(settings),
+      points_(points),
+      other_(other),
+      name_(parts[points]->name() + "-" + parts[other]->name()) {}
+
+template <int D>
+void Pairing<D>::restart(std::size_t n_points, std::size_t n_other) {
+  last_ = ContactSums<D>{};
+  load_.points.assign(n_points, 0);
+  load_.other.assign(n_other, 0);
+}
+
+template <int D>
+void Pairing<D>::limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,
+                                         const std::vector<Real>& mass, const char* what) const {
+  const Index n = static_cast<Index>(std::min(load.size(), mass.size()));
+  auto step_of = [&](Index i) {
+    return load[at(i)] > 0 && mass[at(i)] > 0
+               ? spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio)
+               : std::numeric_limits<Real>::infinity();
+  };
+  const Real dt = parallel::min_over(n, std::numeric_limits<Real>::infinity(), step_of);
+  if (!(dt < search.best.dt_s)) return;
+  // The first body that sets it (min is exact: the same one for any thread count).
+  const Index i = parallel::select(n, [&](Index j) { return step_of(j) == dt; }).front();
+  search.consider(dt, i, [&] {
+    return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m", name_,
+                       what, i, load[at(i)]);
+  });
+}
+
+template <int D>
+void Pairing<D>::add_diagnostics(std::vector<parts::Diagnostic>& d) const {
+  d.push_back({"contact_" + name_ + "_pairs", static_cast<Real>(last_.active)});
+  d.push_back({"contact_" + name_ + "_max_overlap_m", last_.max_overlap_m});
+  d.push_back({"contact_" + name_ + "_normal_force_n", last_.normal_force_n});
+}
+
+template <int D>
+void Pairing<D>::add_history_columns(std::vector<std::string>& cols) const {
+  for (int k = 0; k < D; ++k)
+    cols.push_back(fmt::format("force_{}_{}", name_, "xyz"[k]));
+}
+
+template <int D>
+void Pairing<D>::add_history_values(std::vector<Real>& v) const {
+  for (int k = 0; k < D; ++k)
+    v.push_back(last_.force_on_other[k]);
+}
+
+template <int D>
+Real lightest_face_node(const parts::ContactSurface<D>& surf) {
+  Real m = std::numeric_limits<Real>::infinity();
+  for (const auto& face : *surf.faces)
+    for (Index n : face)
+      if ((*surf.node_mass)[at(n)] > 0) m = std::min(m, (*surf.node_mass)[at(n)]);
+  return m;
+}
+
+template <int D>
+Real lightest_particle(const parts::ContactPoints<D>& pts) {
+  return parallel::min_over(static_cast<Index>(pts.mass->size()),
+                            std::numeric_limits<Real>::infinity(),
+                            [&](Index i) { return (*pts.mass)[at(i)]; });
+}
+
+template class Pairing<2>;
+template class Pairing<3>;
+template Real lightest_face_node<2>(const parts::ContactSurface<2>&);
+template Real lightest_face_node<3>(const parts::ContactSurface<3>&);
+template Real lightest_particle<2>(const parts::ContactPoints<2>&);
+template Real lightest_particle<3>(const parts::ContactPoints<3>&);
+
+}  // namespace crater::contact

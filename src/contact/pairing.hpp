@@ -1,0 +1,118 @@
+// The interface every pairing of two parts implements (particle_surface.hpp,
+// particle_particle.hpp, surface_surface.hpp), and what they share: the contact's settings and
+// name, its diagnostics and history force, the per-body spring sums that limit the step, and
+// the search for the smallest step over all contacts. The physics is in coupling.hpp's header
+// comment; registry.hpp picks the pairing of a contact from what its two parts offer.
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "contact/settings.hpp"
+#include "core/types.hpp"
+#include "parts/part.hpp"
+
+namespace crater::contact {
+
+/// The solver's parts, in scenario order (a contact names two of them by index).
+template <int D>
+using PartList = std::vector<std::unique_ptr<parts::Part<D>>>;
+
+inline std::size_t at(Index i) {
+  return static_cast<std::size_t>(i);
+}
+
+/// The smallest stable step over the contacts found so far, and what sets it. A candidate
+/// replaces it only when strictly smaller (the first one found wins ties); its reason is
+/// formatted only then.
+struct StepSearch {
+  parts::StableStep best;
+  StepSearch() { best.dt_s = std::numeric_limits<Real>::infinity(); }
+  template <class Reason>
+  void consider(Real dt, Index entity, Reason&& reason) {
+    if (dt < best.dt_s) {
+      best.dt_s = dt;
+      best.entity_id = entity;
+      best.reason = reason();
+    }
+  }
+};
+
+/// Forces (and torques on rotating particles) of the contacts per part, per particle or per
+/// node of a surface; empty for parts in no contact.
+template <int D>
+struct ContactForces {
+  std::vector<std::vector<Vec<D>>> force;
+  std::vector<std::vector<AxialVec<D>>> torque;
+};
+
+/// What a contact reports of its last apply() (or one direction of it).
+template <int D>
+struct ContactSums {
+  Index active = 0;                        // pairs in contact
+  Real max_overlap_m = 0;                  // deepest overlap [m]
+  Real normal_force_n = 0;                 // total normal force [N] (N/m in 2D)
+  Vec<D> force_on_other = Vec<D>::Zero();  // total force on the contact's second part
+};
+
+/// The springs summed per body over the pairs in contact [N/m]: sum k w per face node of a
+/// surface, sum k per particle (or surface node with its own hits), for each side.
+struct SpringSums {
+  std::vector<Real> points, other;
+  bool known = false;
+};
+
+/// One contact between two parts: `points` (the particles, or the first surface) and `other`
+/// (the surface, the grains, or the second surface).
+template <int D>
+class Pairing {
+ public:
+  Pairing(const ContactSettings& settings, std::size_t points, std::size_t other,
+          const PartList<D>& parts);
+  virtual ~Pairing() = default;
+  Pairing(const Pairing&) = delete;
+  Pairing& operator=(const Pairing&) = delete;
+
+  std::size_t points() const { return points_; }
+  std::size_t other() const { return other_; }
+  const std::string& name() const { return name_; }
+
+  /// Offers this contact's step limits to `search`.
+  virtual void limit_step(const PartList<D>& parts, StepSearch& search) const = 0;
+  /// Adds this contact's forces of the current state to `out` (dt_s: the step just taken).
+  virtual void apply(const PartList<D>& parts, Real dt_s, ContactForces<D>& out) = 0;
+
+  /// Pairs in contact, deepest overlap and total normal force at the last apply().
+  void add_diagnostics(std::vector<parts::Diagnostic>& d) const;
+  /// force_<name>_x, _y[, _z]: the total force on `other` at the last apply() [N] (N/m in 2D).
+  void add_history_columns(std::vector<std::string>& cols) const;
+  void add_history_values(std::vector<Real>& v) const;
+
+ protected:
+  /// Zeroes the diagnostics and sizes the spring sums for n_points and n_other bodies; the
+  /// caller then adds to both.
+  void restart(std::size_t n_points, std::size_t n_other);
+  /// Offers the step limit of every body of one side pressed by several springs at once:
+  /// dt = spring_step(sum k, m) of each, the first body that sets the smallest.
+  void limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,
+                               const std::vector<Real>& mass, const char* what) const;
+
+  ContactSettings settings_;
+  std::size_t points_, other_;
+  std::string name_;
+  ContactSums<D> last_;      // of the last apply()
+  mutable SpringSums load_;  // from the last apply() (load_.known) or found afresh
+};
+
+/// Smallest positive mass of a node on the surface's faces [kg] (infinity when none).
+template <int D>
+Real lightest_face_node(const parts::ContactSurface<D>& surf);
+
+/// Smallest particle mass [kg] (infinity when none), exact for any thread count.
+template <int D>
+Real lightest_particle(const parts::ContactPoints<D>& pts);
+
+}  // namespace crater::contact

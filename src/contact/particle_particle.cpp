@@ -1,0 +1,142 @@
+// SPH particles against DEM grains; see particle_particle.hpp and coupling.hpp.
+#include "contact/particle_particle.hpp"
+
+#include <fmt/format.h>
+#include <algorithm>
+#include <limits>
+#include <span>
+
+#include "contact/penalty.hpp"
+#include "core/axial_vec.hpp"
+#include "neighbors/neighbor_list.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::contact {
+
+template <int D>
+void ParticleParticle<D>::limit_step(const PartList<D>& parts, StepSearch& search) const {
+  const auto pts = parts[points_]->contact_points();
+  if (!pts || pts->mass->empty()) return;
+  const Real m_min = lightest_particle(*pts);
+  const auto grains = parts[other_]->contact_points();
+  if (!grains || grains->radius->empty()) return;
+  const Real r_max = *std::max_element(grains->radius->begin(), grains->radius->end());
+  const Real k_max = settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? r_max : Real(1));
+  const Real m_grain = lightest_particle(*grains);
+  search.consider(spring_step(k_max, std::min(m_min, m_grain), settings_.damping_ratio), -1, [&] {
+    return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", name_, k_max);
+  });
+  // Bodies pressed by several springs at once (found afresh when particles were removed
+  // since the last apply(): the cached sums are per particle index).
+  if (!load_.known || load_.points.size() != pts->mass->size() ||
+      load_.other.size() != grains->mass->size())
+    measure_load(parts);
+  this->limit_by_summed_springs(search, load_.points, *pts->mass, "particle");
+  this->limit_by_summed_springs(search, load_.other, *grains->mass, "particle of the other part");
+}
+
+template <int D>
+std::vector<typename ParticleParticle<D>::Pair> ParticleParticle<D>::pairs(
+    const parts::ContactPoints<D>& a, const parts::ContactPoints<D>& b) {
+  const Index na = static_cast<Index>(a.position->size());
+  const Index nb = static_cast<Index>(b.position->size());
+  if (na == 0 || nb == 0) return {};
+  const Real ra_max = *std::max_element(a.radius->begin(), a.radius->end());
+  const Real rb_max = *std::max_element(b.radius->begin(), b.radius->end());
+  neighbors::NeighborList list;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*a.position),
+                                 std::span<const Vec<D>>(*b.position), ra_max + rb_max, list);
+  std::vector<Pair> all(list.indices.size());
+  parallel::for_each(na, [&](Index i) {
+    const Vec<D>& xi = (*a.position)[at(i)];
+    const Real ri = (*a.radius)[at(i)];
+    const auto row = list.of(i);
+    const auto base = at(list.offsets[at(i)]);
+    for (std::size_t q = 0; q < row.size(); ++q) {
+      const Index j = row[q];
+      const Vec<D> d = xi - (*b.position)[at(j)];
+      const Real dist = d.norm();
+      const Real overlap = ri + (*b.radius)[at(j)] - dist;
+      if (overlap <= 0 || !(dist > 0)) continue;
+      all[base + q] = {i, j, overlap, dist, d};
+    }
+  });
+  const std::vector<Index> kept =
+      parallel::select(static_cast<Index>(all.size()), [&](Index q) { return all[at(q)].a >= 0; });
+  std::vector<Pair> found(kept.size());
+  parallel::for_each(static_cast<Index>(kept.size()),
+                     [&](Index q) { found[at(q)] = all[at(kept[at(q)])]; });
+  return found;
+}
+
+template <int D>
+Real ParticleParticle<D>::stiffness(const parts::ContactPoints<D>& grains, Index j) const {
+  return settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? (*grains.radius)[at(j)] : Real(1));
+}
+
+template <int D>
+void ParticleParticle<D>::add_load(const parts::ContactPoints<D>& grains, const Pair& pp) const {
+  const Real k = stiffness(grains, pp.b);
+  load_.points[at(pp.a)] += k;
+  load_.other[at(pp.b)] += k;
+}
+
+template <int D>
+void ParticleParticle<D>::measure_load(const PartList<D>& parts) const {
+  const auto pts = parts[points_]->contact_points();
+  load_.points.assign(pts->position->size(), 0);
+  const auto grains = parts[other_]->contact_points();
+  load_.other.assign(grains->position->size(), 0);
+  for (const Pair& pp : pairs(*pts, *grains))
+    add_load(*grains, pp);
+  load_.known = true;
+}
+
+template <int D>
+void ParticleParticle<D>::apply(const PartList<D>& parts, Real /*dt_s*/, ContactForces<D>& out) {
+  const auto pa = parts[points_]->contact_points();
+  const auto pb = parts[other_]->contact_points();
+  const parts::ContactPoints<D>& a = *pa;
+  const parts::ContactPoints<D>& b = *pb;
+  this->restart(a.position->size(), b.position->size());
+  load_.known = true;
+  const std::vector<Pair> found = pairs(a, b);
+  // Per pair results, in list order (a ascending, then b ascending).
+  struct PairForce {
+    Vec<D> force = Vec<D>::Zero();  // on a
+    Vec<D> arm_b = Vec<D>::Zero();  // from b's centre to the contact point
+    Real normal = 0;
+  };
+  std::vector<PairForce> push(found.size());
+  parallel::for_each(static_cast<Index>(found.size()), [&](Index q) {
+    const Pair& pp = found[at(q)];
+    PairForce& pf = push[at(q)];
+    const Vec<D> n = pp.d / pp.dist;  // from b to a
+    pf.arm_b = (*b.radius)[at(pp.b)] * n;
+    Vec<D> v = (*a.velocity)[at(pp.a)] - (*b.velocity)[at(pp.b)];
+    if (b.angular_velocity) v -= spin_cross<D>((*b.angular_velocity)[at(pp.b)], pf.arm_b);
+    pf.force = penalty_force<D>(stiffness(b, pp.b), pp.overlap, n, v,
+                                reduced_mass((*a.mass)[at(pp.a)], (*b.mass)[at(pp.b)]),
+                                settings_.damping_ratio, settings_.friction, pf.normal);
+  });
+  std::vector<Vec<D>>& f_a = out.force[points_];
+  std::vector<Vec<D>>& f_b = out.force[other_];
+  std::vector<AxialVec<D>>& t_b = out.torque[other_];
+  for (std::size_t q = 0; q < found.size(); ++q) {
+    const Pair& pp = found[q];
+    const PairForce& pf = push[q];
+    ++last_.active;
+    last_.max_overlap_m = std::max(last_.max_overlap_m, pp.overlap);
+    last_.normal_force_n += pf.normal;
+    last_.force_on_other -= pf.force;
+    f_a[at(pp.a)] += pf.force;
+    f_b[at(pp.b)] -= pf.force;
+    if (!t_b.empty()) t_b[at(pp.b)] += moment_of<D>(pf.arm_b, Vec<D>(-pf.force));
+    add_load(b, pp);
+  }
+}
+
+template class ParticleParticle<2>;
+template class ParticleParticle<3>;
+
+}  // namespace crater::contact
