@@ -46,6 +46,25 @@ fem::PartSettings fem_settings(const io::Config& config, const io::PartConfig& p
   return {part_setup(config, part), part.fem, m.solid, m.rho0_kg_m3};
 }
 
+/// The scenario's contacts as contact/ takes them; per part E = 2 G (1 + nu) of its granular
+/// material (0 for other materials), the stiffness of particle-particle contacts.
+std::vector<contact::ContactSettings> contact_settings(const io::Config& config) {
+  std::vector<contact::ContactSettings> out;
+  for (const io::ContactConfig& c : config.contacts) {
+    contact::ContactSettings s;
+    s.parts = c.parts;
+    s.penalty_scale = c.penalty_scale;
+    s.friction = c.friction;
+    s.damping_ratio = c.damping_ratio;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const auto& g = config.materials[config.parts[c.parts[k]].material].granular;
+      s.grain_modulus_pa[k] = 2 * g.shear_modulus_pa * (1 + g.poisson_ratio);
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
 namespace {
 
 // A packed DEM part: its grains from the cache if it holds this packing, else generated (and

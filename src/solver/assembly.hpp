@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "contact/settings.hpp"
 #include "dem/settings.hpp"
 #include "fem/settings.hpp"
 #include "io/scenario/config.hpp"
@@ -23,6 +24,10 @@ parts::PartSetup part_setup(const io::Config& config, const io::PartConfig& part
 sph::PartSettings sph_settings(const io::Config& config, const io::PartConfig& part);
 dem::PartSettings dem_settings(const io::Config& config, const io::PartConfig& part);
 fem::PartSettings fem_settings(const io::Config& config, const io::PartConfig& part);
+
+/// The scenario's contacts as contact/ takes them; per part E = 2 G (1 + nu) of its granular
+/// material (0 for other materials), the stiffness of particle-particle contacts.
+std::vector<contact::ContactSettings> contact_settings(const io::Config& config);
 
 /// The scenario's parts, in its order.
 template <int D>

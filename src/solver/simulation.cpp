@@ -631,25 +631,6 @@ std::string history_at_checkpoint(const RunOptions& opt, const fs::path& from, s
   return {};
 }
 
-/// The scenario's contacts as contact/ takes them; per part E = 2 G (1 + nu) of its granular
-/// material (0 for other materials), the stiffness of particle-particle contacts.
-std::vector<contact::ContactSettings> contact_settings(const io::Config& config) {
-  std::vector<contact::ContactSettings> out;
-  for (const io::ContactConfig& c : config.contacts) {
-    contact::ContactSettings s;
-    s.parts = c.parts;
-    s.penalty_scale = c.penalty_scale;
-    s.friction = c.friction;
-    s.damping_ratio = c.damping_ratio;
-    for (std::size_t k = 0; k < 2; ++k) {
-      const auto& g = config.materials[config.parts[c.parts[k]].material].granular;
-      s.grain_modulus_pa[k] = 2 * g.shear_modulus_pa * (1 + g.poisson_ratio);
-    }
-    out.push_back(s);
-  }
-  return out;
-}
-
 template <int D>
 RunResult run(const io::Config& c, const RunOptions& opt) {
   const auto wall_start = std::chrono::steady_clock::now();

@@ -135,7 +135,7 @@ class MeshFileErrors(unittest.TestCase):
         fields = lines[k].split()
         fields[1] = fields[3]
         lines[k] = " ".join(fields)
-        self.check_fails(HEAD + FROM_MESH, f"plate.msh:{k + 1}", "parts[0].fem.mesh_file",
+        self.check_fails(plate("plate.msh"), f"plate.msh:{k + 1}", "parts[0].fem.mesh_file",
                          "degenerate element", mesh="\n".join(lines))
 
     def test_mesh_and_region_together(self):
