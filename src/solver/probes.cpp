@@ -230,73 +230,100 @@ template <int D>
 std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
                                           const std::filesystem::path& dir) const {
   std::vector<Diagnostic> m;
-  if (cfg_.plate) {
-    const auto& plate = *parts[*cfg_.plate];
-    if (peak_time_s_ >= 0) {
-      m.push_back({"plate_peak_von_mises_pa", peak_at_time_});
-      m.push_back({"plate_peak_von_mises_time_s", peak_time_s_});
-    }
-    m.push_back({"plate_peak_von_mises_max_pa", std::max(peak_max_, plate_max_von_mises(parts))});
-    // Erosion and perforation: eroded elements sharing nodes, from bottom face to top face.
-    const Geometry<D> g = plate.geometry();
-    const auto cf = plate.cell_fields();
-    const auto* eroded = field(cf, "eroded");
-    const auto* disp = field(plate.point_fields(), "displacement");
-    const auto& xn = *g.points;
-    const Index ne = static_cast<Index>(g.offsets.size());
-    auto first = [&](Index e) { return e == 0 ? std::int64_t{0} : g.offsets[at(e - 1)]; };
-    auto ref_up = [&](std::int64_t node) {
-      Real z = xn[at(node)][D - 1];
-      if (disp) z -= disp->real_data[at(node) * D + D - 1];
-      return z;
-    };
-    Real zmin = std::numeric_limits<Real>::infinity(), zmax = -zmin;
-    for (std::size_t k = 0; k < xn.size(); ++k) {
-      zmin = std::min(zmin, ref_up(static_cast<std::int64_t>(k)));
-      zmax = std::max(zmax, ref_up(static_cast<std::int64_t>(k)));
-    }
-    const Real tol = 1e-6 * std::max(Real(1e-3), zmax - zmin);
-    Index eroded_count = 0;
-    // Union-find over eroded elements through shared nodes.
-    std::vector<Index> parent(at(ne));
-    for (Index e = 0; e < ne; ++e)
-      parent[at(e)] = e;
-    auto find = [&](Index e) {
-      while (parent[at(e)] != e)
-        e = parent[at(e)] = parent[at(parent[at(e)])];
-      return e;
-    };
-    std::vector<Index> node_owner(xn.size(), -1);
-    auto is_eroded = [&](Index e) { return eroded_at(eroded, at(e)); };
-    for (Index e = 0; e < ne; ++e) {
-      if (!is_eroded(e)) continue;
-      ++eroded_count;
-      for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
-        const auto node = at(g.connectivity[at(k)]);
-        if (node_owner[node] < 0)
-          node_owner[node] = e;
-        else
-          parent[at(find(e))] = find(node_owner[node]);
-      }
-    }
-    std::vector<std::uint8_t> bottom(at(ne), 0), top(at(ne), 0);
-    bool perforated = false;
-    for (Index e = 0; e < ne; ++e) {
-      if (!is_eroded(e)) continue;
-      const Index root = find(e);
-      for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
-        const Real z = ref_up(g.connectivity[at(k)]);
-        if (z <= zmin + tol) bottom[at(root)] = 1;
-        if (z >= zmax - tol) top[at(root)] = 1;
-      }
-    }
-    for (Index e = 0; e < ne; ++e)
-      perforated = perforated || (bottom[at(e)] && top[at(e)]);
-    m.push_back({"plate_eroded_elements", static_cast<Real>(eroded_count)});
-    m.push_back({"plate_perforated", perforated ? Real(1) : Real(0)});
-  }
-  if (!cfg_.soil) return m;
+  if (cfg_.plate) plate_metrics(parts, m);
+  if (cfg_.soil) ground_metrics(parts, dir, m);
+  return m;
+}
 
+// The plate's peak stresses, its eroded elements, and whether eroded elements sharing nodes
+// connect its bottom face to its top face (perforation).
+template <int D>
+void Probes<D>::plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                              std::vector<Diagnostic>& m) const {
+  const auto& plate = *parts[*cfg_.plate];
+  if (peak_time_s_ >= 0) {
+    m.push_back({"plate_peak_von_mises_pa", peak_at_time_});
+    m.push_back({"plate_peak_von_mises_time_s", peak_time_s_});
+  }
+  m.push_back({"plate_peak_von_mises_max_pa", std::max(peak_max_, plate_max_von_mises(parts))});
+  // Erosion and perforation: eroded elements sharing nodes, from bottom face to top face.
+  const Geometry<D> g = plate.geometry();
+  const auto cf = plate.cell_fields();
+  const auto* eroded = field(cf, "eroded");
+  const auto* disp = field(plate.point_fields(), "displacement");
+  const auto& xn = *g.points;
+  const Index ne = static_cast<Index>(g.offsets.size());
+  auto first = [&](Index e) { return e == 0 ? std::int64_t{0} : g.offsets[at(e - 1)]; };
+  auto ref_up = [&](std::int64_t node) {
+    Real z = xn[at(node)][D - 1];
+    if (disp) z -= disp->real_data[at(node) * D + D - 1];
+    return z;
+  };
+  Real zmin = std::numeric_limits<Real>::infinity(), zmax = -zmin;
+  for (std::size_t k = 0; k < xn.size(); ++k) {
+    zmin = std::min(zmin, ref_up(static_cast<std::int64_t>(k)));
+    zmax = std::max(zmax, ref_up(static_cast<std::int64_t>(k)));
+  }
+  const Real tol = 1e-6 * std::max(Real(1e-3), zmax - zmin);
+  Index eroded_count = 0;
+  // Union-find over eroded elements through shared nodes.
+  std::vector<Index> parent(at(ne));
+  for (Index e = 0; e < ne; ++e)
+    parent[at(e)] = e;
+  auto find = [&](Index e) {
+    while (parent[at(e)] != e)
+      e = parent[at(e)] = parent[at(parent[at(e)])];
+    return e;
+  };
+  std::vector<Index> node_owner(xn.size(), -1);
+  auto is_eroded = [&](Index e) { return eroded_at(eroded, at(e)); };
+  for (Index e = 0; e < ne; ++e) {
+    if (!is_eroded(e)) continue;
+    ++eroded_count;
+    for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
+      const auto node = at(g.connectivity[at(k)]);
+      if (node_owner[node] < 0)
+        node_owner[node] = e;
+      else
+        parent[at(find(e))] = find(node_owner[node]);
+    }
+  }
+  std::vector<std::uint8_t> bottom(at(ne), 0), top(at(ne), 0);
+  bool perforated = false;
+  for (Index e = 0; e < ne; ++e) {
+    if (!is_eroded(e)) continue;
+    const Index root = find(e);
+    for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
+      const Real z = ref_up(g.connectivity[at(k)]);
+      if (z <= zmin + tol) bottom[at(root)] = 1;
+      if (z >= zmax - tol) top[at(root)] = 1;
+    }
+  }
+  for (Index e = 0; e < ne; ++e)
+    perforated = perforated || (bottom[at(e)] && top[at(e)]);
+  m.push_back({"plate_eroded_elements", static_cast<Real>(eroded_count)});
+  m.push_back({"plate_perforated", perforated ? Real(1) : Real(0)});
+}
+
+// Column k's centre along horizontal axis `axis` (row-major: the last horizontal axis varies
+// fastest).
+template <int D>
+Real Probes<D>::column_centre(std::size_t k, int axis) const {
+  Index rest = static_cast<Index>(k);
+  Index idx = 0;
+  for (int d = D - 2; d >= 0; --d) {
+    const Index i = rest % columns_[d];
+    rest /= columns_[d];
+    if (d == axis) idx = i;
+  }
+  return lo_[axis] + (static_cast<Real>(idx) + 0.5) * width_[axis];
+}
+
+// The ground surface now against t = 0 (surface_profile.csv), the crater, the settlement
+// around it and, with a plate, the plate-soil gaps.
+template <int D>
+void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                               const std::filesystem::path& dir, std::vector<Diagnostic>& m) const {
   // Ground surface now and at t = 0.
   const auto cols = ground(parts);
   const std::size_t nc = cols.size();
@@ -305,24 +332,12 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
     now[k] = surface_height(cols[k]);
     if (std::isfinite(now[k]) && std::isfinite(surface0_[k])) drop[k] = surface0_[k] - now[k];
   }
-  auto centre = [&](std::size_t k, int axis) {
-    // Column k's centre along horizontal axis `axis` (row-major: the last horizontal axis
-    // varies fastest).
-    Index rest = static_cast<Index>(k);
-    Index idx = 0;
-    for (int d = D - 2; d >= 0; --d) {
-      const Index i = rest % columns_[d];
-      rest /= columns_[d];
-      if (d == axis) idx = i;
-    }
-    return lo_[axis] + (static_cast<Real>(idx) + 0.5) * width_[axis];
-  };
   {
     std::string csv = D == 2 ? "x_m," : "x_m,y_m,";
     csv += "surface_initial_m,surface_m,vertical_displacement_m\n";
     for (std::size_t k = 0; k < nc; ++k) {
       for (int d = 0; d + 1 < D; ++d)
-        csv += fmt::format("{},", centre(k, d));
+        csv += fmt::format("{},", column_centre(k, d));
       csv += fmt::format("{},{},{}\n", surface0_[k], now[k], -drop[k]);
     }
     io::write_file_atomic(dir / "surface_profile.csv", csv);
@@ -364,7 +379,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
     if (next_to_crater) continue;
     if (drop[k] > settle) {
       settle = drop[k];
-      settle_x = centre(k, 0);
+      settle_x = column_centre(k, 0);
     }
   }
   if (std::isfinite(settle)) {
@@ -374,50 +389,56 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
   m.push_back({"crater_depth_m", depth});
   m.push_back({"crater_radius_m", crater_radius});
 
-  // Plate-soil gaps per column.
-  if (cfg_.plate) {
-    const auto& plate = *parts[*cfg_.plate];
-    const Geometry<D> g = plate.geometry();
-    const auto* eroded = field(plate.cell_fields(), "eroded");
-    const auto& xn = *g.points;
-    std::vector<std::uint8_t> live(xn.size(), 0);
-    std::int64_t begin = 0;
-    for (std::size_t e = 0; e < g.offsets.size(); ++e) {
-      if (!eroded_at(eroded, e))
-        for (std::int64_t k = begin; k < g.offsets[e]; ++k)
-          live[at(g.connectivity[at(k)])] = 1;
-      begin = g.offsets[e];
-    }
-    const Real inf = std::numeric_limits<Real>::infinity();
-    std::vector<Real> plate_lo(nc, inf), plate_hi(nc, -inf);
-    for (std::size_t n = 0; n < xn.size(); ++n) {
-      if (!live[n]) continue;
-      Index col = 0;
-      if (!column_of(xn[n], col)) continue;
-      plate_lo[at(col)] = std::min(plate_lo[at(col)], xn[n][D - 1]);
-      plate_hi[at(col)] = std::max(plate_hi[at(col)], xn[n][D - 1]);
-    }
-    const auto& soil = *parts[*cfg_.soil];
-    const auto* radius = field(soil.point_fields(), "radius");
-    const auto& xs = *soil.geometry().points;
-    Real gap_max = 0;
-    for (std::size_t k = 0; k < nc; ++k) {
-      if (!(plate_lo[k] <= plate_hi[k])) continue;
-      Real below = -inf, above = inf;
-      for (std::size_t r = 0; r < cols[k].grains.size(); ++r) {
-        for (Index i : cols[k].grains[r]) {
-          const Real z = xs[at(i)][D - 1], rad = radius->real_data[i];
-          if (z < plate_lo[k]) below = std::max(below, z + rad);
-          if (z > plate_hi[k]) above = std::min(above, z - rad);
-        }
-      }
-      if (std::isfinite(below)) gap_max = std::max(gap_max, plate_lo[k] - below);
-      if (std::isfinite(above) && std::isfinite(now[k]) && now[k] > plate_hi[k] + bin_)
-        gap_max = std::max(gap_max, above - plate_hi[k]);
-    }
-    m.push_back({"delamination_gap_max_m", gap_max});
+  if (cfg_.plate) gap_metrics(parts, cols, now, m);
+}
+
+// The largest gap between the plate's live nodes and the grains below or above them, per
+// column (delamination).
+template <int D>
+void Probes<D>::gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                            const std::vector<Column>& cols, const std::vector<Real>& now,
+                            std::vector<Diagnostic>& m) const {
+  const std::size_t nc = cols.size();
+  const auto& plate = *parts[*cfg_.plate];
+  const Geometry<D> g = plate.geometry();
+  const auto* eroded = field(plate.cell_fields(), "eroded");
+  const auto& xn = *g.points;
+  std::vector<std::uint8_t> live(xn.size(), 0);
+  std::int64_t begin = 0;
+  for (std::size_t e = 0; e < g.offsets.size(); ++e) {
+    if (!eroded_at(eroded, e))
+      for (std::int64_t k = begin; k < g.offsets[e]; ++k)
+        live[at(g.connectivity[at(k)])] = 1;
+    begin = g.offsets[e];
   }
-  return m;
+  const Real inf = std::numeric_limits<Real>::infinity();
+  std::vector<Real> plate_lo(nc, inf), plate_hi(nc, -inf);
+  for (std::size_t n = 0; n < xn.size(); ++n) {
+    if (!live[n]) continue;
+    Index col = 0;
+    if (!column_of(xn[n], col)) continue;
+    plate_lo[at(col)] = std::min(plate_lo[at(col)], xn[n][D - 1]);
+    plate_hi[at(col)] = std::max(plate_hi[at(col)], xn[n][D - 1]);
+  }
+  const auto& soil = *parts[*cfg_.soil];
+  const auto* radius = field(soil.point_fields(), "radius");
+  const auto& xs = *soil.geometry().points;
+  Real gap_max = 0;
+  for (std::size_t k = 0; k < nc; ++k) {
+    if (!(plate_lo[k] <= plate_hi[k])) continue;
+    Real below = -inf, above = inf;
+    for (std::size_t r = 0; r < cols[k].grains.size(); ++r) {
+      for (Index i : cols[k].grains[r]) {
+        const Real z = xs[at(i)][D - 1], rad = radius->real_data[i];
+        if (z < plate_lo[k]) below = std::max(below, z + rad);
+        if (z > plate_hi[k]) above = std::min(above, z - rad);
+      }
+    }
+    if (std::isfinite(below)) gap_max = std::max(gap_max, plate_lo[k] - below);
+    if (std::isfinite(above) && std::isfinite(now[k]) && now[k] > plate_hi[k] + bin_)
+      gap_max = std::max(gap_max, above - plate_hi[k]);
+  }
+  m.push_back({"delamination_gap_max_m", gap_max});
 }
 
 template <int D>

@@ -71,6 +71,14 @@ class Probes {
   };
   // The ground's cells in the current state (columns in row-major order of their indices).
   std::vector<Column> ground(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  void plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                     std::vector<Diagnostic>& m) const;
+  void ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                      const std::filesystem::path& dir, std::vector<Diagnostic>& m) const;
+  void gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                   const std::vector<Column>& cols, const std::vector<Real>& now,
+                   std::vector<Diagnostic>& m) const;
+  Real column_centre(std::size_t k, int axis) const;
   Real surface_height(const Column& col) const;
   // The column holding x (its horizontal coordinates); false outside the domain.
   bool column_of(const Vec<D>& x, Index& col) const;

@@ -1,0 +1,280 @@
+// What a run writes as it goes: the VTU frames with their PVD collections and history.csv
+// (Outputs), the history's columns after the energies, and summary.json (write_summary).
+#pragma once
+
+#include <fmt/format.h>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "contact/coupling.hpp"
+#include "io/output/atomic_file.hpp"
+#include "io/output/json.hpp"
+#include "io/output/run_directory.hpp"
+#include "io/output/vtu_writer.hpp"
+#include "io/scenario/config.hpp"
+#include "parts/state_archive.hpp"
+#include "solver/energy_balance.hpp"
+#include "solver/probes.hpp"
+#include "solver/simulation.hpp"
+
+namespace crater::solver {
+namespace fs = std::filesystem;
+
+template <int D>
+class Outputs {
+ public:
+  // A new run writes history.csv's header; a resumed one keeps the file's first
+  // `resume_history` bytes (what it held at the checkpoint) and goes on from there.
+  // `extra_columns` follow the energy columns (history_columns: contact forces, part totals).
+  Outputs(const io::Config& c, io::RunManifest& manifest,
+          const std::vector<std::unique_ptr<Part<D>>>& parts,
+          const std::vector<std::string>& extra_columns, std::string history_prefix = {})
+      : config_(c), manifest_(manifest), dir_(manifest.dir()), history_(open_history(manifest)) {
+    for (const auto& p : parts) {
+      manifest_.record(p->name() + ".pvd");
+      pvd_.emplace_back(dir_ / (p->name() + ".pvd"));
+    }
+    if (history_prefix.empty()) {
+      history_prefix =
+          "step,time_s,dt_s,kinetic_j,internal_j,external_work_j,damping_j,hourglass_j,"
+          "contact_j,eroded_j,total_j,energy_error";
+      for (const auto& col : extra_columns)
+        history_prefix += "," + col;
+      history_prefix += "\n";
+    }
+    history_.write(history_prefix);
+    history_bytes_ = history_prefix.size();
+  }
+
+  void save(parts::StateWriter& w) const {
+    w.tag("outputs");
+    w.value(static_cast<std::uint64_t>(history_bytes_));
+    w.value(static_cast<std::uint64_t>(pvd_.size()));
+    for (const auto& p : pvd_) {
+      w.value(static_cast<std::uint64_t>(p.entries().size()));
+      for (const auto& [t, f] : p.entries()) {
+        w.value(t);
+        w.string(f);
+      }
+    }
+  }
+  /// The PVD entries of a checkpoint; returns the length history.csv had then.
+  static std::uint64_t load_pvd(parts::StateReader& r,
+                                std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
+    r.tag("outputs");
+    const auto bytes = r.value<std::uint64_t>();
+    pvd.resize(r.value<std::uint64_t>());
+    for (auto& entries : pvd) {
+      entries.resize(r.value<std::uint64_t>());
+      for (auto& [t, f] : entries) {
+        r.value(t);
+        f = r.string();
+      }
+    }
+    return bytes;
+  }
+  void restore_pvd(std::vector<std::vector<std::pair<Real, std::string>>> pvd) {
+    for (std::size_t k = 0; k < pvd_.size() && k < pvd.size(); ++k)
+      pvd_[k].restore(std::move(pvd[k]));
+  }
+
+  void frame(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, const std::string& tag) {
+    if (!config_.output.vtu) return;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const std::string file = fmt::format("{}_{}.vtu", parts[k]->name(), tag);
+      manifest_.record(file);
+      write_part(*parts[k], dir_ / file, t);
+      if (tag != "failure") pvd_[k].add(t, file);
+    }
+  }
+
+  void write_part(const Part<D>& p, const fs::path& path, Real t) {
+    const Geometry<D> g = p.geometry();
+    io::VtuMesh mesh;
+    mesh.num_points = static_cast<Index>(g.points->size());
+    mesh.dimension = D;
+    mesh.points = g.points->empty() ? nullptr : g.points->front().data();
+    if (!g.connectivity.empty()) {
+      mesh.connectivity = &g.connectivity;
+      mesh.offsets = &g.offsets;
+      mesh.cell_types = &g.cell_types;
+    }
+    auto arrays = [](const std::vector<fields::FieldView>& views) {
+      std::vector<io::VtuArray> out;
+      for (const auto& v : views)
+        out.push_back(io::VtuArray{v.info->name, v.components, v.real_data, v.integer_data,
+                                   v.components == D && D == 2});
+      return out;
+    };
+    io::write_vtu(path, t, mesh, arrays(p.point_fields()), arrays(p.cell_fields()),
+                  config_.output.vtu_encoding == io::VtuEncoding::Base64 ? io::VtuFormat::Base64
+                                                                         : io::VtuFormat::Appended);
+  }
+
+  void history(Index step, Real t, Real dt, const Energies& e, Real total, Real error,
+               const std::vector<Real>& extra) {
+    std::string row = fmt::format(
+        "{},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
+        "{:.17g},{:.17g},{:.17g}",
+        step, t, dt, e.kinetic_j, e.internal_j, e.external_work_j, e.damping_j, e.hourglass_j,
+        e.contact_j, e.eroded_j, total, error);
+    for (Real v : extra)
+      row += fmt::format(",{:.17g}", v);
+    row += "\n";
+    history_.write(row);
+    history_bytes_ += row.size();
+  }
+  void flush() { history_.flush(); }
+  io::RunManifest& manifest() { return manifest_; }
+
+ private:
+  static fs::path open_history(io::RunManifest& manifest) {
+    manifest.record("history.csv");
+    return manifest.dir() / "history.csv";
+  }
+
+  const io::Config& config_;
+  io::RunManifest& manifest_;
+  fs::path dir_;
+  io::AppendFile history_;
+  std::size_t history_bytes_ = 0;
+  std::vector<io::PvdCollection> pvd_;
+};
+
+// history.csv's columns after the energies: the contacts' forces, then (runs of several parts)
+// each part's own total energy, energy_<part>_j, so that a drift can be traced to a part. The
+// parts' totals add up to total_j.
+template <int D>
+std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                         const contact::Coupling<D>& coupling,
+                                         const Probes<D>& probes) {
+  std::vector<std::string> columns = coupling.history_columns();
+  for (auto& col : probes.history_columns())
+    columns.push_back(std::move(col));
+  if (parts.size() > 1)
+    for (const auto& p : parts)
+      columns.push_back("energy_" + p->name() + "_j");
+  return columns;
+}
+template <int D>
+std::vector<Real> history_values(const std::vector<Energies>& per,
+                                 const contact::Coupling<D>& coupling, Probes<D>& probes,
+                                 const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  std::vector<Real> values = coupling.history_values();
+  for (Real v : probes.history_values(parts))
+    values.push_back(v);
+  if (per.size() > 1)
+    for (const Energies& e : per)
+      values.push_back(total_energy(e));
+  return values;
+}
+
+// summary.json's "run" block: how the run was started (crater-command.toml holds the same).
+inline void write_command(io::JsonWriter& j, const io::RunCommand& command) {
+  j.key("command").begin_object();
+  j.field("scenario", command.scenario).field("level", command.level);
+  j.key("set").begin_array();
+  for (const auto& s : command.sets)
+    j.value(s);
+  j.end_array();
+  j.field("threads", command.threads);
+  j.key("argv").begin_array();
+  for (const auto& a : command.argv)
+    j.value(a);
+  j.end_array();
+  j.end_object();
+}
+
+/// What summary.json reports of the run besides the parts: its state and how it was started.
+struct SummaryInputs {
+  io::RunManifest& manifest;
+  const io::RunCommand& command;
+  const RunResult& r;
+  Real dt_min, dt_max;
+  const Energies& e0;
+  const Energies& e;
+  Real energy_error;
+};
+
+template <int D>
+void write_summary(const io::Config& c, const SummaryInputs& in,
+                   const std::vector<std::unique_ptr<Part<D>>>& parts, const std::string& status,
+                   const std::string& message, const contact::Coupling<D>* coupling = nullptr,
+                   const std::vector<Diagnostic>& metrics = {}) {
+  const RunResult& r = in.r;
+  const Real dt_min = in.dt_min, dt_max = in.dt_max;
+  const Energies &e0 = in.e0, &e = in.e;
+  const Real energy_error = in.energy_error;
+  io::JsonWriter j;
+  j.begin_object();
+  j.field("crater_version", CRATER_VERSION);
+  j.field("status", status);
+  if (!message.empty()) j.field("message", message);
+  j.key("scenario").begin_object();
+  j.field("name", c.name).field("file", c.file).field("hash", c.hash);
+  if (!c.level.empty()) j.field("level", c.level);
+  j.field("dimension", c.dimension).field("end_time_s", c.end_time_s);
+  j.end_object();
+  j.key("parts").begin_array();
+  for (const auto& p : parts) {
+    j.begin_object();
+    j.field("name", p->name()).field("method", p->method());
+    j.field("count", static_cast<std::int64_t>(p->count())).field("mass_kg", p->mass_kg());
+    const auto diags = p->diagnostics();
+    if (!diags.empty()) {
+      j.key("diagnostics").begin_object();
+      for (const auto& d : diags)
+        j.field(d.name, d.value);
+      j.end_object();
+    }
+    j.end_object();
+  }
+  j.end_array();
+  if (coupling && !coupling->empty()) {
+    j.key("contacts").begin_object();
+    for (const auto& d : coupling->diagnostics())
+      j.field(d.name, d.value);
+    j.end_object();
+  }
+  j.field("steps", static_cast<std::int64_t>(r.steps));
+  j.field("time_s", r.time_s);
+  j.key("time_step").begin_object();
+  j.field("min_s", dt_min).field("max_s", dt_max).field("safety_factor", c.time.safety_factor);
+  j.end_object();
+  auto energies = [&](const char* name, const Energies& en) {
+    j.key(name).begin_object();
+    j.field("kinetic_j", en.kinetic_j).field("internal_j", en.internal_j);
+    j.field("external_work_j", en.external_work_j).field("damping_j", en.damping_j);
+    j.field("hourglass_j", en.hourglass_j).field("contact_j", en.contact_j);
+    j.field("eroded_j", en.eroded_j).field("total_j", total_energy(en));
+    j.end_object();
+  };
+  j.key("energy").begin_object();
+  energies("initial", e0);
+  energies("final", e);
+  j.field("balance_error", energy_error);
+  j.end_object();
+  j.key("metrics").begin_object();
+  for (const auto& m : metrics)
+    j.field(m.name, m.value);
+  j.end_object();
+  // Everything above is identical for any thread count; this block is not.
+  j.key("run").begin_object();
+  j.field("wall_time_s", r.wall_s).field("threads", r.threads);
+  // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.
+  j.field("loop_time_s", r.loop_s);
+  // This process's steps over its own wall time (a resumed run counts from where it resumed).
+  j.field("steps_per_s",
+          r.wall_s > 0 ? static_cast<double>(r.steps - r.first_step) / r.wall_s : 0.0);
+  if (r.first_step > 0) j.field("resumed_at_step", static_cast<double>(r.first_step));
+  write_command(j, in.command);
+  j.end_object();
+  j.end_object();
+  in.manifest.record("summary.json");
+  io::write_file_atomic(in.manifest.dir() / "summary.json", j.str());
+}
+
+}  // namespace crater::solver

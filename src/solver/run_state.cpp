@@ -1,0 +1,79 @@
+// The run's guards and continuing from a checkpoint; see run_state.hpp.
+#include "solver/run_state.hpp"
+
+#include <fstream>
+
+namespace crater::solver {
+
+void check_step_count(const io::Config& c, Real step_s) {
+  constexpr double kMaxSteps = 1e10;
+  const Real dt = c.time.fixed_dt_s ? *c.time.fixed_dt_s : step_s;
+  if (c.time.max_steps > 0 || !(dt > 0)) return;
+  const double steps = c.end_time_s / dt;
+  if (steps > kMaxSteps)
+    throw InputError(c.time.fixed_dt_s ? c.time.fixed_dt_where : SourceLocation{c.file, 0, 0},
+                     "scenario.end_time_s",
+                     fmt::format("a run of at most {:.0e} steps; end_time_s = {:.4g} s at a step "
+                                 "of {:.4g} s takes {:.3g} (shorten end_time_s, or set "
+                                 "time.max_steps to run a part of it)",
+                                 kMaxSteps, c.end_time_s, dt, steps));
+}
+
+fs::path run_dir_of_checkpoint(const fs::path& checkpoint) {
+  return checkpoint.parent_path().parent_path();
+}
+
+bool same_directory(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  const bool same = fs::equivalent(a.empty() ? "." : a, b.empty() ? "." : b, ec);
+  return !ec && same;
+}
+
+void carry_frames(const fs::path& from, io::RunManifest& manifest,
+                  std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
+  for (auto& entries : pvd) {
+    std::vector<std::pair<Real, std::string>> kept;
+    for (auto& [t, file] : entries) {
+      std::error_code ec;
+      const fs::path src = from / file, dst = manifest.dir() / file;
+      manifest.record(file);
+      fs::remove(dst, ec);
+      fs::create_hard_link(src, dst, ec);
+      if (ec) fs::copy_file(src, dst, fs::copy_options::overwrite_existing, ec);
+      if (ec) {
+        spdlog::warn("frame {} of the checkpoint's run is not carried over: {}", src.string(),
+                     ec.message());
+        continue;
+      }
+      kept.emplace_back(t, std::move(file));
+    }
+    entries = std::move(kept);
+  }
+}
+
+std::string history_at_checkpoint(const RunOptions& opt, const fs::path& from, std::uint64_t bytes,
+                                  bool same_dir) {
+  std::string history;
+  std::error_code ec;
+  if (fs::exists(from / "history.csv", ec)) {
+    // Only what the checkpoint saw is read (the file may have grown long since).
+    io::require_own_file(from / "history.csv", same_dir ? "--resume" : "--restart",
+                         std::numeric_limits<std::uintmax_t>::max());
+    std::ifstream in(from / "history.csv", std::ios::binary);
+    history.resize(static_cast<std::size_t>(bytes));
+    in.read(history.data(), static_cast<std::streamsize>(bytes));
+    history.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  }
+  if (history.size() == bytes) return history;
+  if (same_dir || history.size() > 0)
+    throw InputError({(from / "history.csv").string(), 0, 0}, same_dir ? "--resume" : "--restart",
+                     fmt::format("the run's history.csv as the checkpoint saw it ({} bytes); it "
+                                 "has {} (continue into the directory the run wrote, or from "
+                                 "a checkpoint of this run)",
+                                 bytes, history.size()));
+  spdlog::warn("{} has no history.csv: {} starts its history at the checkpoint's step",
+               from.string(), (opt.out_dir / "history.csv").string());
+  return {};
+}
+
+}  // namespace crater::solver

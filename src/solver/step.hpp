@@ -1,0 +1,86 @@
+// One step of the time loop (Algorithm 1) over all parts, and the step it may take: the
+// stable limits of the parts and the contacts, the user's fixed step held to them. The time
+// loop (simulation.cpp) takes these; tests/unit/solver drives them with stub parts.
+#pragma once
+
+#include <fmt/format.h>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "contact/coupling.hpp"
+#include "core/error.hpp"
+#include "io/scenario/config.hpp"
+#include "solver/part_names.hpp"
+
+namespace crater::solver {
+namespace fs = std::filesystem;
+
+template <int D>
+struct StepLimit {
+  Real dt_s = std::numeric_limits<Real>::infinity();       // the limit as its part states it
+  Real allowed_s = std::numeric_limits<Real>::infinity();  // the step it allows (safety applied)
+  std::string who;   // "part 'x'" or the contact; empty when nothing limits the step
+  std::string part;  // the limiting part's name, or "contact"
+  StableStep detail;
+};
+
+/// The limit that allows the smallest step under `safety_factor` (1: the limits as stated,
+/// which a fixed step must respect).
+template <int D>
+StepLimit<D> smallest_stable_step(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                  const contact::Coupling<D>* coupling, Real safety_factor) {
+  StepLimit<D> lim;
+  auto consider = [&](const StableStep& s, std::string who, std::string part) {
+    if (s.allowed_s(safety_factor) < lim.allowed_s)
+      lim = {s.dt_s, s.allowed_s(safety_factor), std::move(who), std::move(part), s};
+  };
+  for (const auto& p : parts)
+    consider(p->stable_step(), "part '" + p->name() + "'", p->name());
+  if (coupling && !coupling->empty())
+    consider(coupling->stable_step(parts), "the contacts", "contact");
+  return lim;
+}
+
+// The user's fixed step must not exceed the stable limit (READING-NOTES: the paper's 1 us
+// does); the error names the limiting part.
+template <int D>
+void check_fixed_step(const io::Config& c, const StepLimit<D>& lim) {
+  if (!c.time.fixed_dt_s || lim.who.empty()) return;
+  if (*c.time.fixed_dt_s > lim.dt_s)
+    throw InputError(c.time.fixed_dt_where, "time.fixed_dt_s",
+                     fmt::format("fixed step {:.4g} s exceeds the stable limit {:.4g} s of {} "
+                                 "({}, entity {}); use at most {:.4g} s or unset it",
+                                 *c.time.fixed_dt_s, lim.dt_s, lim.who, lim.detail.reason,
+                                 lim.detail.entity_id, lim.dt_s));
+}
+
+/// The first stage of a step from t to t + dt: every part advances (half kick, drift), in
+/// scenario order. finish_step_stages follows once the time is moved on to t + dt.
+template <int D>
+void advance_stage(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, Real dt) {
+  for (auto& p : parts)
+    p->advance(t, dt);
+}
+
+/// The rest of the step, at t_new = t + dt (given, so that a step lands exactly on an output
+/// time): the forces of the new state part by part, the contacts between parts, every part
+/// checked (a fault throws NumericalError naming the first failing part, before any part
+/// finishes the step), then every part finishes the step (second half kick). Parts in scenario
+/// order at every stage.
+template <int D>
+void finish_step_stages(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                        contact::Coupling<D>& coupling, Real t_new, Real dt) {
+  for (auto& p : parts)
+    p->compute_forces(t_new);
+  coupling.apply(parts, dt);
+  for (auto& p : parts)
+    if (auto fault = p->check())
+      throw NumericalError(p->name(), fault->entity_id, t_new, fault->what);
+  for (auto& p : parts)
+    p->finish_step(dt);
+}
+
+}  // namespace crater::solver
