@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <map>
 
+#include "io/scenario/material_laws.hpp"
 #include "io/scenario/reader.hpp"
 
 namespace crater::io::reader {
@@ -194,18 +194,10 @@ void Builder::read_zones(const toml::array& za, const SourceLocation& w, const s
 void Builder::check_method_material(const Config& c, const toml::table& t, const SourceLocation& w,
                                     const std::string& key, const PartConfig& p) {
   const std::string& model = c.materials[p.material].model;
-  const char* needs = model == "granular" ? "dem"
-                      : (model == "elastic" || model == "johnson_cook" || model == "drucker_prager")
-                          ? "fem"
-                          : "sph";
-  static const std::map<std::string, std::string> kinds = {
-      {"sph", "an equation-of-state material (jwl, ideal_gas, tait)"},
-      {"dem", "a \"granular\" material"},
-      {"fem", "a solid material (elastic, johnson_cook, drucker_prager)"}};
-  if (p.method != needs)
+  if (p.method != material_law(model).method)
     error(loc(t, "material", w), key + ".material",
-          fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", p.method, kinds.at(p.method),
-                      c.materials[p.material].name, model));
+          fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", p.method,
+                      materials_of_method(p.method), c.materials[p.material].name, model));
 }
 
 // Carving: a part may leave the regions of named other parts empty.

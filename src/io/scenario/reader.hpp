@@ -138,8 +138,6 @@ class Builder {
 
   // read_materials.cpp
   void read_materials(Config& c, const SourceLocation& top);
-  void read_solid(const toml::table& t, const SourceLocation& w, const std::string& key,
-                  MaterialConfig& m);
 
   // read_parts.cpp: the keys every part has, its region and zones, carving, overlaps
   void read_parts(Config& c, const SourceLocation& top);
