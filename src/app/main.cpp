@@ -17,6 +17,8 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <exception>
+#include <filesystem>
 #include <new>
 
 #include "app/report.hpp"
@@ -110,124 +112,118 @@ int cmd_run(const std::string& scenario, const std::vector<std::string>& sets,
   return kExitOk;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  spdlog::set_pattern("crater: %^%l%$: %v");
+// The command line: the subcommands and their options, filled by CLI11.
+struct CommandLine {
   CLI::App app{"crater: explosions in layered ground (SPH + DEM + FEM)", "crater"};
-  app.set_version_flag("--version", std::string("crater ") + CRATER_VERSION);
-  app.require_subcommand(1);
-
   std::string scenario;
   std::vector<std::string> sets;
   std::string level;
   solver::RunOptions opt;
   std::string out_dir = "out";
-
-  auto* run = app.add_subcommand("run", "Run a scenario (a file, or a bundled name)");
-  run->add_option("scenario", scenario,
-                  "Scenario file or bundled scenario name (with --resume: the run's own, unless "
-                  "given)");
-  run->add_option("--out,-o", out_dir, "Run directory (default: out)");
-  run->add_option("--threads,-t", opt.threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::Range(1, 4096));
-  run->add_option("--level,-l", level,
-                  "Resolution level of the scenario ([levels.<name>]: demo, coarse, medium, fine "
-                  "for the bundled paper scenarios); applied before --set");
-  run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
-  run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
-  run->add_flag("--quiet,-q", opt.quiet, "No progress line");
   std::string resume_dir, restart_file;
-  auto* resume_opt = run->add_option(
-      "--resume", resume_dir,
-      "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/), with the "
-      "scenario, --level, --set and --threads it was started with (DIR/crater-command.toml) "
-      "unless given again");
-  run->add_option("--restart", restart_file,
-                  "Continue from this checkpoint file, into --out (a new or emptied directory: "
-                  "the earlier frames and history are carried over) or, without --out, into "
-                  "the run directory that holds it")
-      ->excludes(resume_opt);
-
-  auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
-  check->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
-  check->add_option("--level,-l", level, "Resolution level ([levels.<name>] of the scenario)");
-  check->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
-
-  app.add_subcommand("list", "List the bundled scenarios");
-  auto* schema = app.add_subcommand("schema", "Print the scenario file reference");
   bool markdown = false;
-  schema->add_flag("--markdown", markdown, "Markdown (docs/scenario-format.md)");
-
-  auto* report = app.add_subcommand("report", "Figures (PNG) and report.md for a run directory");
   crater::app::ReportOptions report_opt;
-  report->add_option("dir", report_opt.run_dir, "Run directory written by crater run")->required();
-  report->add_option("--out,-o", report_opt.out_dir, "Where to write (default: DIR/report)");
-  report->add_option("--times", report_opt.times,
-                     "Snapshot times [s], comma-separated: the nearest output frames (default: "
-                     "up to 4 spread over the run, the last included)");
+  CLI::App* run = nullptr;
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    app.exit(e);
-    return kExitInput;
+  CommandLine() {
+    app.set_version_flag("--version", std::string("crater ") + CRATER_VERSION);
+    app.require_subcommand(1);
+    add_run();
+    add_others();
   }
 
-  std::string out_dir_for_resume;  // the run directory, for the interrupted message
+ private:
+  void add_run() {
+    run = app.add_subcommand("run", "Run a scenario (a file, or a bundled name)");
+    run->add_option("scenario", scenario,
+                    "Scenario file or bundled scenario name (with --resume: the run's own, "
+                    "unless given)");
+    run->add_option("--out,-o", out_dir, "Run directory (default: out)");
+    run->add_option("--threads,-t", opt.threads, "OpenMP threads (default: all cores)")
+        ->check(CLI::Range(1, 4096));
+    run->add_option("--level,-l", level,
+                    "Resolution level of the scenario ([levels.<name>]: demo, coarse, medium, "
+                    "fine for the bundled paper scenarios); applied before --set");
+    run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
+    run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
+    run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+    auto* resume_opt = run->add_option(
+        "--resume", resume_dir,
+        "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/), with the "
+        "scenario, --level, --set and --threads it was started with (DIR/crater-command.toml) "
+        "unless given again");
+    run->add_option("--restart", restart_file,
+                    "Continue from this checkpoint file, into --out (a new or emptied directory: "
+                    "the earlier frames and history are carried over) or, without --out, into "
+                    "the run directory that holds it")
+        ->excludes(resume_opt);
+  }
+
+  void add_others() {
+    auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
+    check->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
+    check->add_option("--level,-l", level, "Resolution level ([levels.<name>] of the scenario)");
+    check->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
+
+    app.add_subcommand("list", "List the bundled scenarios");
+    auto* schema = app.add_subcommand("schema", "Print the scenario file reference");
+    schema->add_flag("--markdown", markdown, "Markdown (docs/scenario-format.md)");
+
+    auto* report = app.add_subcommand("report", "Figures (PNG) and report.md for a run directory");
+    report->add_option("dir", report_opt.run_dir, "Run directory written by crater run")
+        ->required();
+    report->add_option("--out,-o", report_opt.out_dir, "Where to write (default: DIR/report)");
+    report->add_option("--times", report_opt.times,
+                       "Snapshot times [s], comma-separated: the nearest output frames (default: "
+                       "up to 4 spread over the run, the last included)");
+  }
+};
+
+int cmd_list() {
+  for (const auto& n : io::bundled_scenarios()) {
+    std::string desc, levels;
+    try {
+      const io::Config c = io::load_scenario(n, {});
+      desc = c.description;
+      for (const auto& l : c.levels)
+        levels += (levels.empty() ? "" : ", ") + l.name;
+    } catch (const InputError& e) {
+      desc = std::string("(invalid: ") + e.what() + ")";
+    }
+    fmt::print("{:<24} {}\n", n, desc);
+    if (!levels.empty()) fmt::print("{:<24} levels: {}\n", "", levels);
+  }
+  return kExitOk;
+}
+
+// `run`: where it writes and what it continues from (--resume, --restart).
+void resolve_run(CommandLine& cl, int argc, char** argv) {
+  solver::RunOptions& opt = cl.opt;
+  opt.out_dir = cl.out_dir;
+  for (int k = 0; k < argc; ++k)
+    opt.command.argv.emplace_back(argv[k]);
+  if (!cl.resume_dir.empty()) {
+    opt.out_dir = cl.resume_dir;
+    opt.restart = io::newest_checkpoint(cl.resume_dir);
+    // The run's own scenario and overrides, unless the command line names them again.
+    if (cl.scenario.empty() || std::filesystem::exists(cl.resume_dir + "/" + io::kCommandName)) {
+      const io::RunCommand was = io::read_run_command(cl.resume_dir);
+      if (cl.scenario.empty())
+        cl.scenario = std::filesystem::exists(was.scenario_file) ? was.scenario_file : was.scenario;
+      if (cl.sets.empty() && cl.level.empty()) cl.sets = was.sets, cl.level = was.level;
+      if (cl.run->count("--threads") == 0) opt.threads = was.threads;
+    }
+  } else if (!cl.restart_file.empty()) {
+    opt.restart = cl.restart_file;
+    if (cl.run->count("--out") == 0)
+      opt.out_dir = std::filesystem::path(cl.restart_file).parent_path().parent_path();
+  }
+}
+
+// The exit code of what a command threw, with its message on stderr.
+int report_failure(const std::exception_ptr& failure, const std::string& out_dir_for_resume) {
   try {
-    if (app.got_subcommand("list")) {
-      for (const auto& n : io::bundled_scenarios()) {
-        std::string desc, levels;
-        try {
-          const io::Config c = io::load_scenario(n, {});
-          desc = c.description;
-          for (const auto& l : c.levels)
-            levels += (levels.empty() ? "" : ", ") + l.name;
-        } catch (const InputError& e) {
-          desc = std::string("(invalid: ") + e.what() + ")";
-        }
-        fmt::print("{:<24} {}\n", n, desc);
-        if (!levels.empty()) fmt::print("{:<24} levels: {}\n", "", levels);
-      }
-      return kExitOk;
-    }
-    if (app.got_subcommand("schema")) {
-      fmt::print("{}", io::schema_markdown());
-      return kExitOk;
-    }
-    if (app.got_subcommand("report")) return crater::app::cmd_report(report_opt);
-    if (app.got_subcommand("check")) return cmd_check(scenario, sets, level);
-    opt.out_dir = out_dir;
-    for (int k = 0; k < argc; ++k)
-      opt.command.argv.emplace_back(argv[k]);
-    if (!resume_dir.empty()) {
-      opt.out_dir = resume_dir;
-      opt.restart = io::newest_checkpoint(resume_dir);
-      // The run's own scenario and overrides, unless the command line names them again.
-      if (scenario.empty() || std::filesystem::exists(resume_dir + "/" + io::kCommandName)) {
-        const io::RunCommand was = io::read_run_command(resume_dir);
-        if (scenario.empty())
-          scenario = std::filesystem::exists(was.scenario_file) ? was.scenario_file : was.scenario;
-        if (sets.empty() && level.empty()) sets = was.sets, level = was.level;
-        if (run->count("--threads") == 0) opt.threads = was.threads;
-      }
-    } else if (!restart_file.empty()) {
-      opt.restart = restart_file;
-      if (run->count("--out") == 0)
-        opt.out_dir = std::filesystem::path(restart_file).parent_path().parent_path();
-    }
-    out_dir_for_resume = opt.out_dir.string();
-    if (scenario.empty())
-      throw InputError({}, "scenario",
-                       "a scenario file or bundled name (crater run SCENARIO), or --resume DIR");
-    return cmd_run(scenario, sets, level, opt);
+    std::rethrow_exception(failure);
   } catch (const InputError& e) {
     print_input_error(e);
     return kExitInput;
@@ -255,5 +251,43 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  spdlog::set_pattern("crater: %^%l%$: %v");
+  CommandLine cl;
+  try {
+    cl.app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return cl.app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return cl.app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return cl.app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    cl.app.exit(e);
+    return kExitInput;
+  }
+
+  std::string out_dir_for_resume;  // the run directory, for the interrupted message
+  try {
+    if (cl.app.got_subcommand("list")) return cmd_list();
+    if (cl.app.got_subcommand("schema")) {
+      fmt::print("{}", io::schema_markdown());
+      return kExitOk;
+    }
+    if (cl.app.got_subcommand("report")) return crater::app::cmd_report(cl.report_opt);
+    if (cl.app.got_subcommand("check")) return cmd_check(cl.scenario, cl.sets, cl.level);
+    resolve_run(cl, argc, argv);
+    out_dir_for_resume = cl.opt.out_dir.string();
+    if (cl.scenario.empty())
+      throw InputError({}, "scenario",
+                       "a scenario file or bundled name (crater run SCENARIO), or --resume DIR");
+    return cmd_run(cl.scenario, cl.sets, cl.level, cl.opt);
+  } catch (...) {
+    return report_failure(std::current_exception(), out_dir_for_resume);
   }
 }

@@ -1,6 +1,8 @@
 // Settings of a DEM part ([parts.dem], [parts.packing] and its granular material), as the
 // scenario reader builds them: plain values, no strings from the file. The solver's assembly
 // hands a PartSettings to make_dem_part (dem_part.hpp) and to the packing functions.
+// Defaults are the schema's (io/scenario/scenario_schema.cpp), stated nowhere else: members
+// are only zero-initialised (tests/io/test_defaults_once.py).
 #pragma once
 
 #include <cstdint>
@@ -14,16 +16,16 @@ namespace crater::dem {
 
 /// Grain material of a DEM part (model "granular").
 struct GranularMaterial {
-  Real shear_modulus_pa = 0;
-  Real poisson_ratio = 0;
-  Real friction = 0;
-  Real restitution = 1;
+  Real shear_modulus_pa{};
+  Real poisson_ratio{};
+  Real friction{};
+  Real restitution{};
 };
 
 /// A grain placed by hand ([[parts.dem.particles]]).
 struct PlacedGrain {
   parts::Vec3 center_m{};
-  Real radius_m = 0;
+  Real radius_m{};
   parts::Vec3 velocity_m_s{};
 };
 
@@ -35,58 +37,58 @@ enum class BondRadius { Min, Mean, Effective };
 
 /// Parallel bonds of a DEM part (paper eqs. 17-24), made at t = 0 between touching grains.
 struct BondSettings {
-  bool enabled = false;
-  BondRadius radius_rule = BondRadius::Min;
-  Real radius_multiplier = 1.0;    // \lambda [-]
-  Real normal_stiffness_pa_m = 0;  // k̄_n [Pa/m]
-  Real shear_stiffness_pa_m = 0;   // k̄_s [Pa/m]
-  Real tensile_strength_pa = 0;    // \bar\sigma_c [Pa]
-  Real shear_strength_pa = 0;      // \bar\tau_c [Pa]
-  Real gap_fraction = 0.01;        // bond pairs whose gap <= this x the smaller radius
+  bool enabled{};
+  BondRadius radius_rule{};
+  Real radius_multiplier{};      // \lambda [-]
+  Real normal_stiffness_pa_m{};  // k̄_n [Pa/m]
+  Real shear_stiffness_pa_m{};   // k̄_s [Pa/m]
+  Real tensile_strength_pa{};    // \bar\sigma_c [Pa]
+  Real shear_strength_pa{};      // \bar\tau_c [Pa]
+  Real gap_fraction{};           // bond pairs whose gap <= this x the smaller radius
 };
 
 /// Numerics and walls of a DEM part ([parts.dem]).
 struct Settings {
-  ContactLawKind contact = ContactLawKind::HertzMindlin;
-  bool hertz_row_of_spheres = false;    // 2D hertz_mindlin: disks as rows of spheres (hertz_2d)
-  Real normal_stiffness_n_m = 0;        // linear_spring: k_n [N/m] (per metre of depth in 2D)
-  Real shear_stiffness_n_m = 0;         // linear_spring: k_s [N/m]
-  Real stiffness_step_fraction = 0.17;  // stable step = this x sqrt(m_min / k_max)
-  Real radius_min_m = 0;
-  Real radius_max_m = 0;
-  std::uint64_t seed = 1;
-  Real local_damping = 0;
-  Real rayleigh_fraction = 0.25;
-  Real rolling_friction = 0;  // \mu_r [-], 0: off
-  Real rolling_damping = 0;   // \eta_r [-]
-  bool rate_dependent_friction = false;
-  Real friction_rate_beta = 0.05;             // \beta [-]
-  Real friction_reference_strain_rate = 1.0;  // \dot\varepsilon_0 [1/s]
+  ContactLawKind contact{};
+  bool hertz_row_of_spheres{};     // 2D hertz_mindlin: disks as rows of spheres (hertz_2d)
+  Real normal_stiffness_n_m{};     // linear_spring: k_n [N/m] (per metre of depth in 2D)
+  Real shear_stiffness_n_m{};      // linear_spring: k_s [N/m]
+  Real stiffness_step_fraction{};  // stable step = this x sqrt(m_min / k_max)
+  Real radius_min_m{};
+  Real radius_max_m{};
+  std::uint64_t seed{};
+  Real local_damping{};
+  Real rayleigh_fraction{};
+  Real rolling_friction{};  // \mu_r [-], 0: off
+  Real rolling_damping{};   // \eta_r [-]
+  bool rate_dependent_friction{};
+  Real friction_rate_beta{};              // \beta [-]
+  Real friction_reference_strain_rate{};  // \dot\varepsilon_0 [1/s]
   std::vector<parts::Face> walls;
-  Real wall_friction = 0.5;
-  Real wall_restitution = 0.5;
+  Real wall_friction{};
+  Real wall_restitution{};
   // Absorbing (viscous, Lysmer-Kuhlemeyer) walls: faces holding the grains' static reaction
   // of t = 0 plus dashpots of the bed's impedance (docs/theory.md §3).
   std::vector<parts::Face> absorbing_walls;
-  Real absorbing_density_kg_m3 = 0;     // rho_b of the bed; 0: grain mass / region volume
-  Real absorbing_p_wave_speed_m_s = 0;  // c_p; 0: linear_spring estimate 2r sqrt(k_n / m)
-  Real absorbing_s_wave_speed_m_s = 0;  // c_s; 0: c_p sqrt((1 - 2 nu) / (2 - 2 nu))
+  Real absorbing_density_kg_m3{};     // rho_b of the bed; 0: grain mass / region volume
+  Real absorbing_p_wave_speed_m_s{};  // c_p; 0: linear_spring estimate 2r sqrt(k_n / m)
+  Real absorbing_s_wave_speed_m_s{};  // c_s; 0: c_p sqrt((1 - 2 nu) / (2 - 2 nu))
   BondSettings bonds;
   std::vector<PlacedGrain> particles;  // placed by hand; empty: the region's lattice
 };
 
 /// How a DEM part's grains are laid out ([parts.packing]).
 struct PackingSettings {
-  bool random = false;  // false: lattice
-  Real porosity = 0.4;
+  bool random{};        // false: lattice
+  Real porosity = 0.4;  // no schema default (random needs it); 0.4 enters lattice packings' key
   std::vector<Real> sieve_diameter_m;  // empty: radii uniform in [radius_min_m, radius_max_m]
   std::vector<Real> sieve_passing;
-  bool settle = false;
-  Real settle_kinetic_ratio = 1e-4;
-  Real settle_max_time_s = 2.0;
-  Real settle_damping = 0.7;
-  std::string cache_dir;   // absolute, or relative to the working directory
-  Real agitation_m_s = 0;  // random initial velocity, uniform in +-this per component
+  bool settle{};
+  Real settle_kinetic_ratio{};
+  Real settle_max_time_s{};
+  Real settle_damping{};
+  std::string cache_dir;  // absolute, or relative to the working directory
+  Real agitation_m_s{};   // random initial velocity, uniform in +-this per component
 };
 
 /// Everything a DEM part is built from.
@@ -95,8 +97,8 @@ struct PartSettings {
   Settings dem;
   PackingSettings packing;
   GranularMaterial grain;
-  Real rho0_kg_m3 = 0;       // the grains' density
-  Real safety_factor = 0.9;  // of the stable step, while settling ([time] safety_factor)
+  Real rho0_kg_m3{};     // the grains' density
+  Real safety_factor{};  // of the stable step, while settling ([time] safety_factor)
 };
 
 }  // namespace crater::dem

@@ -1,6 +1,8 @@
 // Settings of an FEM part ([parts.fem] and its solid material), as the scenario reader builds
 // them: plain values and the mesh file as read, no strings from the file. The solver's
 // assembly hands a PartSettings to make_fem_part (fem_part.hpp).
+// Defaults are the schema's (io/scenario/scenario_schema.cpp), stated nowhere else: members
+// are only zero-initialised (tests/io/test_defaults_once.py).
 #pragma once
 
 #include <array>
@@ -20,7 +22,7 @@ namespace crater::fem {
 
 /// Solid material of an FEM part (models "elastic", "johnson_cook", "drucker_prager").
 struct MaterialSettings {
-  materials::StrengthParams strength = materials::ElasticParams{};
+  materials::StrengthParams strength{};
   std::optional<materials::JohnsonCookDamageParams> damage;  // [materials.damage]; none: no erosion
 };
 
@@ -28,7 +30,7 @@ struct MaterialSettings {
 enum class BoundaryType { Fixed, Symmetry, Velocity, NonReflecting };
 
 struct BoundarySettings {
-  BoundaryType type = BoundaryType::Fixed;
+  BoundaryType type{};
   std::optional<parts::Face> face;                   // a face of the part's bounding box
   std::string group;                                 // or a physical group of the mesh file
   parts::Vec3 velocity_m_s{};                        // Velocity: imposed components
@@ -43,8 +45,8 @@ struct BoundarySettings {
 enum class LoadType { Pressure };
 
 struct LoadSettings {
-  LoadType type = LoadType::Pressure;
-  parts::Face face = parts::Face::Bottom;
+  LoadType type{};
+  parts::Face face{};
   std::optional<parts::RegionConfig> region;  // a box; unset: the whole face
   std::vector<Real> time_s;                   // strictly increasing
   std::vector<Real> pressure_pa;              // same length
@@ -53,14 +55,14 @@ struct LoadSettings {
 
 /// Numerics, boundaries and mesh of an FEM part ([parts.fem]).
 struct Settings {
-  bool hourglass_stiffness = false;  // false: viscous form
-  Real hourglass_coefficient = 0.1;
-  Real bulk_viscosity_quadratic = 1.5;
-  Real bulk_viscosity_linear = 0.06;
-  Real initial_temperature_k = 293.15;
+  bool hourglass_stiffness{};  // false: viscous form
+  Real hourglass_coefficient{};
+  Real bulk_viscosity_quadratic{};
+  Real bulk_viscosity_linear{};
+  Real initial_temperature_k{};
   std::optional<Real> erosion_plastic_strain;  // erode elements at this plastic strain
-  bool erode_inverted = false;                 // inverted elements erode (else: exit 3)
-  Real erosion_step_ratio = 0;  // erode elements whose step < this x the part's initial step
+  bool erode_inverted{};                       // inverted elements erode (else: exit 3)
+  Real erosion_step_ratio{};  // erode elements whose step < this x the part's initial step
   std::vector<BoundarySettings> boundaries;
   std::vector<LoadSettings> loads;
   std::string mesh_file;   // Gmsh .msh 4.1; empty: structured mesh of the region box
@@ -74,7 +76,7 @@ struct PartSettings {
   parts::PartSetup part;
   Settings fem;
   MaterialSettings material;
-  Real rho0_kg_m3 = 0;  // the material's reference density
+  Real rho0_kg_m3{};  // the material's reference density
 };
 
 }  // namespace crater::fem

@@ -1,6 +1,8 @@
 // Settings of an SPH part ([parts.sph] and its material), as the scenario reader builds them:
 // plain values, no strings from the file. The solver's assembly hands a PartSettings to
 // make_sph_part (sph_part.hpp).
+// Defaults are the schema's (io/scenario/scenario_schema.cpp), stated nowhere else: members
+// are only zero-initialised (tests/io/test_defaults_once.py).
 #pragma once
 
 #include <vector>
@@ -16,18 +18,18 @@ enum class KernelKind { WendlandC2, CubicSpline };
 
 /// Numerics of an SPH part ([parts.sph]).
 struct Settings {
-  KernelKind kernel = KernelKind::WendlandC2;
-  Real h_factor = 1.3;
-  Real av_alpha = 1.0;
-  Real av_beta = 2.0;
-  Real cfl = 0.3;
-  bool variable_h = true;
-  Real xsph_epsilon = 0;
-  Real tensile_epsilon = 0;
-  Real viscosity_pa_s = 0;
+  KernelKind kernel{};
+  Real h_factor{};
+  Real av_alpha{};
+  Real av_beta{};
+  Real cfl{};
+  bool variable_h{};
+  Real xsph_epsilon{};
+  Real tensile_epsilon{};
+  Real viscosity_pa_s{};
   std::vector<parts::Face> walls;
-  int wall_layers = 3;
-  bool wall_no_slip = false;
+  int wall_layers{};
+  bool wall_no_slip{};
 };
 
 /// Everything an SPH part is built from.
@@ -35,7 +37,7 @@ struct PartSettings {
   parts::PartSetup part;
   Settings sph;
   materials::EosParams eos;
-  Real rho0_kg_m3 = 0;  // the material's reference density
+  Real rho0_kg_m3{};  // the material's reference density
 };
 
 }  // namespace crater::sph

@@ -1,7 +1,9 @@
 // The validated, immutable description of a run, as the scenario reader builds it. The
 // methods never see it: each owns its settings (sph/, dem/, fem/ settings.hpp, below io), and
 // the solver's assembly (solver/assembly.hpp) builds each part's settings from it. Vectors are
-// stored with 3 entries; only the first `dimension` are meaningful.
+// stored with 3 entries; only the first `dimension` are meaningful. Defaults are stated once, in
+// the schema (scenario_schema.cpp, material_laws.cpp): the reader sets every member from the
+// validated table, and members are only zero-initialised here (tests/io/test_defaults_once.py).
 #pragma once
 
 #include <array>
@@ -24,30 +26,30 @@ namespace crater::io {
 using parts::Vec3;
 
 struct TimeConfig {
-  Real safety_factor = 0.9;
+  Real safety_factor{};
   std::optional<Real> fixed_dt_s;
   SourceLocation fixed_dt_where;  // for the "step above the stable limit" error
-  Index max_steps = 0;            // 0: no limit
+  Index max_steps{};              // 0: no limit
   // The energy guard: relative balance errors (history.csv energy_error) at which the run
   // warns once and at which it stops (exit 3); 0 turns either off.
-  Real energy_warn_error = 0.02;
-  Real energy_stop_error = 0.2;
+  Real energy_warn_error{};
+  Real energy_stop_error{};
 };
 
 enum class VtuEncoding { Appended, Base64 };
 
 struct OutputConfig {
-  Real interval_s = 0;
-  Index history_every = 10;
-  bool vtu = true;
-  VtuEncoding vtu_encoding = VtuEncoding::Appended;
-  Index checkpoint_every_steps = 0;  // 0: not by step count
-  Real checkpoint_every_s = 120;     // wall-clock seconds; 0: not by time
-  Index checkpoint_keep = 2;         // newest checkpoints kept in <out>/checkpoints
-  Index max_frames = 10000;          // more VTU frames than this is an input error
-  Real max_bytes = 50e9;             // VTU bytes the run may write in all
-  Real memory_limit_fraction = 0.8;  // of the available memory the run's estimate may take
-  SourceLocation interval_where;     // for the cadence errors
+  Real interval_s{};
+  Index history_every{};
+  bool vtu{};
+  VtuEncoding vtu_encoding{};
+  Index checkpoint_every_steps{};  // 0: not by step count
+  Real checkpoint_every_s{};       // wall-clock seconds; 0: not by time
+  Index checkpoint_keep{};         // newest checkpoints kept in <out>/checkpoints
+  Index max_frames{};              // more VTU frames than this is an input error
+  Real max_bytes{};                // VTU bytes the run may write in all
+  Real memory_limit_fraction{};    // of the available memory the run's estimate may take
+  SourceLocation interval_where;   // for the cadence errors
 };
 
 using parts::Face;
@@ -62,7 +64,7 @@ struct MaterialConfig {
   materials::EosParams eos;   // SPH materials
   GranularMaterial granular;  // DEM materials (model "granular")
   SolidMaterialConfig solid;  // FEM materials
-  Real rho0_kg_m3 = 0;
+  Real rho0_kg_m3{};
   SourceLocation where;
 };
 
@@ -87,9 +89,9 @@ using parts::DetonationPoint;
 
 struct PartConfig {
   std::string name;
-  std::string method;        // "sph", "dem" or "fem"
-  std::size_t material = 0;  // index into Config::materials
-  Real spacing_m = 0;
+  std::string method;      // "sph", "dem" or "fem"
+  std::size_t material{};  // index into Config::materials
+  Real spacing_m{};
   RegionConfig region;
   InitialConfig initial;
   std::vector<ZoneConfig> zones;
@@ -103,8 +105,8 @@ struct PartConfig {
   // Size estimated when the scenario is loaded, before anything is built (the memory check of
   // solver/memory_estimate.hpp): particles, grains or elements, no-slip wall particles (sph),
   // and the key that sets the count (e.g. "parts.soil.spacing_m") with its place in the input.
-  Real estimated_count = 0;
-  Real estimated_wall_count = 0;
+  Real estimated_count{};
+  Real estimated_wall_count{};
   std::string resolution_key;
   SourceLocation resolution_where;
 };
@@ -112,9 +114,9 @@ struct PartConfig {
 /// A contact between two parts ([[contacts]]): penalty forces, equal and opposite.
 struct ContactConfig {
   std::array<std::size_t, 2> parts{};  // indices into Config::parts
-  Real penalty_scale = 1.0;            // s of the penalty stiffness
-  Real friction = 0;                   // Coulomb coefficient between the two parts
-  Real damping_ratio = 0.1;            // fraction of critical damping of the normal penalty
+  Real penalty_scale{};                // s of the penalty stiffness
+  Real friction{};                     // Coulomb coefficient between the two parts
+  Real damping_ratio{};                // fraction of critical damping of the normal penalty
   SourceLocation where;
 };
 
@@ -122,7 +124,7 @@ struct ContactConfig {
 struct ProbesConfig {
   std::optional<std::size_t> plate;  // an fem part (index into Config::parts)
   std::optional<std::size_t> soil;   // a dem part
-  Real stress_time_s = 6e-4;
+  Real stress_time_s{};
   std::optional<Real> surface_bin_m;
   bool any() const { return plate || soil; }
 };
@@ -132,8 +134,8 @@ struct Config {
   std::string hash;  // FNV-1a 64 of the effective (defaults filled) scenario, hex
   std::string name;
   std::string description;
-  int dimension = 2;
-  Real end_time_s = 0;
+  int dimension{};
+  Real end_time_s{};
   TimeConfig time;
   OutputConfig output;
   DomainConfig domain;

@@ -1,81 +1,17 @@
 // Every key of a scenario file. Adding a key: one entry here (docs follow from it), one field in
-// Config, one line in the builder.
+// Config, one line in the builder (docs/architecture.md, "How to add"). A material law's keys
+// are its entry in material_laws.cpp.
 #include <fmt/format.h>
 #include <algorithm>
 
+#include "io/scenario/material_laws.hpp"
 #include "io/scenario/schema.hpp"
+#include "io/scenario/schema_keys.hpp"
 
 namespace crater::io {
 namespace {
 
-KeySchema real(std::string name, std::string unit, std::string doc) {
-  KeySchema k;
-  k.name = std::move(name);
-  k.type = KeyType::Real;
-  k.unit = std::move(unit);
-  k.doc = std::move(doc);
-  return k;
-}
-KeySchema required(KeySchema k) {
-  k.required = true;
-  return k;
-}
-KeySchema with_default(KeySchema k, std::string toml_literal) {
-  k.default_toml = std::move(toml_literal);
-  return k;
-}
-KeySchema at_least(KeySchema k, double v) {
-  k.min = v;
-  return k;
-}
-KeySchema positive(KeySchema k) {
-  k.min = 0;
-  k.min_exclusive = true;
-  return k;
-}
-KeySchema at_most(KeySchema k, double v) {
-  k.max = v;
-  return k;
-}
-KeySchema of_type(KeySchema k, KeyType t) {
-  k.type = t;
-  return k;
-}
-KeySchema choice(std::string name, std::vector<std::string> choices, std::string doc) {
-  KeySchema k;
-  k.name = std::move(name);
-  k.type = KeyType::Choice;
-  k.choices = std::move(choices);
-  k.doc = std::move(doc);
-  return k;
-}
-KeySchema choice_list(std::string name, std::vector<std::string> choices, std::string doc) {
-  KeySchema k = choice(std::move(name), std::move(choices), std::move(doc));
-  k.type = KeyType::ChoiceList;
-  return k;
-}
-KeySchema text(std::string name, std::string doc) {
-  KeySchema k;
-  k.name = std::move(name);
-  k.type = KeyType::String;
-  k.doc = std::move(doc);
-  return k;
-}
-KeySchema vec(std::string name, std::string unit, std::string doc) {
-  return of_type(real(std::move(name), std::move(unit), std::move(doc)), KeyType::RealVector);
-}
-KeySchema absent_means_unset(KeySchema k) {
-  k.absent_means_unset = true;
-  return k;
-}
-KeySchema sub(std::string name, KeyType t, const TableSchema& s, std::string doc) {
-  KeySchema k;
-  k.name = std::move(name);
-  k.type = t;
-  k.sub = &s;
-  k.doc = std::move(doc);
-  return k;
-}
+using namespace keys;
 
 TableSchema make_scenario() {
   TableSchema t{"scenario", "What the run is.", {}, {}, {}};
@@ -217,27 +153,6 @@ TableSchema make_domain() {
   return t;
 }
 
-TableSchema make_jc_damage() {
-  TableSchema t{"materials.damage",
-                "Johnson-Cook damage (Johnson & Cook 1985): D accumulates d(eps_p) / eps_f with "
-                "eps_f = [D1 + D2 exp(D3 sigma*)] [1 + D4 ln(rate*)] [1 + D5 T*].",
-                {},
-                {},
-                {}};
-  t.keys = {
-      required(real("d1", "1", "D1.")),
-      required(real("d2", "1", "D2.")),
-      required(real("d3", "1", "D3.")),
-      with_default(real("d4", "1", "D4 (rate)."), "0"),
-      with_default(real("d5", "1", "D5 (temperature)."), "0"),
-  };
-  return t;
-}
-const TableSchema& jc_damage_schema() {
-  static const TableSchema s = make_jc_damage();
-  return s;
-}
-
 TableSchema make_material() {
   TableSchema t{"materials",
                 "Materials, referenced by name from parts. `model` selects the law and its "
@@ -247,101 +162,11 @@ TableSchema make_material() {
                 {}};
   t.keys = {
       required(text("name", "Name used by parts' `material`.")),
-      required(choice(
-          "model",
-          {"jwl", "ideal_gas", "tait", "granular", "elastic", "johnson_cook", "drucker_prager"},
-          "The law: an equation of state for SPH parts (jwl, ideal_gas, tait), "
-          "granular for DEM parts, or a strength law for FEM parts (elastic, "
-          "johnson_cook, drucker_prager).")),
+      required(choice("model", material_models(), material_model_doc())),
   };
-  const std::vector<KeySchema> elastic = {
-      required(positive(real("rho0_kg_m3", "kg/m^3", "Density of the undeformed solid."))),
-      required(positive(real("youngs_modulus_pa", "Pa", "Young's modulus E."))),
-      required(
-          at_most(at_least(real("poisson_ratio", "1", "Poisson's ratio; below 0.5."), 0), 0.4999)),
-  };
-  t.variants["elastic"] = elastic;
-  t.variants["johnson_cook"] = elastic;
-  for (KeySchema k : {
-           required(
-               positive(real("a_pa", "Pa", "Johnson-Cook A, the initial yield stress (eq. 41)."))),
-           required(at_least(real("b_pa", "Pa", "Johnson-Cook B, hardening modulus."), 0)),
-           required(positive(real("n", "1", "Johnson-Cook hardening exponent n."))),
-           with_default(at_least(real("c", "1", "Johnson-Cook strain-rate coefficient C."), 0),
-                        "0"),
-           with_default(positive(real("m", "1", "Johnson-Cook thermal softening exponent m.")),
-                        "1"),
-           with_default(positive(real("reference_strain_rate_1_s", "1/s",
-                                      "Reference plastic strain rate of the rate term (eq. 41).")),
-                        "1.0"),
-           with_default(of_type(real("thermal_softening", "",
-                                     "Use the (1 - T*^m) term with adiabatic heating (off in the "
-                                     "paper)."),
-                                KeyType::Bool),
-                        "false"),
-           with_default(positive(real("room_temperature_k", "K", "T_room of T*.")), "293.15"),
-           with_default(positive(real("melt_temperature_k", "K", "T_melt of T*.")), "1793.0"),
-           with_default(positive(real("specific_heat_j_kg_k", "J/(kg K)",
-                                      "Specific heat for adiabatic heating.")),
-                        "486.0"),
-           with_default(at_most(at_least(real("taylor_quinney", "1",
-                                              "Fraction of plastic work turned into heat."),
-                                         0),
-                                1),
-                        "0.9"),
-           absent_means_unset(
-               sub("damage", KeyType::Table, jc_damage_schema(),
-                   "Johnson-Cook damage; elements erode at D = 1. Unset: no damage, no erosion.")),
-       })
-    t.variants["johnson_cook"].push_back(k);
-  t.variants["drucker_prager"] = elastic;
-  for (KeySchema k : {
-           required(at_least(real("cohesion_pa", "Pa", "Mohr-Coulomb cohesion c."), 0)),
-           required(at_most(
-               at_least(real("friction_angle_deg", "deg", "Mohr-Coulomb friction angle phi."), 0),
-               89)),
-           at_most(at_least(real("dilation_angle_deg", "deg",
-                                 "Dilation angle psi (psi = phi: associative). Unset: phi."),
-                            0),
-                   89),
-           with_default(choice("fit", {"compression", "extension", "plane_strain"},
-                               "Which Mohr-Coulomb condition the Drucker-Prager cone matches: "
-                               "the triaxial compression or extension meridian, or the plane-"
-                               "strain collapse load."),
-                        "\"compression\""),
-       })
-    t.variants["drucker_prager"].push_back(k);
-  t.variants["jwl"] = {
-      required(positive(real("rho0_kg_m3", "kg/m^3", "Unreacted explosive density rho_0."))),
-      required(positive(real("a_pa", "Pa", "JWL A (paper eq. 40)."))),
-      required(positive(real("b_pa", "Pa", "JWL B."))),
-      required(positive(real("r1", "1", "JWL R1."))),
-      required(positive(real("r2", "1", "JWL R2."))),
-      required(positive(real("omega", "1", "JWL Grueneisen coefficient omega."))),
-      required(
-          positive(real("e0_j_m3", "J/m^3", "Detonation energy per unit initial volume E_0."))),
-      required(positive(real("d_cj_m_s", "m/s", "Detonation (Chapman-Jouguet) velocity D."))),
-  };
-  t.variants["ideal_gas"] = {
-      required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density (default initial)."))),
-      required(positive(real("gamma", "1", "Ratio of specific heats; > 1."))),
-  };
-  t.variants["tait"] = {
-      required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density rho_0 (eq. 35)."))),
-      required(positive(real("c0_m_s", "m/s", "Reference sound speed; B = rho_0 c_0^2 / gamma."))),
-      with_default(positive(real("gamma", "1", "Tait exponent.")), "7"),
-      with_default(real("background_pa", "Pa", "Background pressure added to eq. 35."), "0"),
-  };
-  t.variants["granular"] = {
-      required(positive(real("rho0_kg_m3", "kg/m^3", "Grain (solid) density."))),
-      required(positive(real("shear_modulus_pa", "Pa", "Grain shear modulus G."))),
-      required(at_most(at_least(real("poisson_ratio", "1", "Grain Poisson's ratio."), 0), 0.5)),
-      required(at_least(real("friction", "1", "Grain-grain Coulomb friction coefficient."), 0)),
-      required(at_most(positive(real("restitution", "1",
-                                     "Normal coefficient of restitution (sets the contact "
-                                     "damping).")),
-                       1)),
-  };
+  // Each law's keys are its entry's (material_laws.cpp).
+  for (const MaterialLaw& law : material_laws())
+    t.variants[law.model] = law.keys;
   return t;
 }
 

@@ -105,120 +105,136 @@ std::string closest(const std::string& name, const std::vector<const KeySchema*>
   return best;
 }
 
-void check_value(toml::node& node, const KeySchema& k, const std::string& key_path, int dimension,
-                 const SourceLocation& where, std::vector<InputError>& errors) {
-  auto expect = [&](const std::string& what) { errors.emplace_back(where, key_path, what); };
-  auto check_number = [&](toml::node& n, const std::string& kp, const SourceLocation& w) {
-    double v = 0;
-    if (auto* f = n.as_floating_point())
-      v = f->get();
-    else if (auto* i = n.as_integer())
-      v = static_cast<double>(i->get());
-    else {
-      errors.emplace_back(w, kp, "expected a number, got " + node_type_name(n));
-      return;
-    }
-    if (!in_range(k, v)) {
+using Errors = std::vector<InputError>;
+
+void check_number(const toml::node& n, const KeySchema& k, const std::string& kp,
+                  const SourceLocation& w, Errors& errors) {
+  double v = 0;
+  if (auto* f = n.as_floating_point())
+    v = f->get();
+  else if (auto* i = n.as_integer())
+    v = static_cast<double>(i->get());
+  else {
+    errors.emplace_back(w, kp, "expected a number, got " + node_type_name(n));
+    return;
+  }
+  if (!in_range(k, v)) {
+    errors.emplace_back(
+        w, kp,
+        fmt::format("expected a finite number{}{}{}, got {}", range_text(k).empty() ? "" : " ",
+                    range_text(k), k.unit.empty() || k.unit == "1" ? "" : " [" + k.unit + "]", v));
+  }
+}
+
+void check_integer(const toml::node& node, const KeySchema& k, const std::string& key_path,
+                   const SourceLocation& where, Errors& errors) {
+  auto* i = node.as_integer();
+  if (!i) {
+    errors.emplace_back(where, key_path, "expected an integer, got " + node_type_name(node));
+    return;
+  }
+  if (!in_range(k, static_cast<double>(i->get())))
+    errors.emplace_back(where, key_path,
+                        fmt::format("expected an integer{}{}, got {}",
+                                    range_text(k).empty() ? "" : " ", range_text(k), i->get()));
+}
+
+void check_choice(const toml::node& node, const KeySchema& k, const std::string& key_path,
+                  const SourceLocation& where, Errors& errors) {
+  auto* s = node.as_string();
+  if (!s) {
+    errors.emplace_back(where, key_path,
+                        "expected one of " + join(k.choices) + ", got " + node_type_name(node));
+    return;
+  }
+  bool ok = false;
+  for (const auto& c : k.choices)
+    ok = ok || (c == s->get());
+  if (!ok)
+    errors.emplace_back(where, key_path,
+                        "expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
+}
+
+// StringArray: distinct strings; ChoiceList: distinct strings, each one of the choices.
+void check_string_list(const toml::node& node, const KeySchema& k, const std::string& key_path,
+                       const SourceLocation& where, Errors& errors) {
+  const bool choices = k.type == KeyType::ChoiceList;
+  auto* a = node.as_array();
+  if (!a) {
+    errors.emplace_back(where, key_path,
+                        (choices ? "expected an array of strings from " + join(k.choices)
+                                 : std::string("expected an array of strings")) +
+                            ", got " + node_type_name(node));
+    return;
+  }
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < a->size(); ++i) {
+    auto* s = a->get(i)->as_string();
+    const SourceLocation w = where_of(*a->get(i), where);
+    const std::string kp = fmt::format("{}[{}]", key_path, i);
+    if (!s) {
       errors.emplace_back(
           w, kp,
-          fmt::format("expected a finite number{}{}{}, got {}", range_text(k).empty() ? "" : " ",
-                      range_text(k), k.unit.empty() || k.unit == "1" ? "" : " [" + k.unit + "]",
-                      v));
+          (choices ? "expected one of " + join(k.choices) : std::string("expected a string")) +
+              ", got " + node_type_name(*a->get(i)));
+      continue;
     }
-  };
+    if (choices && std::find(k.choices.begin(), k.choices.end(), s->get()) == k.choices.end())
+      errors.emplace_back(w, kp,
+                          "expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
+    else if (!seen.insert(s->get()).second)
+      errors.emplace_back(w, kp, "\"" + s->get() + "\" is listed twice");
+  }
+}
 
+// RealVector (dimension entries) and RealArray (any number).
+void check_real_list(const toml::node& node, const KeySchema& k, const std::string& key_path,
+                     int dimension, const SourceLocation& where, Errors& errors) {
+  auto* a = node.as_array();
+  if (!a) {
+    errors.emplace_back(
+        where, key_path,
+        "expected " + type_name(k.type, dimension) + ", got " + node_type_name(node));
+    return;
+  }
+  if (k.type == KeyType::RealVector && static_cast<int>(a->size()) != dimension) {
+    errors.emplace_back(where, key_path,
+                        fmt::format("expected {} (scenario.dimension = {}), got {} entries",
+                                    type_name(k.type, dimension), dimension, a->size()));
+    return;
+  }
+  for (std::size_t i = 0; i < a->size(); ++i)
+    check_number(*a->get(i), k, fmt::format("{}[{}]", key_path, i), where_of(*a->get(i), where),
+                 errors);
+}
+
+void check_value(toml::node& node, const KeySchema& k, const std::string& key_path, int dimension,
+                 const SourceLocation& where, Errors& errors) {
+  auto expect = [&](const std::string& what) { errors.emplace_back(where, key_path, what); };
   switch (k.type) {
     case KeyType::Real:
-      check_number(node, key_path, where);
+      check_number(node, k, key_path, where, errors);
       break;
-    case KeyType::Integer: {
-      auto* i = node.as_integer();
-      if (!i) {
-        expect("expected an integer, got " + node_type_name(node));
-        break;
-      }
-      if (!in_range(k, static_cast<double>(i->get())))
-        expect(fmt::format("expected an integer{}{}, got {}", range_text(k).empty() ? "" : " ",
-                           range_text(k), i->get()));
+    case KeyType::Integer:
+      check_integer(node, k, key_path, where, errors);
       break;
-    }
     case KeyType::Bool:
       if (!node.is_boolean()) expect("expected true or false, got " + node_type_name(node));
       break;
     case KeyType::String:
       if (!node.is_string()) expect("expected a string, got " + node_type_name(node));
       break;
-    case KeyType::Choice: {
-      auto* s = node.as_string();
-      if (!s) {
-        expect("expected one of " + join(k.choices) + ", got " + node_type_name(node));
-        break;
-      }
-      bool ok = false;
-      for (const auto& c : k.choices)
-        ok = ok || (c == s->get());
-      if (!ok) expect("expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
+    case KeyType::Choice:
+      check_choice(node, k, key_path, where, errors);
       break;
-    }
-    case KeyType::StringArray: {
-      auto* a = node.as_array();
-      if (!a) {
-        expect("expected an array of strings, got " + node_type_name(node));
-        break;
-      }
-      std::set<std::string> seen;
-      for (std::size_t i = 0; i < a->size(); ++i) {
-        auto* s = a->get(i)->as_string();
-        const SourceLocation w = where_of(*a->get(i), where);
-        const std::string kp = fmt::format("{}[{}]", key_path, i);
-        if (!s)
-          errors.emplace_back(w, kp, "expected a string, got " + node_type_name(*a->get(i)));
-        else if (!seen.insert(s->get()).second)
-          errors.emplace_back(w, kp, "\"" + s->get() + "\" is listed twice");
-      }
+    case KeyType::StringArray:
+    case KeyType::ChoiceList:
+      check_string_list(node, k, key_path, where, errors);
       break;
-    }
-    case KeyType::ChoiceList: {
-      auto* a = node.as_array();
-      if (!a) {
-        expect("expected an array of strings from " + join(k.choices) + ", got " +
-               node_type_name(node));
-        break;
-      }
-      std::set<std::string> seen;
-      for (std::size_t i = 0; i < a->size(); ++i) {
-        auto* s = a->get(i)->as_string();
-        const SourceLocation w = where_of(*a->get(i), where);
-        const std::string kp = fmt::format("{}[{}]", key_path, i);
-        if (!s) {
-          errors.emplace_back(
-              w, kp, "expected one of " + join(k.choices) + ", got " + node_type_name(*a->get(i)));
-          continue;
-        }
-        if (std::find(k.choices.begin(), k.choices.end(), s->get()) == k.choices.end())
-          errors.emplace_back(w, kp,
-                              "expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
-        else if (!seen.insert(s->get()).second)
-          errors.emplace_back(w, kp, "\"" + s->get() + "\" is listed twice");
-      }
-      break;
-    }
     case KeyType::RealVector:
-    case KeyType::RealArray: {
-      auto* a = node.as_array();
-      if (!a) {
-        expect("expected " + type_name(k.type, dimension) + ", got " + node_type_name(node));
-        break;
-      }
-      if (k.type == KeyType::RealVector && static_cast<int>(a->size()) != dimension) {
-        expect(fmt::format("expected {} (scenario.dimension = {}), got {} entries",
-                           type_name(k.type, dimension), dimension, a->size()));
-        break;
-      }
-      for (std::size_t i = 0; i < a->size(); ++i)
-        check_number(*a->get(i), fmt::format("{}[{}]", key_path, i), where_of(*a->get(i), where));
+    case KeyType::RealArray:
+      check_real_list(node, k, key_path, dimension, where, errors);
       break;
-    }
     case KeyType::Table: {
       auto* t = node.as_table();
       if (!t) {

@@ -6,6 +6,10 @@
 //   std::visit([&](const auto& law) { for (...) p[i] = eos_pressure_of(law, rho[i], e[i]); },
 //              params);
 // where eos_pressure_of / eos_sound_speed_of resolve at compile time to the law's function.
+//
+// A law is its header (parameters, equations with units and citation, *_check, and its
+// overloads eos_pressure_of, eos_sound_speed_of, eos_check_of) plus its alternative in
+// EosParams below; the scenario names it through its entry in io/scenario/material_laws.cpp.
 #pragma once
 
 #include <string>
@@ -21,28 +25,6 @@ namespace crater::materials {
 
 using EosParams = std::variant<IdealGasParams, TaitParams, JwlParams>;
 
-/// Overload set naming each law's pressure [Pa] by its parameter type (resolved statically).
-inline Real eos_pressure_of(const IdealGasParams& law, Real rho, Real e) {
-  return ideal_gas_pressure(law, rho, e);
-}
-inline Real eos_pressure_of(const TaitParams& law, Real rho, Real e) {
-  return tait_pressure(law, rho, e);
-}
-inline Real eos_pressure_of(const JwlParams& law, Real rho, Real e) {
-  return jwl_pressure(law, rho, e);
-}
-
-/// Overload set naming each law's sound speed [m/s]; p = that law's pressure at (rho, e).
-inline Real eos_sound_speed_of(const IdealGasParams& law, Real rho, Real e, Real p) {
-  return ideal_gas_sound_speed(law, rho, e, p);
-}
-inline Real eos_sound_speed_of(const TaitParams& law, Real rho, Real e, Real p) {
-  return tait_sound_speed(law, rho, e, p);
-}
-inline Real eos_sound_speed_of(const JwlParams& law, Real rho, Real e, Real p) {
-  return jwl_sound_speed(law, rho, e, p);
-}
-
 /// Pressure [Pa] of whichever law `params` holds.
 inline Real pressure(const EosParams& params, Real rho, Real e) {
   return std::visit([&](const auto& law) { return eos_pressure_of(law, rho, e); }, params);
@@ -55,14 +37,7 @@ inline Real sound_speed(const EosParams& params, Real rho, Real e, Real p) {
 
 /// Problems with the constants of whichever law `params` holds; empty when usable.
 inline std::vector<ConstantProblem> eos_check(const EosParams& params) {
-  struct Checker {
-    std::vector<ConstantProblem> operator()(const IdealGasParams& law) const {
-      return ideal_gas_check(law);
-    }
-    std::vector<ConstantProblem> operator()(const TaitParams& law) const { return tait_check(law); }
-    std::vector<ConstantProblem> operator()(const JwlParams& law) const { return jwl_check(law); }
-  };
-  return std::visit(Checker{}, params);
+  return std::visit([](const auto& law) { return eos_check_of(law); }, params);
 }
 
 }  // namespace crater::materials

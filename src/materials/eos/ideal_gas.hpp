@@ -44,4 +44,15 @@ inline std::vector<ConstantProblem> ideal_gas_check(const IdealGasParams& params
   return problems;
 }
 
+/// The law in the EOS interface (eos.hpp), found by its parameter type.
+inline Real eos_pressure_of(const IdealGasParams& law, Real rho, Real e) {
+  return ideal_gas_pressure(law, rho, e);
+}
+inline Real eos_sound_speed_of(const IdealGasParams& law, Real rho, Real e, Real p) {
+  return ideal_gas_sound_speed(law, rho, e, p);
+}
+inline std::vector<ConstantProblem> eos_check_of(const IdealGasParams& law) {
+  return ideal_gas_check(law);
+}
+
 }  // namespace crater::materials

@@ -351,4 +351,15 @@ inline std::vector<ConstantProblem> jwl_check(const JwlParams& params) {
   return problems;
 }
 
+/// The law in the EOS interface (eos.hpp), found by its parameter type.
+inline Real eos_pressure_of(const JwlParams& law, Real rho, Real e) {
+  return jwl_pressure(law, rho, e);
+}
+inline Real eos_sound_speed_of(const JwlParams& law, Real rho, Real e, Real p) {
+  return jwl_sound_speed(law, rho, e, p);
+}
+inline std::vector<ConstantProblem> eos_check_of(const JwlParams& law) {
+  return jwl_check(law);
+}
+
 }  // namespace crater::materials

@@ -69,4 +69,15 @@ inline std::vector<ConstantProblem> tait_check(const TaitParams& params) {
   return problems;
 }
 
+/// The law in the EOS interface (eos.hpp), found by its parameter type.
+inline Real eos_pressure_of(const TaitParams& law, Real rho, Real e) {
+  return tait_pressure(law, rho, e);
+}
+inline Real eos_sound_speed_of(const TaitParams& law, Real rho, Real e, Real p) {
+  return tait_sound_speed(law, rho, e, p);
+}
+inline std::vector<ConstantProblem> eos_check_of(const TaitParams& law) {
+  return tait_check(law);
+}
+
 }  // namespace crater::materials

@@ -41,6 +41,7 @@
 #include "materials/eos/constant_problem.hpp"
 #include "materials/strength/elastic.hpp"
 #include "materials/strength/stress_tensor.hpp"
+#include "materials/strength/stress_update.hpp"
 
 namespace crater::materials {
 
@@ -170,6 +171,26 @@ inline std::vector<ConstantProblem> drucker_prager_check(const DruckerPragerPara
     complain("k_pa", p.k_pa, "must be positive when alpha = 0 (von Mises with no strength)");
   }
   return problems;
+}
+
+/// The law in the strength interface (strength.hpp), found by its parameter type.
+inline const ElasticParams& elastic_of(const DruckerPragerParams& law) {
+  return law.elastic;
+}
+
+inline StressUpdate update_stress_of(const DruckerPragerParams& law, const Mat3& stress,
+                                     const Mat3& strain_increment,
+                                     const MaterialPointState& /*state*/, Real /*dt*/,
+                                     Real /*density*/) {
+  const DruckerPragerReturn r =
+      drucker_prager_return(law, stress + elastic_stress_increment(law.elastic, strain_increment));
+  return StressUpdate{.stress = r.stress,
+                      .plastic_strain_increment = r.equivalent_plastic_strain_increment,
+                      .plastic_work_j_m3 = r.plastic_work_j_m3};
+}
+
+inline std::vector<ConstantProblem> strength_check_of(const DruckerPragerParams& law) {
+  return drucker_prager_check(law);
 }
 
 }  // namespace crater::materials

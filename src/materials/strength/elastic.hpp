@@ -21,6 +21,7 @@
 #include "core/types.hpp"
 #include "materials/eos/constant_problem.hpp"
 #include "materials/strength/stress_tensor.hpp"
+#include "materials/strength/stress_update.hpp"
 
 namespace crater::materials {
 
@@ -82,6 +83,22 @@ inline std::vector<ConstantProblem> elastic_check(const ElasticParams& p) {
     problems.push_back({"poisson_ratio", os.str()});
   }
   return problems;
+}
+
+/// The law in the strength interface (strength.hpp), found by its parameter type.
+inline const ElasticParams& elastic_of(const ElasticParams& law) {
+  return law;
+}
+
+inline StressUpdate update_stress_of(const ElasticParams& law, const Mat3& stress,
+                                     const Mat3& strain_increment,
+                                     const MaterialPointState& /*state*/, Real /*dt*/,
+                                     Real /*density*/) {
+  return StressUpdate{.stress = stress + elastic_stress_increment(law, strain_increment)};
+}
+
+inline std::vector<ConstantProblem> strength_check_of(const ElasticParams& law) {
+  return elastic_check(law);
 }
 
 }  // namespace crater::materials

@@ -48,6 +48,7 @@
 #include "materials/eos/constant_problem.hpp"
 #include "materials/strength/elastic.hpp"
 #include "materials/strength/stress_tensor.hpp"
+#include "materials/strength/stress_update.hpp"
 
 namespace crater::materials {
 
@@ -288,6 +289,30 @@ inline std::vector<ConstantProblem> johnson_cook_check(const JohnsonCookParams& 
     }
   }
   return problems;
+}
+
+/// The law in the strength interface (strength.hpp), found by its parameter type.
+inline const ElasticParams& elastic_of(const JohnsonCookParams& law) {
+  return law.elastic;
+}
+
+inline StressUpdate update_stress_of(const JohnsonCookParams& law, const Mat3& stress,
+                                     const Mat3& strain_increment, const MaterialPointState& state,
+                                     Real dt, Real density) {
+  const Mat3 trial = stress + elastic_stress_increment(law.elastic, strain_increment);
+  const RadialReturn r =
+      johnson_cook_radial_return(law, deviator(trial),
+                                 JohnsonCookState{.plastic_strain = state.plastic_strain,
+                                                  .temperature_k = state.temperature_k},
+                                 dt, density);
+  return StressUpdate{.stress = r.deviator + (trial.trace() / Real(3)) * Mat3::Identity(),
+                      .plastic_strain_increment = r.plastic_strain_increment,
+                      .plastic_work_j_m3 = r.plastic_work_j_m3,
+                      .temperature_increment_k = r.temperature_increment_k};
+}
+
+inline std::vector<ConstantProblem> strength_check_of(const JohnsonCookParams& law) {
+  return johnson_cook_check(law);
 }
 
 }  // namespace crater::materials

@@ -1,0 +1,103 @@
+// The scenario reader (reader.hpp): [[contacts]] and [probes].
+#include <fmt/format.h>
+#include <toml++/toml.h>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "io/scenario/reader.hpp"
+
+namespace crater::io::reader {
+
+void Builder::read_contacts(Config& c, const SourceLocation& top) {
+  const toml::node* cn = root_.get("contacts");
+  if (!cn) return;
+  const auto& arr = *cn->as_array();
+  for (std::size_t i = 0; i < arr.size(); ++i) {
+    const auto& t = *arr.get(i)->as_table();
+    const SourceLocation w = where_of(t, top);
+    const std::string key = fmt::format("contacts[{}]", i);
+    ContactConfig k;
+    k.where = w;
+    k.penalty_scale = num(t, "penalty_scale");
+    k.friction = num(t, "friction");
+    k.damping_ratio = num(t, "damping_ratio");
+    const auto& names = *t.get("parts")->as_array();
+    const SourceLocation pw = loc(t, "parts", w);
+    if (names.size() != 2) {
+      error(pw, key + ".parts", fmt::format("expected two part names, got {}", names.size()));
+      continue;
+    }
+    std::array<std::string, 2> methods;
+    bool ok = true;
+    for (std::size_t j = 0; j < 2; ++j) {
+      const std::string name = names.get(j)->as_string()->get();
+      const auto it = std::find_if(c.parts.begin(), c.parts.end(),
+                                   [&](const PartConfig& p) { return p.name == name; });
+      if (it == c.parts.end()) {
+        std::string known;
+        for (const auto& p : c.parts)
+          known += (known.empty() ? "'" : ", '") + p.name + "'";
+        error(pw, fmt::format("{}.parts[{}]", key, j),
+              fmt::format("no part named '{}' (parts: {})", name, known));
+        ok = false;
+        continue;
+      }
+      k.parts[j] = static_cast<std::size_t>(it - c.parts.begin());
+      methods[j] = it->method;
+    }
+    if (!ok) continue;
+    // Particles against a solid's surface, or SPH against DEM particles.
+    std::array<std::string, 2> m = methods;
+    std::sort(m.begin(), m.end());
+    const bool supported = (m[0] == "dem" && (m[1] == "fem" || m[1] == "sph")) ||
+                           (m[0] == "fem" && (m[1] == "sph" || m[1] == "fem"));
+    if (!supported)
+      error(
+          pw, key + ".parts",
+          fmt::format("contacts join sph or dem particles to an fem surface, sph to dem "
+                      "particles, or two fem surfaces; '{}' and '{}' are {} and {}",
+                      c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, methods[0], methods[1]));
+    for (const auto& other : c.contacts)
+      if (std::minmax(other.parts[0], other.parts[1]) == std::minmax(k.parts[0], k.parts[1]))
+        error(pw, key + ".parts",
+              fmt::format("a second contact between '{}' and '{}' (first at line {})",
+                          c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, other.where.line));
+    c.contacts.push_back(k);
+  }
+}
+
+void Builder::read_probes(Config& c, const SourceLocation& top) {
+  const toml::node* pn = root_.get("probes");
+  if (!pn) return;
+  const auto& t = *pn->as_table();
+  const SourceLocation w = where_of(t, top);
+  c.probes.stress_time_s = num(t, "stress_time_s");
+  c.probes.surface_bin_m = opt_num(t, "surface_bin_m");
+  auto part = [&](const char* key, const char* method) -> std::optional<std::size_t> {
+    const toml::node* n = t.get(key);
+    if (!n) return std::nullopt;
+    const std::string name = n->as_string()->get();
+    const auto it = std::find_if(c.parts.begin(), c.parts.end(),
+                                 [&](const PartConfig& p) { return p.name == name; });
+    if (it == c.parts.end() || it->method != method) {
+      std::string known;
+      for (const auto& p : c.parts)
+        if (p.method == method) known += (known.empty() ? "'" : ", '") + p.name + "'";
+      error(loc(t, key, w), std::string("probes.") + key,
+            fmt::format("expected the name of a {} part ({}), got '{}'", method,
+                        known.empty() ? std::string("the scenario has none") : known, name));
+      return std::nullopt;
+    }
+    return static_cast<std::size_t>(it - c.parts.begin());
+  };
+  c.probes.plate = part("plate", "fem");
+  c.probes.soil = part("soil", "dem");
+  if (c.probes.plate && c.probes.stress_time_s > c.end_time_s)
+    c_warnings_.push_back(
+        fmt::format("probes.stress_time_s = {} s is after scenario.end_time_s = {} s: "
+                    "plate_peak_von_mises_pa will not be measured",
+                    c.probes.stress_time_s, c.end_time_s));
+}
+
+}  // namespace crater::io::reader

@@ -1,0 +1,227 @@
+// The scenario reader (reader.hpp): a dem part's [parts.dem], packing, absorbing walls, bonds and
+// grains placed by hand.
+#include <fmt/format.h>
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "io/scenario/reader.hpp"
+
+namespace crater::io::reader {
+namespace fs = std::filesystem;
+
+void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocation& w,
+                       const std::string& key, PartConfig& p) {
+  const int dim = c.dimension;
+  const auto& dt = table(t, "dem");
+  const SourceLocation dw = where_of(dt, w);
+  read_packing(c, t, w, key, p);
+  p.dem.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
+  p.dem.radius_min_m = opt_num(dt, "radius_min_m").value_or(p.dem.radius_max_m);
+  if (!p.packing.random && p.dem.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
+    error(loc(dt, "radius_max_m", dw), key + ".dem.radius_max_m",
+          fmt::format("expected at most spacing_m / 2 = {} m (grains sit on a lattice of "
+                      "pitch spacing_m), got {} m",
+                      0.5 * p.spacing_m, p.dem.radius_max_m));
+  if (p.dem.radius_min_m > p.dem.radius_max_m)
+    error(loc(dt, "radius_min_m", dw), key + ".dem.radius_min_m",
+          fmt::format("expected at most radius_max_m = {} m, got {} m", p.dem.radius_max_m,
+                      p.dem.radius_min_m));
+  p.dem.seed = static_cast<std::uint64_t>(dt.get("seed")->as_integer()->get());
+  p.dem.local_damping = num(dt, "local_damping");
+  p.dem.rayleigh_fraction = num(dt, "rayleigh_fraction");
+  p.dem.walls = read_faces(*dt.get("walls")->as_array(), dw, key + ".dem.walls", dim);
+  p.dem.wall_friction = num(dt, "wall_friction");
+  p.dem.wall_restitution = num(dt, "wall_restitution");
+  p.dem.contact =
+      str(dt, "contact") == "linear_spring" ? DemContact::LinearSpring : DemContact::HertzMindlin;
+  p.dem.stiffness_step_fraction = num(dt, "stiffness_step_fraction");
+  p.dem.hertz_row_of_spheres = str(dt, "hertz_2d") == "row_of_spheres";
+  if (p.dem.contact == DemContact::LinearSpring) {
+    if (const auto kn = opt_num(dt, "normal_stiffness_n_m")) {
+      p.dem.normal_stiffness_n_m = *kn;
+      // Mindlin's ratio of tangential to normal stiffness of equal grains.
+      const Real nu = p.material < c.materials.size()
+                          ? c.materials[p.material].granular.poisson_ratio
+                          : Real(0);
+      p.dem.shear_stiffness_n_m =
+          opt_num(dt, "shear_stiffness_n_m").value_or(*kn * 2 * (1 - nu) / (2 - nu));
+    } else {
+      error(loc(dt, "contact", dw), key + ".dem.normal_stiffness_n_m",
+            "missing: contact = \"linear_spring\" needs normal_stiffness_n_m (N/m)");
+    }
+  } else {
+    for (const char* k : {"normal_stiffness_n_m", "shear_stiffness_n_m"})
+      if (dt.get(k))
+        error(loc(dt, k, dw), key + ".dem." + k,
+              "only used by contact = \"linear_spring\"; the Hertz-Mindlin stiffness "
+              "follows from the material");
+  }
+  p.dem.rolling_friction = num(dt, "rolling_friction");
+  p.dem.rolling_damping = num(dt, "rolling_damping");
+  p.dem.rate_dependent_friction = dt.get("rate_dependent_friction")->as_boolean()->get();
+  p.dem.friction_rate_beta = num(dt, "friction_rate_beta");
+  p.dem.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
+  read_absorbing_walls(dt, dw, key, dim, p.dem);
+  read_bonds(table(dt, "bonds"), dw, key, p.dem.bonds);
+  if (const toml::node* pn = t.get("particles")) read_particles(c, *pn->as_array(), w, key, p);
+}
+
+// [parts.dem.bonds]: parallel bonds; their stiffness and strengths are needed when enabled.
+void Builder::read_bonds(const toml::table& bt, const SourceLocation& dw, const std::string& key,
+                         DemBondConfig& b) {
+  const SourceLocation bw = where_of(bt, dw);
+  b.enabled = bt.get("enabled")->as_boolean()->get();
+  const std::string rule = str(bt, "radius_rule");
+  b.radius_rule = rule == "mean"        ? BondRadius::Mean
+                  : rule == "effective" ? BondRadius::Effective
+                                        : BondRadius::Min;
+  b.radius_multiplier = num(bt, "radius_multiplier");
+  b.gap_fraction = num(bt, "gap_fraction");
+  if (b.enabled) {
+    const std::string kb = key + ".dem.bonds.";
+    auto need = [&](const char* name, Real& into) {
+      if (const auto v = opt_num(bt, name))
+        into = *v;
+      else
+        error(loc(bt, "enabled", bw), kb + name, "missing: bonds need it when enabled");
+    };
+    need("normal_stiffness_pa_m", b.normal_stiffness_pa_m);
+    need("tensile_strength_pa", b.tensile_strength_pa);
+    need("shear_strength_pa", b.shear_strength_pa);
+    b.shear_stiffness_pa_m = opt_num(bt, "shear_stiffness_pa_m").value_or(b.normal_stiffness_pa_m);
+  }
+}
+
+// [[parts.particles]]: grains placed by hand, inside the domain.
+void Builder::read_particles(const Config& c, const toml::array& pa, const SourceLocation& w,
+                             const std::string& key, PartConfig& p) {
+  const int dim = c.dimension;
+  for (std::size_t j = 0; j < pa.size(); ++j) {
+    const auto& pt = *pa.get(j)->as_table();
+    DemParticle q;
+    q.center_m = vec3(pt, "center_m");
+    q.radius_m = num(pt, "radius_m");
+    q.velocity_m_s = vec3(pt, "velocity_m_s");
+    for (int d = 0; d < dim; ++d)
+      if (q.center_m[d] < c.domain.min_m[d] || q.center_m[d] > c.domain.max_m[d]) {
+        error(loc(pt, "center_m", where_of(pt, w)),
+              fmt::format("{}.particles[{}].center_m", key, j),
+              "expected the grain inside the domain, got centre " + vec_text(q.center_m, dim) +
+                  fmt::format(" and radius {} m", q.radius_m));
+        break;
+      }
+    p.dem.particles.push_back(q);
+  }
+}
+
+void Builder::read_packing(const Config& c, const toml::table& t, const SourceLocation& w,
+                           const std::string& key, PartConfig& p) {
+  const auto& pt = table(t, "packing");
+  const SourceLocation pw = where_of(pt, w);
+  PackingConfig& k = p.packing;
+  k.random = str(pt, "method") == "random";
+  k.settle = pt.get("settle")->as_boolean()->get();
+  k.settle_kinetic_ratio = num(pt, "settle_kinetic_ratio");
+  k.settle_max_time_s = num(pt, "settle_max_time_s");
+  k.settle_damping = num(pt, "settle_damping");
+  k.agitation_m_s = num(pt, "agitation_m_s");
+  fs::path cache = str(pt, "cache_dir");
+  if (cache.is_relative()) cache = fs::path(file_).parent_path() / cache;
+  k.cache_dir = cache.lexically_normal().string();
+  const std::string kp = key + ".packing";
+  if (k.random) {
+    if (!pt.get("porosity"))
+      error(pw, kp + ".porosity", "missing: method = \"random\" needs a target porosity");
+    else
+      k.porosity = num(pt, "porosity");
+    if (t.get("particles"))
+      error(loc(t, "particles", w), key + ".particles",
+            "grains placed by hand cannot also be packed at random; remove one of "
+            "[[" +
+                key + ".particles]] and [" + kp + "] method = \"random\"");
+  }
+  k.sieve_diameter_m = reals(pt, "sieve_diameter_m");
+  k.sieve_passing = reals(pt, "sieve_passing");
+  if (!k.sieve_diameter_m.empty() || !k.sieve_passing.empty()) {
+    const SourceLocation sw = loc(pt, "sieve_diameter_m", pw);
+    if (!k.random) error(sw, kp + ".sieve_diameter_m", "a grading curve needs method = \"random\"");
+    if (k.sieve_diameter_m.size() != k.sieve_passing.size() || k.sieve_diameter_m.size() < 2)
+      error(sw, kp + ".sieve_diameter_m",
+            fmt::format("expected sieve_diameter_m and sieve_passing of the same length, at "
+                        "least 2, got {} and {}",
+                        k.sieve_diameter_m.size(), k.sieve_passing.size()));
+    for (std::size_t j = 0; j < k.sieve_diameter_m.size(); ++j) {
+      if (!(k.sieve_diameter_m[j] > 0) ||
+          (j > 0 && !(k.sieve_diameter_m[j] > k.sieve_diameter_m[j - 1])))
+        error(sw, fmt::format("{}.sieve_diameter_m[{}]", kp, j),
+              fmt::format("expected positive diameters in ascending order, got {} m",
+                          k.sieve_diameter_m[j]));
+    }
+    for (std::size_t j = 0; j < k.sieve_passing.size(); ++j) {
+      const Real f = k.sieve_passing[j];
+      if (!(f >= 0 && f <= 1) || (j > 0 && !(f >= k.sieve_passing[j - 1])))
+        error(loc(pt, "sieve_passing", pw), fmt::format("{}.sieve_passing[{}]", kp, j),
+              fmt::format("expected fractions in [0, 1], non-decreasing, got {}", f));
+    }
+    if (!k.sieve_passing.empty() && k.sieve_passing.back() != 1.0)
+      error(loc(pt, "sieve_passing", pw), kp + ".sieve_passing",
+            fmt::format("expected the last sieve to pass everything (1), got {}",
+                        k.sieve_passing.back()));
+  }
+  if (k.settle) {
+    Real g2 = 0;
+    for (int d = 0; d < c.dimension; ++d)
+      g2 += c.domain.gravity_m_s2[static_cast<std::size_t>(d)] *
+            c.domain.gravity_m_s2[static_cast<std::size_t>(d)];
+    if (!(g2 > 0))
+      error(loc(pt, "settle", pw), kp + ".settle",
+            "settling needs gravity: set [domain] gravity_m_s2");
+  }
+}
+
+// Absorbing walls: faces of their own (not also rigid walls, not twice) and the bed's
+// impedance (Hertz contacts have no fixed stiffness: their P-wave speed must be given).
+void Builder::read_absorbing_walls(const toml::table& dt, const SourceLocation& dw,
+                                   const std::string& key, int dim, DemConfig& d) {
+  const std::string ak = key + ".dem.absorbing_walls";
+  const auto& arr = *dt.get("absorbing_walls")->as_array();
+  d.absorbing_walls = read_faces(arr, dw, ak, dim);
+  std::vector<std::string> seen;
+  for (std::size_t j = 0; j < arr.size(); ++j) {
+    const std::string name = arr.get(j)->as_string()->get();
+    const SourceLocation fw = where_of(*arr.get(j), dw);
+    const bool rigid = std::any_of(d.walls.begin(), d.walls.end(),
+                                   [&](Face f) { return name == kFaceNames[static_cast<int>(f)]; });
+    if (rigid)
+      error(fw, fmt::format("{}[{}]", ak, j),
+            fmt::format("\"{}\" is also in walls: a face is either a rigid or an absorbing "
+                        "wall",
+                        name));
+    else if (std::find(seen.begin(), seen.end(), name) != seen.end())
+      error(fw, fmt::format("{}[{}]", ak, j), fmt::format("\"{}\" is listed twice", name));
+    seen.push_back(name);
+  }
+  const bool absorbing = !d.absorbing_walls.empty();
+  static const char* speed_keys[] = {"absorbing_wall_density_kg_m3",
+                                     "absorbing_wall_p_wave_speed_m_s",
+                                     "absorbing_wall_s_wave_speed_m_s"};
+  Real* into[] = {&d.absorbing_density_kg_m3, &d.absorbing_p_wave_speed_m_s,
+                  &d.absorbing_s_wave_speed_m_s};
+  for (int k = 0; k < 3; ++k) {
+    const auto v = opt_num(dt, speed_keys[k]);
+    if (!v) continue;
+    if (!absorbing)
+      error(loc(dt, speed_keys[k], dw), key + ".dem." + speed_keys[k],
+            "only used with absorbing_walls");
+    *into[k] = *v;
+  }
+  if (absorbing && d.contact == DemContact::HertzMindlin && !(d.absorbing_p_wave_speed_m_s > 0))
+    error(loc(dt, "absorbing_walls", dw), key + ".dem.absorbing_wall_p_wave_speed_m_s",
+          "missing: absorbing walls with Hertz-Mindlin contacts need the bed's P-wave speed "
+          "(a Hertzian packing has no fixed stiffness to estimate it from; dry sand near the "
+          "surface: about 100-300 m/s)");
+}
+
+}  // namespace crater::io::reader

@@ -1,0 +1,265 @@
+// The scenario reader (reader.hpp): a fem part's [parts.fem]: boundaries, loads, mesh file.
+#include <fmt/format.h>
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "core/file_kind.hpp"
+#include "io/scenario/reader.hpp"
+#include "mesh/gmsh.hpp"
+#include "mesh/solid_mesh.hpp"
+
+namespace crater::io::reader {
+namespace fs = std::filesystem;
+
+void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocation& w,
+                       const std::string& key, PartConfig& p) {
+  const int dim = c.dimension;
+  const auto& ft = table(t, "fem");
+  const SourceLocation fw = where_of(ft, w);
+  FemConfig& f = p.fem;
+  f.hourglass_stiffness = str(ft, "hourglass") == "stiffness";
+  f.hourglass_coefficient = num(ft, "hourglass_coefficient");
+  f.bulk_viscosity_quadratic = num(ft, "bulk_viscosity_quadratic");
+  f.bulk_viscosity_linear = num(ft, "bulk_viscosity_linear");
+  f.initial_temperature_k = num(ft, "initial_temperature_k");
+  f.erosion_plastic_strain = opt_num(ft, "erosion_plastic_strain");
+  f.erode_inverted = ft.get("erode_inverted")->as_boolean()->get();
+  f.erosion_step_ratio = num(ft, "erosion_step_ratio");
+  // A solid starts unstressed at its reference density; only velocities can be set.
+  const auto& it_init = table(t, "initial");
+  for (const char* k : {"density_kg_m3", "pressure_pa"})
+    if (it_init.get(k))
+      error(loc(it_init, k, w), key + ".initial." + k,
+            "not used by fem parts (a solid starts unstressed at the material's rho0_kg_m3)");
+  if (const toml::node* zn = t.get("zones"))
+    for (std::size_t j = 0; j < zn->as_array()->size(); ++j) {
+      const auto& zt = *zn->as_array()->get(j)->as_table();
+      for (const char* k : {"spacing_m", "density_kg_m3", "pressure_pa"})
+        if (zt.get(k))
+          error(loc(zt, k, w), fmt::format("{}.zones[{}].{}", key, j, k),
+                "not used by fem parts (zones set the initial velocity of the nodes in them)");
+    }
+  if (ft.get("mesh_file")) {
+    fs::path mesh = str(ft, "mesh_file");
+    if (mesh.is_relative()) mesh = fs::path(file_).parent_path() / mesh;
+    f.mesh_file = mesh.lexically_normal().string();
+    if (ft.get("mesh_group")) f.mesh_group = str(ft, "mesh_group");
+  } else if (ft.get("mesh_group")) {
+    error(loc(ft, "mesh_group", fw), key + ".fem.mesh_group", "only used with fem.mesh_file");
+  }
+  if (p.spacing_m > 0 && p.region.type == RegionType::Box) {
+    // The structured mesh: whole elements of about spacing_m along each axis.
+    for (int d = 0; d < dim; ++d) {
+      const Real cells = (p.region.max_m[d] - p.region.min_m[d]) / p.spacing_m;
+      if (std::abs(cells - std::round(cells)) > 1e-6 * cells)
+        c_warnings_.push_back(
+            fmt::format("part '{}': the region's extent along axis {} ({} m) is not a multiple of "
+                        "spacing_m = {} m; the elements are stretched to {} whole ones",
+                        p.name, d, p.region.max_m[d] - p.region.min_m[d], p.spacing_m,
+                        std::max<Real>(1, std::round(cells))));
+    }
+  }
+  if (const toml::node* bn = ft.get("boundary"))
+    read_fem_boundaries(*bn->as_array(), fw, key, dim, f);
+  if (!f.mesh_file.empty()) read_fem_mesh(c, ft, fw, key, p);
+  if (const toml::node* ln = ft.get("loads")) read_fem_loads(*ln->as_array(), fw, key, dim, p);
+}
+
+// [[parts.fem.boundary]]: a face of the part's box or a group of its mesh file, and what is
+// imposed there.
+void Builder::read_fem_boundaries(const toml::array& ba, const SourceLocation& fw,
+                                  const std::string& key, int dim, FemConfig& f) {
+  for (std::size_t j = 0; j < ba.size(); ++j) {
+    const auto& bt = *ba.get(j)->as_table();
+    const SourceLocation bw = where_of(bt, fw);
+    const std::string bk = fmt::format("{}.fem.boundary[{}]", key, j);
+    FemBoundaryConfig b;
+    b.where = bw;
+    const std::string type = str(bt, "type");
+    b.type = type == "fixed"      ? FemBoundaryType::Fixed
+             : type == "symmetry" ? FemBoundaryType::Symmetry
+             : type == "velocity" ? FemBoundaryType::Velocity
+                                  : FemBoundaryType::NonReflecting;
+    const bool has_face = bt.get("face") != nullptr, has_group = bt.get("group") != nullptr;
+    if (has_face == has_group) {
+      error(bw, bk, "expected exactly one of face or group");
+      continue;
+    }
+    if (has_face) {
+      const std::string face = str(bt, "face");
+      const int fi = face_index(face);
+      if (fi / 2 >= dim) {
+        error(loc(bt, "face", bw), bk + ".face",
+              fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+        continue;
+      }
+      b.face = static_cast<Face>(fi);
+    } else {
+      b.group = str(bt, "group");
+      if (f.mesh_file.empty())
+        error(loc(bt, "group", bw), bk + ".group",
+              "mesh groups need fem.mesh_file; on a structured mesh give face");
+    }
+    if (bt.get("velocity_m_s") || bt.get("components")) {
+      if (b.type != FemBoundaryType::Velocity)
+        error(loc(bt, bt.get("velocity_m_s") ? "velocity_m_s" : "components", bw),
+              bk + (bt.get("velocity_m_s") ? ".velocity_m_s" : ".components"),
+              "only used by type = \"velocity\"");
+      b.velocity_m_s = vec3(bt, "velocity_m_s");
+      if (const toml::node* cn = bt.get("components")) {
+        b.components = {false, false, false};
+        for (const auto& e : *cn->as_array()) {
+          const std::string axis = e.as_string()->get();
+          const int a = axis[0] - 'x';
+          if (a >= dim)
+            error(where_of(e, bw), bk + ".components", "\"z\" is not a component of a 2D scenario");
+          else
+            b.components[static_cast<std::size_t>(a)] = true;
+        }
+      }
+    }
+    f.boundaries.push_back(b);
+  }
+}
+
+// [[parts.fem.loads]]: a face of the part's box, an optional box on it, a pressure table.
+void Builder::read_fem_loads(const toml::array& la, const SourceLocation& fw,
+                             const std::string& key, int dim, PartConfig& p) {
+  for (std::size_t j = 0; j < la.size(); ++j) {
+    const auto& lt = *la.get(j)->as_table();
+    const SourceLocation lw = where_of(lt, fw);
+    const std::string lk = fmt::format("{}.fem.loads[{}]", key, j);
+    FemLoadConfig l;
+    l.where = lw;
+    l.type = FemLoadType::Pressure;
+    const std::string face = str(lt, "face");
+    const int fi = face_index(face);
+    if (fi / 2 >= dim) {
+      error(loc(lt, "face", lw), lk + ".face",
+            fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+      continue;
+    }
+    l.face = static_cast<Face>(fi);
+    const int normal = fi / 2;
+    if (const toml::node* rn = lt.get("region")) {
+      const auto& rt = *rn->as_table();
+      const SourceLocation rw = where_of(rt, lw);
+      if (str(rt, "type") != "box") {
+        error(loc(rt, "type", rw), lk + ".region.type",
+              "expected \"box\": a load selects the faces whose centre lies in a box");
+        continue;
+      }
+      l.region = read_region(rt, rw, lk + ".region", dim);
+      // The box must meet the part's face (along the axes other than the face normal).
+      if (p.region.type == RegionType::Box)
+        for (int d = 0; d < dim; ++d) {
+          const auto u = static_cast<std::size_t>(d);
+          if (d == normal) continue;
+          if (!(l.region->max_m[u] > p.region.min_m[u] && l.region->min_m[u] < p.region.max_m[u]))
+            error(loc(rt, "min_m", rw), lk + ".region",
+                  fmt::format("the box ({} .. {}) does not meet the part's {} face, which spans "
+                              "{} .. {}",
+                              vec_text(l.region->min_m, dim), vec_text(l.region->max_m, dim), face,
+                              vec_text(p.region.min_m, dim), vec_text(p.region.max_m, dim)));
+        }
+    }
+    l.time_s = reals(lt, "time_s");
+    l.pressure_pa = reals(lt, "pressure_pa");
+    const SourceLocation tw = loc(lt, "time_s", lw);
+    if (l.time_s.size() < 2 || l.time_s.size() != l.pressure_pa.size()) {
+      error(tw, lk + ".time_s",
+            fmt::format("expected time_s and pressure_pa of the same length, at least 2, got "
+                        "{} and {}",
+                        l.time_s.size(), l.pressure_pa.size()));
+      continue;
+    }
+    bool ok = true;
+    for (std::size_t q = 0; q < l.time_s.size(); ++q)
+      if (!std::isfinite(l.time_s[q]) || (q > 0 && !(l.time_s[q] > l.time_s[q - 1]))) {
+        error(tw, fmt::format("{}.time_s[{}]", lk, q),
+              fmt::format("expected finite times in strictly increasing order, got {} s after "
+                          "{} s",
+                          l.time_s[q], q > 0 ? l.time_s[q - 1] : l.time_s[q]));
+        ok = false;
+        break;
+      }
+    for (std::size_t q = 0; q < l.pressure_pa.size(); ++q)
+      if (!std::isfinite(l.pressure_pa[q])) {
+        error(loc(lt, "pressure_pa", lw), fmt::format("{}.pressure_pa[{}]", lk, q),
+              "expected a finite pressure");
+        ok = false;
+      }
+    if (ok) p.fem.loads.push_back(l);
+  }
+}
+
+// Mesh files are read when the scenario is, so that a malformed mesh is an input error
+// (exit 2) before anything runs; the part is built from the elements taken from it here
+// (a degenerate element is found then: still an input error, at `crater check` too).
+void Builder::read_fem_mesh(const Config& c, const toml::table& ft, const SourceLocation& fw,
+                            const std::string& key, PartConfig& p) {
+  FemConfig& f = p.fem;
+  const SourceLocation mw = loc(ft, "mesh_file", fw);
+  std::error_code ec;
+  if (!fs::is_regular_file(f.mesh_file, ec)) {
+    const std::string kind = not_a_regular_file(f.mesh_file);
+    error(mw, key + ".fem.mesh_file",
+          fmt::format("expected a Gmsh .msh file; '{}' {}", f.mesh_file,
+                      !kind.empty()                 ? kind
+                      : fs::exists(f.mesh_file, ec) ? "cannot be read"
+                                                    : "does not exist"));
+    return;
+  }
+  try {
+    f.elements = std::make_shared<const mesh::SolidElements>(
+        mesh::solid_elements(mesh::read_gmsh(f.mesh_file), f.mesh_file, f.mesh_group, c.dimension));
+    const std::array<Real, 3> lo = f.elements->lo, hi = f.elements->hi;
+    // The mesh's bounding box stands for the region: inside the domain, not overlapping.
+    p.region.type = RegionType::Box;
+    p.region.min_m = lo;
+    p.region.max_m = hi;
+    p.region.where = mw;
+    for (int d = 0; d < c.dimension; ++d)
+      if (lo[static_cast<std::size_t>(d)] < c.domain.min_m[static_cast<std::size_t>(d)] ||
+          hi[static_cast<std::size_t>(d)] > c.domain.max_m[static_cast<std::size_t>(d)]) {
+        error(mw, key + ".fem.mesh_file",
+              fmt::format("expected the mesh inside the domain {} .. {}; it spans {} .. {}",
+                          vec_text(c.domain.min_m, c.dimension),
+                          vec_text(c.domain.max_m, c.dimension), vec_text(lo, c.dimension),
+                          vec_text(hi, c.dimension)));
+        break;
+      }
+    for (std::size_t j = 0; j < f.boundaries.size(); ++j) {
+      const auto& b = f.boundaries[j];
+      if (b.group.empty()) continue;
+      if (const auto g = f.elements->groups.find(b.group); g != f.elements->groups.end()) {
+        if (b.type == FemBoundaryType::Symmetry && g->second.normal_axis < 0)
+          error(b.where, fmt::format("{}.fem.boundary[{}].group", key, j),
+                fmt::format("a symmetry condition needs a plane normal to x, y{}; the nodes of "
+                            "group '{}' are not on one",
+                            c.dimension == 3 ? " or z" : "", b.group));
+        continue;
+      }
+      std::string known;
+      for (const auto& [name, g] : f.elements->groups)
+        known += (known.empty() ? "'" : ", '") + name + "'";
+      error(b.where, fmt::format("{}.fem.boundary[{}].group", key, j),
+            fmt::format("no physical group '{}' with nodes of the part in {} (groups: {})", b.group,
+                        f.mesh_file, known.empty() ? "none" : known));
+    }
+  } catch (const InputError& e) {
+    // The reader names the file and line of the mesh; the key is the scenario's (the group
+    // when the part names one and the reader found none of its elements).
+    if (!e.key().empty())
+      errors_.add(e);
+    else if (!f.mesh_group.empty() && std::string(e.what()).find("in group '") != std::string::npos)
+      error(loc(ft, "mesh_group", fw), key + ".fem.mesh_group", e.what());
+    else
+      error(e.where(), key + ".fem.mesh_file", e.what());
+  }
+}
+
+}  // namespace crater::io::reader

@@ -1,0 +1,110 @@
+// The scenario reader (reader.hpp): an sph part's [parts.sph] (walls and their dummy
+// particles) and its detonation points.
+#include <fmt/format.h>
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cmath>
+
+#include "io/scenario/reader.hpp"
+
+namespace crater::io::reader {
+
+void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocation& w,
+                       const std::string& key, PartConfig& p) {
+  const int dim = c.dimension;
+  const auto& st = table(t, "sph");
+  p.sph.kernel = str(st, "kernel") == "cubic_spline" ? sph::KernelKind::CubicSpline
+                                                     : sph::KernelKind::WendlandC2;
+  p.sph.h_factor = num(st, "h_factor");
+  p.sph.av_alpha = num(st, "av_alpha");
+  p.sph.av_beta = num(st, "av_beta");
+  p.sph.cfl = num(st, "cfl");
+  p.sph.variable_h = st.get("variable_h")->as_boolean()->get();
+  p.sph.xsph_epsilon = num(st, "xsph_epsilon");
+  p.sph.tensile_epsilon = num(st, "tensile_epsilon");
+  p.sph.viscosity_pa_s = num(st, "viscosity_pa_s");
+  p.sph.wall_layers = static_cast<int>(st.get("wall_layers")->as_integer()->get());
+  p.sph.wall_no_slip = str(st, "wall_slip") == "no";
+  p.sph.walls = read_faces(*st.get("walls")->as_array(), w, key + ".sph.walls", dim);
+  for (const Face f : p.sph.walls) {
+    // The wall lattice is laid at the part's spacing along the face: the domain's extent
+    // along the face's other axes should be a multiple of it, or gaps open at the far end.
+    for (int d = 0; d < dim; ++d) {
+      if (d == static_cast<int>(f) / 2) continue;
+      const Real n = (c.domain.max_m[d] - c.domain.min_m[d]) / p.spacing_m;
+      if (std::abs(n - std::round(n)) > 1e-6 * n)
+        c_warnings_.push_back(
+            fmt::format("part '{}': the domain extent along axis {} ({} m) is not a multiple of "
+                        "spacing_m = {} m; the {} wall's particles leave a gap at the far end",
+                        p.name, d, c.domain.max_m[d] - c.domain.min_m[d], p.spacing_m,
+                        kFaceNames[static_cast<int>(f)]));
+    }
+  }
+  if (p.sph.wall_no_slip && !p.sph.walls.empty() && p.spacing_m > 0) {
+    // Dummy particles fill every walled face over the whole domain, as deep as the kernel
+    // support of the largest particle (the coarsest lattice: part or zone).
+    Real coarsest = p.spacing_m;
+    for (const auto& z : p.zones)
+      if (z.spacing_m) coarsest = std::max(coarsest, *z.spacing_m);
+    const Real layers =
+        std::max<Real>(p.sph.wall_layers, std::ceil(2 * p.sph.h_factor * coarsest / p.spacing_m));
+    Real count = 0;
+    for (Face f : p.sph.walls) {
+      Real n = layers;
+      for (int d = 0; d < dim; ++d)
+        if (d != static_cast<int>(f) / 2)
+          n *=
+              std::max<Real>(1, (c.domain.max_m[d] - c.domain.min_m[d]) / p.spacing_m + 2 * layers);
+      count += n;
+    }
+    p.estimated_wall_count = count;
+    if (count > kMaxEntities)
+      error(loc(st, "walls", w), key + ".sph.walls",
+            fmt::format("no-slip walls along the whole domain need about {:.3g} wall particles at "
+                        "spacing_m = {} m, above the limit of {:.0e}: shrink [domain] to the "
+                        "fluid's reach or coarsen the spacing",
+                        count, p.spacing_m, kMaxEntities));
+  }
+  if (const toml::node* dn = t.get("detonation")) read_detonations(c, *dn->as_array(), w, key, p);
+}
+
+// [[parts.detonation]]: points of a JWL charge, inside the domain and the charge.
+void Builder::read_detonations(const Config& c, const toml::array& da, const SourceLocation& w,
+                               const std::string& key, PartConfig& p) {
+  const int dim = c.dimension;
+  const bool jwl = p.material < c.materials.size() && c.materials[p.material].model == "jwl";
+  for (std::size_t j = 0; j < da.size(); ++j) {
+    const auto& dtab = *da.get(j)->as_table();
+    DetonationPoint dp;
+    dp.point_m = vec3(dtab, "point_m");
+    dp.time_s = num(dtab, "time_s");
+    const SourceLocation dw = where_of(dtab, w);
+    if (!jwl)
+      error(dw, fmt::format("{}.detonation[{}]", key, j),
+            "detonation points need a JWL material (the part's material is not \"jwl\")");
+    bool in_domain = true;
+    for (int d = 0; d < dim; ++d)
+      if (dp.point_m[d] < c.domain.min_m[d] || dp.point_m[d] > c.domain.max_m[d]) {
+        error(loc(dtab, "point_m", dw), fmt::format("{}.detonation[{}].point_m", key, j),
+              "expected a point inside the domain, got " + vec_text(dp.point_m, dim));
+        in_domain = false;
+        break;
+      }
+    // A point outside the charge lights it only when the front, run through the empty
+    // space between, arrives: late, and from the wrong place. A point on the boundary
+    // (to rounding, relative to the region's size) is a surface initiation and is kept.
+    const Aabb rb = bounds(p.region, dim);
+    Real size = 0;
+    for (int d = 0; d < dim; ++d)
+      size = std::max(size, rb.hi[d] - rb.lo[d]);
+    const Real outside = distance_to_region(dp.point_m, p.region, dim);
+    if (in_domain && size > 0 && outside > 1e-6 * size)
+      error(loc(dtab, "point_m", dw), fmt::format("{}.detonation[{}].point_m", key, j),
+            fmt::format("expected a point inside the charge's region (part '{}': {}; its "
+                        "boundary included); it is at {}, {:.3g} m outside",
+                        p.name, region_text(p.region, dim), vec_text(dp.point_m, dim), outside));
+    p.detonations.push_back(dp);
+  }
+}
+
+}  // namespace crater::io::reader
