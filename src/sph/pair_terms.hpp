@@ -46,14 +46,14 @@ struct Centre {
   Real r_tensile = 0;  // artificial_pressure of i
 };
 
-/// One neighbour j: r_ij = x_i - x_j, its state, the velocity the viscous terms see (a wall's
-/// mirrored fluid velocity; else v_j) and whether it is a fixed wall particle, which cannot
-/// take its share of the pressure work (particle i books all of it, and kinetic plus internal
-/// energy stays conserved).
+/// One neighbour j within the kernel support: r_ij = x_i - x_j, its state, the velocity the viscous
+/// terms see (a wall's mirrored fluid velocity; else v_j) and whether it is a fixed wall particle,
+/// which cannot take its share of the pressure work (particle i books all of it, and kinetic plus
+/// internal energy stays conserved).
 template <int D>
 struct Neighbour {
   Vec<D> rij;
-  Real h = 0, m = 0, rho = 0, p = 0, c = 0;
+  Real m = 0, rho = 0, p = 0, c = 0;
   Vec<D> v, v_visc;
   bool wall = false;
 };
@@ -189,12 +189,13 @@ template <class Kernel, int D>
   return (j.m / (0.5 * (i.rho + j.rho))) * Kernel::w(k.r, k.hbar) * a.vij;
 }
 
-/// All the pair terms of neighbour j added to particle i's sums, in the order listed above.
+/// The pair terms of neighbour j, found within the support by pair_kernel (k), added to
+/// particle i's sums in the order listed above. The caller tests the support first and reads
+/// the rest of the neighbour's state only then (most list candidates lie beyond it).
 template <class Kernel, int D>
 [[gnu::always_inline]] inline void gather_pair(const RateParams& c, const Centre<D>& i,
-                                               const Neighbour<D>& j, PairSums<D>& s) {
-  const PairKernel<D> k = pair_kernel<Kernel>(j.rij, i.h, j.h);
-  if (!k.within) return;
+                                               const Neighbour<D>& j, const PairKernel<D>& k,
+                                               PairSums<D>& s) {
   const Approach<D> a = relative_motion(i, j, k);
   s.mu_max = std::max(s.mu_max, std::abs(a.mu));
   const Real visc = monaghan_viscosity(c, i, j, a);

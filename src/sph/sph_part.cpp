@@ -555,14 +555,23 @@ class SphPart final : public parts::Part<D> {
     parallel::for_each(n, [&](Index i) {
       const Centre<D> me = centre(c, i);
       PairSums<D> s;
-      for (const Index j : list_.of(i))
-        gather_pair<Kernel>(c, me, fluid_neighbour(me, j), s);
+      for (const Index j : list_.of(i)) {
+        const Vec<D> rij = me.x - x_[j];
+        const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[j]);
+        if (k.within) gather_pair<Kernel>(c, me, fluid_neighbour(rij, j), k, s);
+      }
       if (walls)
-        for (const Index w : fluid_to_wall_.of(i))
-          gather_pair<Kernel>(c, me, wall_neighbour(me, w), s);
+        for (const Index w : fluid_to_wall_.of(i)) {
+          const Vec<D> rij = me.x - wall_x_[at(w)];
+          const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h0_);
+          if (k.within) gather_pair<Kernel>(c, me, wall_neighbour(rij, w), k, s);
+        }
       if (ghosts)
-        for (const Index k : fluid_to_ghost_.of(i))
-          gather_pair<Kernel>(c, me, ghost_neighbour(me, k), s);
+        for (const Index img : fluid_to_ghost_.of(i)) {
+          const Vec<D> rij = me.x - ghosts_.x[at(img)];
+          const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[ghosts_.parent[at(img)]]);
+          if (k.within) gather_pair<Kernel>(c, me, ghost_neighbour(rij, img), k, s);
+        }
       a_[i] = s.acc + g;
       drho_[i] = me.rho * s.drho;
       de_[i] = s.de;
@@ -587,9 +596,8 @@ class SphPart final : public parts::Part<D> {
     me.r_tensile = artificial_pressure(c.eps_tensile, me.p, me.rho);
     return me;
   }
-  [[gnu::always_inline]] Neighbour<D> fluid_neighbour(const Centre<D>& me, Index j) const {
-    return {.rij = me.x - x_[j],
-            .h = h_[j],
+  [[gnu::always_inline]] Neighbour<D> fluid_neighbour(const Vec<D>& rij, Index j) const {
+    return {.rij = rij,
             .m = m_[j],
             .rho = rho_[j],
             .p = p_[j],
@@ -598,10 +606,9 @@ class SphPart final : public parts::Part<D> {
             .v_visc = v_[j],
             .wall = false};
   }
-  [[gnu::always_inline]] Neighbour<D> wall_neighbour(const Centre<D>& me, Index w) const {
+  [[gnu::always_inline]] Neighbour<D> wall_neighbour(const Vec<D>& rij, Index w) const {
     const auto k = at(w);
-    return {.rij = me.x - wall_x_[k],
-            .h = h0_,
+    return {.rij = rij,
             .m = wall_rho_[k] * cell_volume_,
             .rho = wall_rho_[k],
             .p = wall_p_[k],
@@ -610,11 +617,10 @@ class SphPart final : public parts::Part<D> {
             .v_visc = wall_v_[k],
             .wall = true};
   }
-  [[gnu::always_inline]] Neighbour<D> ghost_neighbour(const Centre<D>& me, Index g) const {
+  [[gnu::always_inline]] Neighbour<D> ghost_neighbour(const Vec<D>& rij, Index g) const {
     const auto k = at(g);
     const Index j = ghosts_.parent[k];
-    return {.rij = me.x - ghosts_.x[k],
-            .h = h_[j],
+    return {.rij = rij,
             .m = m_[j],
             .rho = rho_[j],
             .p = ghosts_.p[k],
