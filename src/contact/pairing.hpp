@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "contact/settings.hpp"
+#include "core/index.hpp"
 #include "core/types.hpp"
 #include "parts/part.hpp"
 
@@ -20,10 +21,6 @@ namespace crater::contact {
 /// The solver's parts, in scenario order (a contact names two of them by index).
 template <int D>
 using PartList = std::vector<std::unique_ptr<parts::Part<D>>>;
-
-inline std::size_t at(Index i) {
-  return static_cast<std::size_t>(i);
-}
 
 /// The smallest stable step over the contacts found so far, and what sets it. A candidate
 /// replaces it only when strictly smaller (the first one found wins ties); its reason is

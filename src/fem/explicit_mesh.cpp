@@ -4,14 +4,9 @@
 #include <random>
 #include <stdexcept>
 
+#include "core/index.hpp"
+
 namespace crater::fem {
-namespace {
-
-std::size_t at(Index i) {
-  return static_cast<std::size_t>(i);
-}
-
-}  // namespace
 
 template <int D>
 ExplicitMesh<D> structured_mesh(const StructuredMeshSpec<D>& spec) {

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/index.hpp"
 #include "fem/element_geometry.hpp"
 #include "fem/kinematics.hpp"
 #include "parallel/parallel.hpp"
@@ -19,10 +20,6 @@ namespace crater::fem {
 namespace {
 
 using materials::Mat3;
-
-std::size_t at(Index i) {
-  return static_cast<std::size_t>(i);
-}
 
 template <class F>
 void for_each_entity(Index n, F&& f) {

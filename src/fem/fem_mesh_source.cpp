@@ -10,14 +10,11 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/index.hpp"
 #include "fem/element_geometry.hpp"
 
 namespace crater::fem {
 namespace {
-
-std::size_t at(Index i) {
-  return static_cast<std::size_t>(i);
-}
 
 /// Local node numbers of the faces of an element (VTK / Gmsh numbering).
 template <int D>

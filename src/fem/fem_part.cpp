@@ -16,6 +16,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/index.hpp"
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
@@ -24,10 +25,6 @@
 
 namespace crater::fem {
 namespace {
-
-std::size_t at(Index i) {
-  return static_cast<std::size_t>(i);
-}
 
 template <int D>
 using MatD = Eigen::Matrix<Real, D, D>;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string_view>
 
+#include "core/index.hpp"
 #include "dem/packing.hpp"
 #include "fem/element_geometry.hpp"
 #include "io/checkpoint/checkpoint.hpp"
@@ -17,10 +18,6 @@ namespace crater::solver {
 namespace {
 
 constexpr Real kNaN = std::numeric_limits<Real>::quiet_NaN();
-
-std::size_t at(Index i) {
-  return static_cast<std::size_t>(i);
-}
 
 const fields::FieldView* field(const std::vector<fields::FieldView>& views, std::string_view name) {
   for (const auto& v : views)

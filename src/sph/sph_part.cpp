@@ -13,7 +13,7 @@
 // Pairs use hbar = (h_i + h_j)/2, so grad_i W_ij = -grad_j W_ji and pair forces are equal and
 // opposite: momentum is conserved to round-off; kinetic + internal energy is conserved by the
 // semi-discrete equations (the energy equation is the one that balances the momentum
-// equation's pressure work pair by pair), and by the wall terms (see `pair` in rates()).
+// equation's pressure work pair by pair), and by the wall terms (energy_rate, pair_terms.hpp).
 // Each particle gathers over its own neighbour list (ascending j), so the sums are evaluated in
 // the same order for any number of threads (bit-identical results).
 #include "sph/sph_part.hpp"
@@ -21,7 +21,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
-#include <array>
 #include <cmath>
 #include <limits>
 
@@ -31,8 +30,13 @@
 #include "neighbors/neighbor_list.hpp"
 #include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
+#include "parts/contact_points.hpp"
+#include "parts/outflow.hpp"
 #include "parts/region.hpp"
 #include "sph/kernels.hpp"
+#include "sph/pair_terms.hpp"
+#include "sph/sph_setup.hpp"
+#include "sph/sph_walls.hpp"
 
 namespace crater::sph {
 namespace {
@@ -47,73 +51,6 @@ constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of the lar
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 
 using parts::to_vec;
-
-/// Dummy wall particles behind the walled faces of the domain box, `layers` deep at pitch s
-/// (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057). A corner shared by faces of axes
-/// a < b is laid by the face of axis a only (when both are walled), so no point is doubled.
-template <int D>
-struct WallLattice {
-  std::vector<Vec<D>> x;
-  // Per wall particle: -1 along each axis where it lies beyond a face of the domain, +1
-  // elsewhere; a free-slip wall mirrors those velocity components (both at a corner).
-  std::vector<Vec<D>> mirror;
-};
-
-template <int D>
-WallLattice<D> wall_lattice(const parts::Domain& domain, const std::vector<parts::Face>& faces,
-                            int layers, Real s) {
-  const Vec<D> lo = to_vec<D>(domain.min_m), hi = to_vec<D>(domain.max_m);
-  auto walled = [&](int axis, int side) {
-    for (auto f : faces)
-      if (static_cast<int>(f) == 2 * axis + side) return true;
-    return false;
-  };
-  // Coordinates along an axis: inside [lo, hi] at lo + (i + 1/2) s; beyond a face at
-  // face -/+ (k + 1/2) s.
-  auto coords = [&](int axis, bool extend) {
-    std::vector<Real> v;
-    const auto n = static_cast<Index>(std::llround((hi[axis] - lo[axis]) / s));
-    if (extend && walled(axis, 0))
-      for (int k = layers - 1; k >= 0; --k)
-        v.push_back(lo[axis] - (k + 0.5) * s);
-    for (Index i = 0; i < n; ++i)
-      v.push_back(lo[axis] + (static_cast<Real>(i) + 0.5) * s);
-    if (extend && walled(axis, 1))
-      for (int k = 0; k < layers; ++k)
-        v.push_back(hi[axis] + (k + 0.5) * s);
-    return v;
-  };
-  WallLattice<D> out;
-  for (int a = 0; a < D; ++a)
-    for (int side = 0; side < 2; ++side) {
-      if (!walled(a, side)) continue;
-      std::vector<std::vector<Real>> axes(D);
-      for (int d = 0; d < D; ++d) {
-        if (d == a) {
-          for (int k = 0; k < layers; ++k)
-            axes[d].push_back(side == 0 ? lo[a] - (k + 0.5) * s : hi[a] + (k + 0.5) * s);
-        } else {
-          axes[d] = coords(d, d > a);
-        }
-      }
-      std::vector<std::size_t> i(D, 0);
-      while (true) {
-        Vec<D> x;
-        Vec<D> mirror;
-        for (int d = 0; d < D; ++d) {
-          x[d] = axes[d][i[d]];
-          mirror[d] = (x[d] < lo[d] || x[d] > hi[d]) ? -1.0 : 1.0;
-        }
-        out.x.push_back(x);
-        out.mirror.push_back(mirror);
-        int d = 0;
-        while (d < D && ++i[d] == axes[d].size())
-          i[d++] = 0;
-        if (d == D) break;
-      }
-    }
-  return out;
-}
 
 template <int D>
 class SphPart final : public parts::Part<D> {
@@ -150,27 +87,8 @@ class SphPart final : public parts::Part<D> {
         surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)),
         surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)) {
     const parts::PartSetup& pc = settings.part;
-    // Particles: the part's lattice, except where a zone with its own spacing lays its own
-    // (equal-mass particles across a density jump, as a shock tube wants); each particle
-    // remembers its lattice pitch.
-    std::vector<Vec<D>> pts;
-    std::vector<Real> pitch;
-    auto owner = [&](const Vec<D>& x) {  // index of the last spacing zone holding x, or -1
-      int k = -1;
-      for (std::size_t z = 0; z < pc.zones.size(); ++z)
-        if (pc.zones[z].spacing_m && parts::region_contains<D>(pc.zones[z].region, x))
-          k = static_cast<int>(z);
-      return k;
-    };
-    for (const auto& x : parts::region_lattice<D>(pc.region, spacing_))
-      if (owner(x) < 0 && !parts::carved<D>(pc.carving, x, 0.5 * spacing_))
-        pts.push_back(x), pitch.push_back(spacing_);
-    for (std::size_t z = 0; z < pc.zones.size(); ++z) {
-      if (!pc.zones[z].spacing_m) continue;
-      for (const auto& x : parts::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
-        if (parts::region_contains<D>(pc.region, x) && owner(x) == static_cast<int>(z))
-          pts.push_back(x), pitch.push_back(*pc.zones[z].spacing_m);
-    }
+    const ParticleLattice<D> lattice = particle_lattice<D>(pc, spacing_);
+    const std::vector<Vec<D>>& pts = lattice.x;
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
     std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
@@ -186,30 +104,16 @@ class SphPart final : public parts::Part<D> {
     }
 
     for (Index i = 0; i < n; ++i) {
-      // The part's initial state, then the last zone containing the particle.
-      Real rho = pc.initial.density_kg_m3.value_or(settings.rho0_kg_m3);
-      std::optional<Real> pressure = pc.initial.pressure_pa;
-      Vec<D> vel = to_vec<D>(pc.initial.velocity_m_s);
-      for (const auto& z : pc.zones) {
-        if (!parts::region_contains<D>(z.region, pts[i])) continue;
-        if (z.density_kg_m3) rho = *z.density_kg_m3;
-        if (z.pressure_pa) pressure = z.pressure_pa;
-        if (z.velocity_m_s) vel = to_vec<D>(*z.velocity_m_s);
-      }
+      const StartState<D> start = start_state<D>(pc, settings.rho0_kg_m3, pts[i]);
+      const Real pitch = lattice.pitch[at(i)];
       id_[i] = i;
       x_[i] = pts[i];
-      v_[i] = vel;
-      m_[i] = rho * std::pow(pitch[i], D);
-      rho_[i] = rho;
-      h_[i] = cfg_.h_factor * pitch[i];
-      e_[i] = initial_energy(rho, pressure);
-      // Programmed burn: a particle lights when the detonation front, running at D from the
-      // nearest detonation point, reaches it. No points: all lit at t = 0.
-      Real tl = is_explosive_ && !pc.detonations.empty() ? kInf : 0;
-      for (const auto& dp : pc.detonations)
-        tl = std::min(tl,
-                      dp.time_s + (pts[i] - to_vec<D>(dp.point_m)).norm() / detonation_velocity_);
-      light_[i] = tl;
+      v_[i] = start.v;
+      m_[i] = start.rho * std::pow(pitch, D);
+      rho_[i] = start.rho;
+      h_[i] = cfg_.h_factor * pitch;
+      e_[i] = initial_energy(start.rho, start.pressure);
+      light_[i] = lighting_time<D>(pc, is_explosive_, detonation_velocity_, pts[i]);
     }
     h_max_ = parallel::max_over(n, h0_, [&](Index i) { return h_[i]; });
 
@@ -308,8 +212,7 @@ class SphPart final : public parts::Part<D> {
       rho_[i] = rhoh_[i] + half * drho_[i];
       e_[i] = eh_[i] + half * de_[i];
     });
-    last_dt_ = dt;
-    contact_pending_ = true;
+    contact_.moved(dt);
     // Work of gravity over the step, with the mid-step velocity.
     if (gravity_.squaredNorm() > 0)
       external_work_ += dt * parallel::deterministic_sum<Real>(
@@ -332,26 +235,19 @@ class SphPart final : public parts::Part<D> {
     contact_radius_.resize(static_cast<std::size_t>(f_.size()));
     parallel::for_each(
         f_.size(), [&](Index i) { contact_radius_[i] = Real(0.5) * dth_root<D>(m_[i] / rho_[i]); });
-    parts::ContactPoints<D> p;
-    p.position = &x_;
-    p.velocity = &v_;
-    p.mass = &m_;
-    p.radius = &contact_radius_;
-    p.surface_offset = &surface_offset_;
-    p.surface_overlap = &surface_overlap_;
-    return p;
+    return parts::ContactPoints<D>{.position = &x_,
+                                   .velocity = &v_,
+                                   .mass = &m_,
+                                   .radius = &contact_radius_,
+                                   .surface_offset = &surface_offset_,
+                                   .surface_overlap = &surface_overlap_};
   }
 
   void add_contact_forces(const std::vector<Vec<D>>& force,
                           const std::vector<AxialVec<D>>& /*torque*/) override {
     if (static_cast<Index>(force.size()) != f_.size())
       throw std::logic_error("sph: contact forces for another particle count");
-    if (contact_pending_ && last_dt_ > 0) {
-      const Real half_dt = Real(0.5) * last_dt_;
-      contact_work_ += parallel::deterministic_sum<Real>(
-          f_.size(), [&](Index i) { return half_dt * vh_[i].dot(fc_[i] + force[i]); });
-    }
-    contact_pending_ = false;
+    contact_.settle(f_.size(), [&](Index i) { return vh_[i].dot(fc_[i] + force[i]); });
     parallel::for_each(f_.size(), [&](Index i) {
       fc_[i] = force[i];
       a_[i] += fc_[i] / m_[i];
@@ -374,8 +270,8 @@ class SphPart final : public parts::Part<D> {
     en.kinetic_j = s.k;
     en.internal_j = s.u;
     en.external_work_j = external_work_;
-    en.contact_j = -contact_work_;
-    en.eroded_j = left_energy_j_;
+    en.contact_j = -contact_.work_j;
+    en.eroded_j = outflow_.energy_j();
     return en;
   }
 
@@ -394,11 +290,7 @@ class SphPart final : public parts::Part<D> {
       d.push_back({"wall_reflections", static_cast<Real>(reflections_)});
       d.push_back({"wall_max_penetration_m", max_penetration_});
     }
-    if (outflow_remove_) {
-      d.push_back({"left_domain_count", static_cast<Real>(left_count_)});
-      d.push_back({"left_domain_mass_kg", left_mass_kg_});
-      d.push_back({"left_domain_energy_j", left_energy_j_});
-    }
+    if (outflow_remove_) outflow_.add_diagnostics(d);
     return d;
   }
 
@@ -439,48 +331,27 @@ class SphPart final : public parts::Part<D> {
   }
 
   bool in_domain(Index i) const {
-    for (int d = 0; d < D; ++d)
-      if (!(x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d])) return false;
-    return true;
+    return parts::in_box<D>(x_[i], domain_lo_, domain_hi_);
   }
   bool healthy(Index i) const {
     return std::isfinite(drho_[i]) && std::isfinite(de_[i]) && a_[i].allFinite() && rho_[i] > 0 &&
            std::isfinite(p_[i]) && (outflow_remove_ ? x_[i].allFinite() : in_domain(i));
   }
 
-  // outflow = "remove": particles beyond the domain box leave the model at the end of the step,
-  // with the velocity, density and energy of t + dt, as hydrocodes deactivate material that
-  // leaves the mesh. Their kinetic and internal energy goes to eroded_j, so the balance still
-  // closes. The rest keep their order (compaction in index order): the same numbers for any
+  // outflow = "remove" (parts/outflow.hpp): particles beyond the domain box leave the model at
+  // the end of the step, with the velocity, density and energy of t + dt; their kinetic and
+  // internal energy goes to eroded_j. The rest keep their order: the same numbers for any
   // thread count, and after a restart from this state (which holds the rebuilt lists' skin).
   void remove_outflow() {
     const Index n = f_.size();
-    keep_.resize(static_cast<std::size_t>(n));
-    struct Left {
-      Index count = 0;
-      Real mass = 0, energy = 0;
-      Left& operator+=(const Left& o) {
-        count += o.count;
-        mass += o.mass;
-        energy += o.energy;
-        return *this;
-      }
-    };
-    const Left left = parallel::deterministic_sum<Left>(n, [&](Index i) {
-      keep_[static_cast<std::size_t>(i)] = in_domain(i);
-      if (keep_[static_cast<std::size_t>(i)]) return Left{};
-      return Left{1, m_[i], 0.5 * m_[i] * v_[i].squaredNorm() + m_[i] * e_[i]};
+    const Index leaving = outflow_.mark(n, [&](Index i) { return in_domain(i); });
+    if (leaving == 0) return;
+    const auto removed = parallel::deterministic_sum<parts::Removed>(n, [&](Index i) {
+      if (outflow_.kept(i)) return parts::Removed{};
+      return parts::Removed{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() + m_[i] * e_[i]};
     });
-    if (left.count == 0) return;
-    if (left_count_ == 0)
-      spdlog::info(
-          "part '{}': particles leave the domain from t = {:.6g} s on and are removed "
-          "(domain.outflow = \"remove\"; left_domain_* in summary.json)",
-          name_, time_s_);
-    left_count_ += left.count;
-    left_mass_kg_ += left.mass;
-    left_energy_j_ += left.energy;
-    f_.compact(keep_);
+    outflow_.book(name_, "particles", time_s_, leaving, removed);
+    outflow_.compact(f_);
     // The rates of the state without them (lists rebuilt for the remaining particles, in their
     // order; pressures and sound speeds are the particles' own), the contact forces added as in
     // add_contact_forces: the next half kick then owes nothing to a removed particle, and the
@@ -517,9 +388,9 @@ class SphPart final : public parts::Part<D> {
       neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(wall_x_), radius, fluid_to_wall_);
     }
     if (has_walls_ && !cfg_.wall_no_slip) {
-      select_ghosts(xb, radius);
-      ghost_positions(xb);
-      neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(ghost_x_), radius,
+      ghosts_.select(xb, radius, cfg_.walls, domain_lo_, domain_hi_);
+      ghosts_.place(xb);
+      neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(ghosts_.x), radius,
                                      fluid_to_ghost_);
     }
   }
@@ -530,106 +401,39 @@ class SphPart final : public parts::Part<D> {
     f_.save(w);
     w.value(h_max_);
     w.value(external_work_);
-    w.value(contact_work_);
-    w.value(last_dt_);
-    w.value(contact_pending_);
+    w.value(contact_.work_j);
+    w.value(contact_.last_dt_s);
+    w.value(contact_.pending);
     w.value(reflections_);
     w.value(max_penetration_);
     skin_.save(w);
-    w.tag("outflow");
-    w.value(left_count_);
-    w.value(left_mass_kg_);
-    w.value(left_energy_j_);
+    outflow_.save(w);
   }
   void load_state(parts::StateReader& r) override {
     r.tag("sph");
     f_.load(r);
     r.value(h_max_);
     r.value(external_work_);
-    r.value(contact_work_);
-    r.value(last_dt_);
-    r.value(contact_pending_);
+    r.value(contact_.work_j);
+    r.value(contact_.last_dt_s);
+    r.value(contact_.pending);
     r.value(reflections_);
     r.value(max_penetration_);
     skin_.load(r);
-    r.tag("outflow");
-    r.value(left_count_);
-    r.value(left_mass_kg_);
-    r.value(left_energy_j_);
+    outflow_.load(r);
     if (skin_.radius() > 0) build_lists();
   }
 
  private:
-  // Free-slip walls are planes of symmetry: each particle within `radius` of a walled face has
-  // a mirror image behind it (Libersky et al. 1993), with the parent's mass, density, smoothing
-  // length and sound speed, its position and velocity reflected in the face, and its pressure
-  // extended hydrostatically, p_g = p + rho g . (x_g - x). Near a corner the particle also has
-  // the image in both faces. The images make the flow next to the wall that of the symmetric
-  // problem: the continuity and pressure sums see a complete kernel, and the normal velocity
-  // vanishes on the face. The image of particle j moves with j, so the images chosen at a list
-  // rebuild serve until the next one (the parent must come within `radius` to interact).
-  void select_ghosts(std::span<const Vec<D>> x, Real radius) {
-    ghost_parent_.clear();
-    ghost_sign_.clear();
-    ghost_offset_.clear();
-    const Index n = f_.size();
-    for (Index j = 0; j < n; ++j) {
-      // Per axis: no reflection (0), in the low face (1) or in the high face (2), if walled and
-      // within reach.
-      std::array<std::array<int, 3>, D> options{};
-      std::array<int, D> count{};
-      for (int a = 0; a < D; ++a) {
-        options[a][count[a]++] = 0;
-        for (const parts::Face f : cfg_.walls) {
-          if (static_cast<int>(f) / 2 != a) continue;
-          const bool low = static_cast<int>(f) % 2 == 0;
-          const Vec<D>& xj = x[static_cast<std::size_t>(j)];
-          const Real d = low ? xj[a] - domain_lo_[a] : domain_hi_[a] - xj[a];
-          if (d < radius) options[a][count[a]++] = low ? 1 : 2;
-        }
-      }
-      std::array<int, D> k{};
-      while (true) {
-        bool any = false;
-        Vec<D> sign = Vec<D>::Ones(), offset = Vec<D>::Zero();
-        for (int a = 0; a < D; ++a) {
-          const int o = options[a][k[a]];
-          if (o == 0) continue;
-          any = true;
-          sign[a] = -1;
-          offset[a] = 2 * (o == 1 ? domain_lo_[a] : domain_hi_[a]);
-        }
-        if (any) {
-          ghost_parent_.push_back(j);
-          ghost_sign_.push_back(sign);
-          ghost_offset_.push_back(offset);
-        }
-        int a = 0;
-        while (a < D && ++k[a] == count[a])
-          k[a++] = 0;
-        if (a == D) break;
-      }
-    }
-    ghost_x_.resize(ghost_parent_.size());
-    ghost_v_.resize(ghost_parent_.size());
-    ghost_p_.resize(ghost_parent_.size());
-  }
-
-  void ghost_positions(std::span<const Vec<D>> x) {
-    parallel::for_each(static_cast<Index>(ghost_parent_.size()), [&](Index g) {
-      ghost_x_[g] = ghost_offset_[g] +
-                    ghost_sign_[g].cwiseProduct(x[static_cast<std::size_t>(ghost_parent_[g])]);
-    });
-  }
-
+  // The mirror images' positions, velocities and pressures (sph_walls.hpp, Ghosts).
   void ghost_state() {
-    if (ghost_parent_.empty()) return;
-    ghost_positions(std::span<const Vec<D>>(x_));
+    if (ghosts_.empty()) return;
+    ghosts_.place(std::span<const Vec<D>>(x_));
     const Vec<D> g = gravity_;
-    parallel::for_each(static_cast<Index>(ghost_parent_.size()), [&](Index k) {
-      const Index j = ghost_parent_[k];
-      ghost_v_[k] = ghost_sign_[k].cwiseProduct(v_[j]);
-      ghost_p_[k] = p_[j] + rho_[j] * g.dot(ghost_x_[k] - x_[j]);
+    parallel::for_each(ghosts_.size(), [&](Index k) {
+      const Index j = ghosts_.parent[at(k)];
+      ghosts_.v[at(k)] = ghosts_.sign[at(k)].cwiseProduct(v_[j]);
+      ghosts_.p[at(k)] = p_[j] + rho_[j] * g.dot(ghosts_.x[at(k)] - x_[j]);
     });
   }
 
@@ -734,96 +538,96 @@ class SphPart final : public parts::Part<D> {
     });
   }
 
+  // The rates of every particle: the pair terms (pair_terms.hpp, gather_pair) over its fluid
+  // neighbours, then its wall particles, then the mirror images, each list in ascending order.
   template <class Kernel>
   void rates() {
     const Index n = f_.size();
-    const Real alpha = cfg_.av_alpha, beta = cfg_.av_beta;
-    const Real mu_visc = cfg_.viscosity_pa_s;
-    const Real eps_xsph = cfg_.xsph_epsilon;
-    const Real eps_tensile = cfg_.tensile_epsilon;
+    const RateParams c{.alpha = cfg_.av_alpha,
+                       .beta = cfg_.av_beta,
+                       .viscosity_pa_s = cfg_.viscosity_pa_s,
+                       .eps_xsph = cfg_.xsph_epsilon,
+                       .eps_tensile = cfg_.tensile_epsilon,
+                       .spacing_m = spacing_};
     const Vec<D> g = gravity_;
     const bool walls = !wall_x_.empty();
-    const bool ghosts = !ghost_parent_.empty();
+    const bool ghosts = !ghosts_.empty();
     parallel::for_each(n, [&](Index i) {
-      const Vec<D> xi = x_[i], vi = v_[i];
-      const Real hi = h_[i], rhoi = rho_[i], ci = c_[i];
-      const Real pi = p_[i];
-      const Real inv_rhoi = 1 / rhoi;
-      // Monaghan (2000) artificial pressure, only where the pressure is negative.
-      const Real ri = pi < 0 ? eps_tensile * -pi / (rhoi * rhoi) : 0.0;
-      Vec<D> acc = Vec<D>::Zero(), xsph = Vec<D>::Zero();
-      Real drho = 0, de = 0, mu_max = 0;
-
-      // One interaction with a neighbour of mass mj and volume vol_j = mj / rhoj. `wall` marks
-      // a fixed wall particle: it cannot take its share of the pressure work, so particle i
-      // books all of it, and kinetic plus internal energy stays conserved.
-      auto pair = [&](const Vec<D>& rij, Real hj, Real mj, Real rhoj, Real pj, Real cj,
-                      const Vec<D>& vj, const Vec<D>& vj_visc, bool wall)
-          __attribute__((always_inline)) {
-        const Real r2 = rij.squaredNorm();
-        const Real hbar = 0.5 * (hi + hj);
-        if (r2 >= Kernel::support * Kernel::support * hbar * hbar) return;
-        const Real r = std::sqrt(r2);
-        const Vec<D> gw = Kernel::grad_factor(r, hbar) * rij;
-        const Vec<D> vij = vi - vj;
-        const Vec<D> vij_visc = vi - vj_visc;
-        const Real eta2 = 0.01 * hbar * hbar;
-        const Real vdotr = vij_visc.dot(rij);
-        const Real mu = hbar * vdotr / (r2 + eta2);
-        mu_max = std::max(mu_max, std::abs(mu));
-        Real visc = 0;
-        if (vdotr < 0) {
-          const Real cbar = 0.5 * (ci + cj);
-          const Real rhobar = 0.5 * (rhoi + rhoj);
-          visc = (-alpha * cbar * mu + beta * mu * mu) / rhobar;
-        }
-        Real tensile = 0;
-        if (eps_tensile > 0) {
-          const Real rj = pj < 0 ? eps_tensile * -pj / (rhoj * rhoj) : 0.0;
-          if (ri + rj > 0) {
-            const Real f = Kernel::w(r, hbar) / Kernel::w(spacing_, hbar);
-            const Real f2 = f * f;
-            tensile = (ri + rj) * f2 * f2;
-          }
-        }
-        const Real vol_j = mj / rhoj;
-        const Real vdotgw = vij.dot(gw);
-        acc -= (vol_j * (pi + pj) * inv_rhoi + mj * (visc + tensile)) * gw;
-        // At a wall the density sees the wall's own velocity (zero), as in Adami et al.;
-        // mirroring the fluid velocity there instead held shocked gas better in a shock tube
-        // but pushed a dam-break surge into the floor (tests/verification/sph_*).
-        drho += vol_j * vdotgw;
-        de += (vol_j * (wall ? pi + pj : pi) * inv_rhoi + (wall ? 1.0 : 0.5) * mj * visc) * vdotgw;
-        if (mu_visc > 0) {
-          // Paper eq. 36 (Lo & Shao 2002) with equal viscosities: k <= 0 since r . grad W <= 0.
-          const Real k = 2 * mu_visc * rij.dot(gw) / (rhoi * rhoj * (r2 + eta2));
-          acc += mj * k * vij_visc;
-          // Heating equals the work the viscous force takes out (v_ij . v_ij_visc: |v_ij|^2
-          // for particle pairs, v_i . (v_i - v_mirror) at a no-slip wall).
-          de -= (wall ? 1.0 : 0.5) * mj * k * vij.dot(vij_visc);
-        }
-        if (eps_xsph > 0) xsph -= (mj / (0.5 * (rhoi + rhoj))) * Kernel::w(r, hbar) * vij;
-      };
-
-      for (const Index j : list_.of(i))
-        pair(xi - x_[j], h_[j], m_[j], rho_[j], p_[j], c_[j], v_[j], v_[j], false);
+      const Centre<D> me = centre(c, i);
+      PairSums<D> s;
+      for (const Index j : list_.of(i)) {
+        const Vec<D> rij = me.x - x_[j];
+        const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[j]);
+        if (k.within) gather_pair<Kernel>(c, me, fluid_neighbour(rij, j), k, s);
+      }
       if (walls)
-        for (const Index w : fluid_to_wall_.of(i))
-          pair(xi - wall_x_[w], h0_, wall_rho_[w] * cell_volume_, wall_rho_[w], wall_p_[w],
-               wall_c_[w], Vec<D>::Zero(), wall_v_[w], true);
-      if (ghosts)
-        for (const Index k : fluid_to_ghost_.of(i)) {
-          const Index j = ghost_parent_[k];
-          pair(xi - ghost_x_[k], h_[j], m_[j], rho_[j], ghost_p_[k], c_[j], ghost_v_[k],
-               ghost_v_[k], false);
+        for (const Index w : fluid_to_wall_.of(i)) {
+          const Vec<D> rij = me.x - wall_x_[at(w)];
+          const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h0_);
+          if (k.within) gather_pair<Kernel>(c, me, wall_neighbour(rij, w), k, s);
         }
-
-      a_[i] = acc + g;
-      drho_[i] = rhoi * drho;
-      de_[i] = de;
-      dx_xsph_[i] = eps_xsph * xsph;
-      dt_cv_[i] = hi / (ci + mu_max);
+      if (ghosts)
+        for (const Index img : fluid_to_ghost_.of(i)) {
+          const Vec<D> rij = me.x - ghosts_.x[at(img)];
+          const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[ghosts_.parent[at(img)]]);
+          if (k.within) gather_pair<Kernel>(c, me, ghost_neighbour(rij, img), k, s);
+        }
+      a_[i] = s.acc + g;
+      drho_[i] = me.rho * s.drho;
+      de_[i] = s.de;
+      dx_xsph_[i] = c.eps_xsph * s.xsph;
+      dt_cv_[i] = me.h / (me.c + s.mu_max);
     });
+  }
+
+  // Particle i and its three kinds of neighbours as the pair terms see them. A wall particle
+  // has the density of its fluid average on a cell of the wall lattice, and moves with the
+  // wall (zero velocity) but shows the viscous terms the mirrored fluid velocity; a mirror
+  // image is its parent with its own position, velocity and pressure.
+  [[gnu::always_inline]] Centre<D> centre(const RateParams& c, Index i) const {
+    Centre<D> me;
+    me.x = x_[i];
+    me.v = v_[i];
+    me.h = h_[i];
+    me.rho = rho_[i];
+    me.c = c_[i];
+    me.p = p_[i];
+    me.inv_rho = 1 / me.rho;
+    me.r_tensile = artificial_pressure(c.eps_tensile, me.p, me.rho);
+    return me;
+  }
+  [[gnu::always_inline]] Neighbour<D> fluid_neighbour(const Vec<D>& rij, Index j) const {
+    return {.rij = rij,
+            .m = m_[j],
+            .rho = rho_[j],
+            .p = p_[j],
+            .c = c_[j],
+            .v = v_[j],
+            .v_visc = v_[j],
+            .wall = false};
+  }
+  [[gnu::always_inline]] Neighbour<D> wall_neighbour(const Vec<D>& rij, Index w) const {
+    const auto k = at(w);
+    return {.rij = rij,
+            .m = wall_rho_[k] * cell_volume_,
+            .rho = wall_rho_[k],
+            .p = wall_p_[k],
+            .c = wall_c_[k],
+            .v = Vec<D>::Zero(),
+            .v_visc = wall_v_[k],
+            .wall = true};
+  }
+  [[gnu::always_inline]] Neighbour<D> ghost_neighbour(const Vec<D>& rij, Index g) const {
+    const auto k = at(g);
+    const Index j = ghosts_.parent[k];
+    return {.rij = rij,
+            .m = m_[j],
+            .rho = rho_[j],
+            .p = ghosts_.p[k],
+            .c = c_[j],
+            .v = ghosts_.v[k],
+            .v_visc = ghosts_.v[k],
+            .wall = false};
   }
 
   std::string name_;
@@ -865,20 +669,14 @@ class SphPart final : public parts::Part<D> {
   std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
   std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
   mutable std::vector<Real> contact_radius_;
-  Real contact_work_ = 0;  // work of the contact forces on the part [J]
-  Real last_dt_ = 0;
-  bool contact_pending_ = false;  // moved since the contact forces were set
+  parts::ContactWork contact_;  // work of the contact forces on the part
 
   // Fixed wall particles (not part of the FieldSet: they are not entities of the part).
   std::vector<Vec<D>> wall_x_, wall_mirror_;
   std::vector<Real> wall_p_, wall_rho_, wall_c_;
   std::vector<Vec<D>> wall_v_;
 
-  // Mirror images behind free-slip walls (select_ghosts): parent index, reflection (-1 on the
-  // mirrored axes) and offset (twice the face coordinate there), and the image's state.
-  std::vector<Index> ghost_parent_;
-  std::vector<Vec<D>> ghost_sign_, ghost_offset_, ghost_x_, ghost_v_;
-  std::vector<Real> ghost_p_;
+  Ghosts<D> ghosts_;  // mirror images behind free-slip walls
 
   neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_, fluid_to_ghost_;
   Real h_max_ = 0;
@@ -890,10 +688,8 @@ class SphPart final : public parts::Part<D> {
 
   // Particles removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
   // their kinetic + internal energy when removed [J] (eroded_j).
-  Index left_count_ = 0;
-  Real left_mass_kg_ = 0, left_energy_j_ = 0;
-  std::vector<std::uint8_t> keep_;  // scratch: remove_outflow's mask
-  Real time_s_ = 0;                 // of the last force stage, for the log
+  parts::OutflowRemoval outflow_;
+  Real time_s_ = 0;  // of the last force stage, for the log
 };
 
 }  // namespace
