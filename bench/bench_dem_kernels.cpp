@@ -81,7 +81,7 @@ int sweep(const HertzMindlinParams& law, Pairs& p, Real& sink) {
   return sliding;
 }
 
-// The same contacts in chunks of 8 as the pair loop runs them (src/dem/dem_part.cpp,
+// The same contacts in chunks of 8 as the pair loop runs them (src/dem/dem_pair_loop.cpp,
 // pair_pass): the geometry and the law's roots (HertzMindlin::prepare) for the whole chunk
 // and the history's rotation first, then the rest of each law (HertzMindlin::finish).
 int sweep_batched(const HertzMindlinParams& law, Pairs& p, Real& sink) {

@@ -39,13 +39,16 @@
 //   [LIGGGHTS] LIGGGHTS-PUBLIC 3.8, src/normal_model_hertz.h, src/tangential_model_history.h.
 #pragma once
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "core/types.hpp"
 #include "dem/laws/contact_force.hpp"
 #include "dem/laws/contact_geometry.hpp"
+#include "dem/laws/law_binding.hpp"
 #include "dem/laws/tangential_history.hpp"
 #include "dem/laws/viscous_damping.hpp"
 
@@ -132,7 +135,8 @@ template <int D>
                                  dt);
 }
 
-/// The law as a type, for a pair loop templated on it (contact_force.hpp).
+/// The law as a type, for a pair loop templated on it (contact_force.hpp), and what a DEM part
+/// asks of it (law_binding.hpp; defined at the end of this file).
 struct HertzMindlin {
   using Params = HertzMindlinParams;
   template <int D>
@@ -145,6 +149,13 @@ struct HertzMindlin {
                                                        const RelativeVelocity<D>& v,
                                                        const ContactPrep<D>& part, Real dt) {
     return hertz_mindlin_finish<D>(p, g, v, part, dt);
+  }
+
+  static LawPair<HertzMindlin> part_laws(const Settings& dem, const GranularMaterial& grain);
+  static bool row_of_spheres(const Settings& dem) { return dem.hertz_row_of_spheres; }
+  static LawStep part_step(const LawStepQuery& query);
+  static std::optional<Real> p_wave_speed(const Settings& /*dem*/, const MeanGrain& /*mean*/) {
+    return std::nullopt;  // none: the scenario gives absorbing walls' P-wave speed
   }
 };
 
@@ -182,6 +193,32 @@ inline Real hertz_contact_time(Real youngs_modulus_eff, Real radius_eff, Real ma
                                Real impact_speed) {
   return kHertzContactTimeFactor *
          hertz_max_overlap(youngs_modulus_eff, radius_eff, mass_eff, impact_speed) / impact_speed;
+}
+
+// ---------------------------------------------------------------------------------------------
+// What a DEM part asks of the law (law_binding.hpp).
+
+/// Grain-grain parameters of the grains' material; rigid walls of the grain's own elastic
+/// constants (as LIGGGHTS' walls of the same material): E* halves the grain-grain one, for a
+/// wall radius of infinity.
+inline LawPair<HertzMindlin> HertzMindlin::part_laws(const Settings& dem,
+                                                     const GranularMaterial& grain) {
+  const ElasticMaterial m{youngs_modulus_from_shear(grain.shear_modulus_pa, grain.poisson_ratio),
+                          grain.poisson_ratio};
+  return {hertz_mindlin_params(m, m, grain.restitution, grain.friction),
+          hertz_mindlin_params(m, m, dem.wall_restitution, dem.wall_friction)};
+}
+
+/// Rayleigh step of the smallest grain ([LXT05]): the time a Rayleigh wave takes across it; DEM
+/// codes run at 10-30 % of it (rayleigh_fraction).
+inline LawStep HertzMindlin::part_step(const LawStepQuery& query) {
+  LawStep s;
+  s.dt_s = query.dem.rayleigh_fraction * rayleigh_time_step(query.radius_min_m, query.density_kg_m3,
+                                                            query.grain.shear_modulus_pa,
+                                                            query.grain.poisson_ratio);
+  s.reason = fmt::format("{} x Rayleigh step of the smallest grain (r = {:.4g} m)",
+                         query.dem.rayleigh_fraction, query.radius_min_m);
+  return s;
 }
 
 }  // namespace crater::dem

@@ -27,10 +27,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "core/types.hpp"
 #include "dem/laws/contact_force.hpp"
 #include "dem/laws/contact_geometry.hpp"
+#include "dem/laws/law_binding.hpp"
 #include "dem/laws/tangential_history.hpp"
 #include "dem/laws/viscous_damping.hpp"
 
@@ -102,7 +104,8 @@ inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactG
                                  dt);
 }
 
-/// The law as a type, for a pair loop templated on it (contact_force.hpp).
+/// The law as a type, for a pair loop templated on it (contact_force.hpp), and what a DEM part
+/// asks of it (law_binding.hpp).
 struct LinearSpring {
   using Params = LinearSpringParams;
   template <int D>
@@ -116,7 +119,30 @@ struct LinearSpring {
                                                        const ContactPrep<D>& part, Real dt) {
     return linear_spring_finish<D>(p, g, v, part, dt);
   }
+
+  /// The part's springs k_n, k_s [N/m] with the grains' restitution and friction; walls take
+  /// the same springs with their own friction and restitution.
+  static LawPair<LinearSpring> part_laws(const Settings& dem, const GranularMaterial& grain);
+  static bool row_of_spheres(const Settings& /*dem*/) { return false; }
+  /// No step of its own: the stiffer spring, max(k_n, k_s), for the part's f sqrt(m / k).
+  static LawStep part_step(const LawStepQuery& query) {
+    LawStep s;
+    s.stiffness_n_m = std::max(query.dem.normal_stiffness_n_m, query.dem.shear_stiffness_n_m);
+    return s;
+  }
+  /// A chain (square/cubic lattice) of the mean grain: c_p = 2 r \sqrt{k_n / m} [m/s].
+  static std::optional<Real> p_wave_speed(const Settings& dem, const MeanGrain& mean) {
+    return 2 * mean.radius_m * std::sqrt(dem.normal_stiffness_n_m / mean.mass_kg);
+  }
 };
+
+inline LawPair<LinearSpring> LinearSpring::part_laws(const Settings& dem,
+                                                     const GranularMaterial& grain) {
+  return {linear_spring_params(dem.normal_stiffness_n_m, dem.shear_stiffness_n_m, grain.restitution,
+                               grain.friction),
+          linear_spring_params(dem.normal_stiffness_n_m, dem.shear_stiffness_n_m,
+                               dem.wall_restitution, dem.wall_friction)};
+}
 
 /// Duration of a head-on linear spring-dashpot contact (ending at δ = 0):
 ///   t_c = \pi / \sqrt{(k_n / m*)(1 - \zeta^2)}   [s].

@@ -1,0 +1,451 @@
+// The DEM part's force stage (dem_part_impl.hpp): pair_pass over the owned pairs, grain_pass
+// over the grains (received shares, rigid and absorbing walls, bonds kept, local damping). The
+// hot loops and everything they inline (the contact law, prepare_contact, finish_contact) stay
+// in this one translation unit.
+#include <Eigen/Geometry>  // cross products of 3D contact laws
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <variant>
+
+#include "dem/dem_part_impl.hpp"
+#include "dem/laws/local_damping.hpp"
+
+namespace crater::dem::detail {
+
+template <int D>
+void DemPart<D>::compute_forces(Real t) {
+  time_s_ = t;
+  update_neighbors();
+  const Index n = f_.size();
+  const Real dt = last_dt_;
+  overflow_ = n;
+  bond_lost_ = n;
+  unhealthy_ = n;
+  std::visit(
+      [&]<class Law>(const LawPair<Law>& laws) {
+        parallel::for_each_block(
+            n, kPairBlock, [&](Index first, Index last) { pair_pass<Law>(first, last, dt, laws); });
+        parallel::for_each(n, [&](Index i) { grain_pass<Law>(i, dt, laws); });
+      },
+      laws_);
+  // Bonds of this step become last step's (contact histories are updated in place).
+  bond_partner_.swap(bond_partner_new_);
+  bond_.swap(bond_new_);
+  // Energy taken out over the last step by contacts and local damping (rates times dt), and
+  // the energy the bonds that broke held.
+  struct Sums {
+    Real dissipated = 0, local = 0, released = 0, breaks = 0, wall_work = 0;
+    Sums& operator+=(const Sums& o) {
+      dissipated += o.dissipated;
+      local += o.local;
+      released += o.released;
+      breaks += o.breaks;
+      wall_work += o.wall_work;
+      return *this;
+    }
+  };
+  const bool bonded = !bond_partner_.empty();
+  const bool damped = cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty();
+  const Sums s = parallel::deterministic_sum<Sums>(n, [&](Index i) {
+    // The models that are off leave their fields at zero (grain_pass): not read.
+    if (!bonded && !damped) return Sums{dissipated_[i]};
+    return Sums{dissipated_[i], local_power_[i], bond_released_[i], bond_breaks_[i],
+                static_power_[i]};
+  });
+  contact_dissipated_ += dt * s.dissipated + s.released;
+  local_dissipated_ += dt * s.local;
+  external_work_ += dt * s.wall_work;
+  bonds_broken_ += s.breaks;
+}
+
+// Slot of the bond between `owner` and `partner` (last step's buffer), or -1.
+template <int D>
+inline int DemPart<D>::find_bond(Index owner, std::int64_t partner) const {
+  if (bond_partner_.empty()) return -1;
+  const std::size_t base = static_cast<std::size_t>(owner) * kMaxContacts;
+  for (int k = 0; k < kMaxContacts; ++k) {
+    const std::int64_t p = bond_partner_[base + static_cast<std::size_t>(k)];
+    if (p == partner) return k;
+    if (p == kNoContact) break;
+  }
+  return -1;
+}
+
+// The law's parameters with the friction of paper section III-C at this contact's strain
+// rate |v_n| / (r_1 + r_2) (rate_dependent_friction.hpp; a wall: r_2 = 0).
+template <int D>
+template <class Params>
+inline Params DemPart<D>::at_rate(const Params& p, const RateDependentFriction& rate,
+                                  Real normal_velocity, Real r1, Real r2) const {
+  if (!cfg_.rate_dependent_friction) return p;
+  Params q = p;
+  q.friction = dynamic_friction_coefficient(rate, contact_strain_rate(normal_velocity, r1, r2));
+  return q;
+}
+
+// Counts a live contact of grain i (kMaxContacts at most: the packed history's capacity).
+template <int D>
+inline void DemPart<D>::count_contact(Index i, PairTally& tally) {
+  if (tally.slots == kMaxContacts) {
+#pragma omp critical(crater_dem_overflow)
+    overflow_ = std::min(overflow_, i);
+    return;
+  }
+  ++tally.slots;
+}
+
+template <int D>
+template <class Law>
+inline void DemPart<D>::pair_pass(Index first, Index last, Real dt, const LawPair<Law>& laws) {
+  for (Index i = first; i < last; ++i)
+    tally_[static_cast<std::size_t>(i)] = PairTally{};
+  const bool bonds = !bond_partner_.empty();
+  const Index end = pair_begin_[static_cast<std::size_t>(last)];
+  std::array<Index, kScanChunk> near, owner_of;
+  // Per thread, built once (a local array would zero its entries for every block).
+  static thread_local std::array<Candidate<Law>, kScanChunk> cand;
+  Index owner = first;
+  for (Index chunk = pair_begin_[static_cast<std::size_t>(first)]; chunk < end;
+       chunk += kScanChunk) {
+    const Index stop = std::min(end, chunk + kScanChunk);
+    int count = 0;
+    for (Index pi = chunk; pi < stop; ++pi) {
+      while (pi >= pair_begin_[static_cast<std::size_t>(owner) + 1])
+        ++owner;
+      const auto k = static_cast<std::size_t>(pi);
+      const Index j = pair_j_[k];
+      const Real reach = r_[owner] + r_[j];
+      // Bonded parts look each pair's bond up first (pair_law).
+      const bool close = bonds || (x_[owner] - x_[j]).squaredNorm() <= reach * reach * kTouchMargin;
+      near[static_cast<std::size_t>(count)] = pi;
+      owner_of[static_cast<std::size_t>(count)] = owner;
+      count += close;
+      // Rarely true (a contact that just ended): a well-predicted branch, unlike `close`.
+      if (!close & (cache_.flags[k] != 0)) clear_pair(k, cache_.flags[k]);
+    }
+    for (int c = 0; c < count; ++c) {
+      const auto at = static_cast<std::size_t>(c);
+      const Index i = owner_of[at];
+      const Index j = pair_j_[static_cast<std::size_t>(near[at])];
+      cand[at].g = sphere_sphere_geometry<D>(x_[i], r_[i], x_[j], r_[j]);
+      cand[at].prep = prepare_contact<D, Law>(laws.grain, cand[at].g, effective_mass(m_[i], m_[j]),
+                                              row_pitch(r_[i], r_[j]),
+                                              pair_xi_[static_cast<std::size_t>(near[at])]);
+    }
+    for (int c = 0; c < count; ++c) {
+      const auto at = static_cast<std::size_t>(c);
+      const Index i = owner_of[at];
+      pair_law<Law>(i, static_cast<std::size_t>(near[at]), cand[at], dt, laws,
+                    tally_[static_cast<std::size_t>(i)]);
+    }
+  }
+}
+
+// The bond and contact laws of owned pair k = (i, j) (pair_pass).
+template <int D>
+template <class Law>
+inline void DemPart<D>::pair_law(Index i, std::size_t k, const Candidate<Law>& cand, Real dt,
+                                 const LawPair<Law>& laws, PairTally& tally) {
+  const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+  const bool rolling = rolling_.friction > 0;
+  const bool bonds = !bond_partner_.empty();
+  const bool pair_energy = !cache_.elastic.empty();
+  const Vec<D> x_i = x_[i];
+  const Real r_i = r_[i];
+  const Index j = pair_j_[k];
+  std::uint8_t& last_flags = cache_.flags[k];
+  const int bond = bonds ? find_bond(i, id_[j]) : -1;
+  if (bonds && bond < 0) {
+    const Real reach = r_i + r_[j];
+    if ((x_i - x_[j]).squaredNorm() > reach * reach * kTouchMargin) {
+      if (last_flags) clear_pair(k, last_flags);
+      return;
+    }
+  }
+  std::uint8_t flags = 0;
+  Real elastic = 0;
+  const ContactGeometry<D>& g = cand.g;
+  if (!g.touching() && bond < 0) {
+    if (last_flags) clear_pair(k, last_flags);
+    return;
+  }
+  const RelativeVelocity<D> rel =
+      relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{v_[j], w_[j]});
+  if (bond >= 0) {
+    // Parallel bond (paper eqs. 17-24), in parallel with the contact below.
+    const std::size_t at = base + static_cast<std::size_t>(bond);
+    const ParallelBondResult<D> br = parallel_bond<D>(bond_law_, g, rel, bond_[at], dt);
+    ++tally.bonds_seen;
+    if (br.broken) {
+      // The energy the bond held is lost with it: the mean of last step's state and the
+      // broken one, since the first half-kick of this step still used last step's bond
+      // force (velocity Verlet), so the kinetic energy paid half the last increment.
+      ++tally.breaks;
+      tally.released +=
+          Real(0.5) * (parallel_bond_energy<D>(bond_law_, bond_[at]) + br.elastic_energy);
+    } else {
+      ++tally.bonds;
+      flags |= kBondOn;
+      cache_.bond_f1[k] = br.force_on_1;
+      cache_.bond_t1[k] = br.torque_on_1;
+      cache_.bond_t2[k] = br.torque_on_2;
+      tally.force += br.force_on_1;
+      tally.torque += br.torque_on_1;
+      tally.elastic += br.elastic_energy;
+      elastic += br.elastic_energy;
+      bond_partner_new_[base + static_cast<std::size_t>(tally.bond_slots)] = id_[j];
+      bond_new_[base + static_cast<std::size_t>(tally.bond_slots)] = br.state;
+      ++tally.bond_slots;
+    }
+  }
+  if (g.touching()) {
+    const ContactForce<D> cf = finish_contact<D, Law>(
+        at_rate(laws.grain, grain_rate_, rel.normal, r_i, r_[j]), g, rel, cand.prep, dt);
+    RollingTorque<D> rt;
+    if (rolling)
+      rt = rolling_resistance<D>(
+          rolling_, g, rel,
+          RollingLoad{.normal_force = cf.normal_force,
+                      .normal_stiffness = cf.normal_stiffness,
+                      .inertia_eff = rolling_inertia_eff(RollingBody{inertia_[i], m_[i], r_i},
+                                                         RollingBody{inertia_[j], m_[j], r_[j]})},
+          pair_roll_[k], dt);
+    flags |= kContactOn;
+    if (scatter_) {
+      Received& into = received_[static_cast<std::size_t>(j)];
+      into.force -= cf.force_on_1;
+      into.torque += cf.torque_on_2 - rt.torque_on_1;
+    } else {
+      ContactResult& c = cache_.contact[k];
+      c.f1 = cf.force_on_1;
+      c.t2 = cf.torque_on_2 - rt.torque_on_1;
+    }
+    const AngularVec<D> t1 = cf.torque_on_1 + rt.torque_on_1;
+    tally.force += cf.force_on_1;
+    tally.torque += t1;
+    if (outflow_remove_) cache_.t1[k] = t1;
+    pair_xi_[k] = cf.shear_history;
+    if (rolling) pair_roll_[k] = rt.history;
+    count_contact(i, tally);
+    const Real stored = cf.elastic_energy + rt.elastic_energy;
+    tally.elastic += stored;
+    elastic += stored;
+    tally.dissipated += cf.dissipated_power + rt.dissipated_power;
+  } else if (last_flags & kContactOn) {
+    cache_.contact[k] = ContactResult{};
+    pair_xi_[k] = Vec<D>::Zero();
+    if (rolling) pair_roll_[k] = angular_zero<D>();
+  }
+  last_flags = flags;
+  if (pair_energy) cache_.elastic[k] = elastic;
+}
+
+// A pair that was evaluated last step and is apart now: no force, no history.
+template <int D>
+inline void DemPart<D>::clear_pair(std::size_t k, std::uint8_t& flags) {
+  if (flags & kContactOn) {
+    cache_.contact[k] = ContactResult{};
+    pair_xi_[k] = Vec<D>::Zero();
+    if (!pair_roll_.empty()) pair_roll_[k] = angular_zero<D>();
+  }
+  flags = 0;
+}
+
+template <int D>
+template <class Law>
+inline void DemPart<D>::grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
+  PairTally tally = tally_[static_cast<std::size_t>(i)];
+  GrainSum sum = gather_shares(i, tally);
+  rigid_wall_contacts<Law>(i, dt, laws, tally, sum);
+  // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
+  const auto [absorbed, static_power] = absorbing_wall_loads(i, sum);
+  if (!bond_partner_new_.empty()) close_bond_slots(i, tally);
+
+  Vec<D> force = sum.force;
+  AngularVec<D> torque = sum.torque;
+  Real local_power = 0;
+  if (cfg_.local_damping > 0) {
+    // Cundall (1987), paper eq. 25: each component of the unbalanced force opposes the
+    // motion with alpha times its magnitude.
+    const auto fd = local_damping_force<D>(cfg_.local_damping, force, v_[i]);
+    const auto td = local_damping_torque<D>(cfg_.local_damping, torque, w_[i]);
+    force += fd.load;
+    torque += td.load;
+    local_power = fd.dissipated_power + td.dissipated_power;
+  }
+  local_power += absorbed;
+  force_[i] = force;
+  torque_[i] = torque;
+  note_health(i);
+  contacts_[i] = tally.slots;
+  elastic_[i] = sum.elastic;
+  dissipated_[i] = sum.dissipated;
+  // Fields of models that are off stay zero, unwritten (compute_forces does not read them).
+  if (cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty()) {
+    local_power_[i] = local_power;
+    static_power_[i] = static_power;
+  }
+  if (!bond_partner_.empty()) {
+    bonds_[i] = sum.bonds;
+    bond_breaks_[i] = tally.breaks;
+    bond_released_[i] = tally.released;
+  }
+}
+
+// grain_pass, first: gravity, the shares of the pairs (j, i) that grain i receives, then its
+// own pairs' sum (pair_pass's tally).
+template <int D>
+inline auto DemPart<D>::gather_shares(Index i, const PairTally& tally) -> GrainSum {
+  GrainSum sum;
+  Vec<D> force = m_[i] * gravity_;
+  AngularVec<D> torque = angular_zero<D>();
+  int bonds = tally.bonds;
+  const auto first = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i)]);
+  const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
+  if (scatter_) {
+    Received& from = received_[static_cast<std::size_t>(i)];
+    force = from.force;
+    torque = from.torque;
+    from = Received{m_[i] * gravity_, angular_zero<D>()};
+  } else if (cache_.bond_f1.empty()) {
+    // No bonds: every pair adds its share, zero when not in contact, with no branch. A sum
+    // that starts at +0 or a non-zero value never becomes -0, so adding +-0 leaves it as
+    // skipping would.
+    for (std::size_t e = first; e < last; ++e) {
+      const ContactResult& c = cache_.contact[static_cast<std::size_t>(recv_pair_[e])];
+      force -= c.f1;
+      torque += c.t2;
+    }
+  } else {
+    for (std::size_t e = first; e < last; ++e) {
+      const auto k = static_cast<std::size_t>(recv_pair_[e]);
+      const std::uint8_t flags = cache_.flags[k];
+      if (flags & kBondOn) {
+        ++bonds;
+        force -= cache_.bond_f1[k];
+        torque += cache_.bond_t2[k];
+      }
+      if (flags & kContactOn) {
+        force -= cache_.contact[k].f1;
+        torque += cache_.contact[k].t2;
+      }
+    }
+  }
+  force += tally.force;
+  torque += tally.torque;
+  sum.force = force;
+  sum.torque = torque;
+  sum.elastic = tally.elastic;
+  sum.dissipated = tally.dissipated;
+  sum.bonds = bonds;
+  return sum;
+}
+
+// grain_pass: grain i's contacts with the rigid walls (cfg_.walls), their histories kept per
+// grain and wall.
+template <int D>
+template <class Law>
+inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
+                                            PairTally& tally, GrainSum& sum) {
+  const bool rolling = rolling_.friction > 0;
+  const std::size_t walls = wall_planes_.size();
+  // Grains in the interior (further than r_max from every wall) skip the walls.
+  bool near_wall = false;
+  const Real reach = r_max_ * kTouchMargin;
+  for (int d = 0; d < D; ++d)
+    near_wall |= !(x_[i][d] - clear_lo_[d] > reach && clear_hi_[d] - x_[i][d] > reach);
+  std::uint32_t& live = wall_live_[static_cast<std::size_t>(i)];
+  if (!near_wall && live)  // a wall contact left behind in one step (never in practice) ends
+    for (std::size_t w = 0; w < walls; ++w)
+      clear_wall(live, w, static_cast<std::size_t>(i) * walls + w);
+  for (std::size_t w = 0; near_wall && w < walls; ++w) {
+    const int axis = wall_planes_[w].axis;
+    const Real plane = wall_planes_[w].plane;
+    const std::size_t at = static_cast<std::size_t>(i) * walls + w;
+    // The distance to the plane is |x_axis - plane|: grains clearly apart skip the geometry.
+    if (std::abs(x_[i][axis] - plane) > r_[i] * kTouchMargin) {
+      clear_wall(live, w, at);
+      continue;
+    }
+    Vec<D> foot = x_[i];
+    foot[axis] = plane;
+    const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+    if (!g.touching()) {
+      clear_wall(live, w, at);
+      continue;
+    }
+    const RelativeVelocity<D> rel =
+        relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
+    const ContactForce<D> cf =
+        evaluate_contact<D, Law>(at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g, rel,
+                                 m_[i], row_pitch(r_[i], r_[i]), wall_xi_[at], dt);
+    RollingTorque<D> rt;
+    if (rolling)
+      rt = rolling_resistance<D>(rolling_, g, rel,
+                                 RollingLoad{.normal_force = cf.normal_force,
+                                             .normal_stiffness = cf.normal_stiffness,
+                                             .inertia_eff = rolling_inertia_eff_wall(
+                                                 RollingBody{inertia_[i], m_[i], r_[i]})},
+                                 wall_roll_[at], dt);
+    sum.force += cf.force_on_1;
+    sum.torque += cf.torque_on_1 + rt.torque_on_1;
+    wall_xi_[at] = cf.shear_history;
+    if (rolling) wall_roll_[at] = rt.history;
+    live |= 1u << w;
+    count_contact(i, tally);
+    sum.elastic += cf.elastic_energy + rt.elastic_energy;
+    sum.dissipated += cf.dissipated_power + rt.dissipated_power;
+  }
+}
+
+// grain_pass: the absorbing walls' forces on grain i (absorbing_wall.hpp); returns the power
+// their dashpots absorb and that of the held static reactions [W].
+template <int D>
+inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, GrainSum& sum) {
+  Real absorbed = 0, static_power = 0;
+  for (const parts::Face face : cfg_.absorbing_walls) {
+    const WallPlane w = wall_plane(face);
+    Vec<D> foot = x_[i];
+    foot[w.axis] = w.plane;
+    const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+    if (!g.touching()) continue;
+    const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
+        absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][w.axis]);
+    sum.force += aw.force;
+    absorbed += aw.dissipated_power;
+    static_power += aw.static_power;
+  }
+  return {absorbed, static_power};
+}
+
+// grain_pass, with bonds: empties grain i's bond slots past this step's, and checks that every
+// bond it owned was met in the list (kBondReach).
+template <int D>
+inline void DemPart<D>::close_bond_slots(Index i, const PairTally& tally) {
+  const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+  for (int k = tally.bond_slots; k < kMaxContacts; ++k)
+    bond_partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
+  int owned = 0;
+  for (int k = 0; k < kMaxContacts; ++k)
+    owned += bond_partner_[base + static_cast<std::size_t>(k)] != kNoContact;
+  if (tally.bonds_seen != owned) {
+#pragma omp critical(crater_dem_overflow)
+    bond_lost_ = std::min(bond_lost_, i);
+  }
+}
+
+// Wall w of a grain with live-contact bits `live` (history slot at): no contact, no history.
+template <int D>
+inline void DemPart<D>::clear_wall(std::uint32_t& live, std::size_t w, std::size_t at) {
+  if (!(live >> w & 1u)) return;
+  live &= ~(1u << w);
+  wall_xi_[at] = Vec<D>::Zero();
+  if (!wall_roll_.empty()) wall_roll_[at] = angular_zero<D>();
+}
+
+template void DemPart<2>::compute_forces(Real);
+template void DemPart<3>::compute_forces(Real);
+
+}  // namespace crater::dem::detail

@@ -1,0 +1,449 @@
+// The DEM part's class, internal to src/dem (dem_part.hpp is the public face). Its members are
+// defined by concern, each file instantiating its own for D = 2 and 3:
+//   dem_part.cpp       construction, the step's stages (advance, finish_step, contact forces
+//                      of other parts), the stable step, make_dem_part
+//   dem_pair_loop.cpp  the force stage: pair_pass, grain_pass and the contact laws they inline
+//                      (with the rigid and absorbing walls' forces on each grain)
+//   dem_walls.cpp      the wall planes, the absorbing walls' impedance and static reactions,
+//                      the wall guard (reflect_at_walls)
+//   dem_bonds.cpp      parallel bonds made at t = 0
+//   dem_history.cpp    neighbour lists, contact histories packed and unpacked across rebuilds,
+//                      the grains' slots permuted with them
+//   dem_state.cpp      checkpoints, outflow removal, energies, diagnostics, fault checks
+//   dem_settling.cpp   settle_grains, packing_key_text, random_grains
+// The contact law comes from the registry (contact_laws.hpp); nothing here names a law.
+//
+// The DEM pair loop gathers per grain: each grain sums the forces of all its contacts. A
+// contact is always evaluated with body 1 = the grain of lower id, so both grains compute the
+// same numbers bit for bit and take +F and -F: momentum is conserved exactly, and the result
+// does not depend on the number of threads. The grain of lower id owns the contact's history
+// (the tangential spring, LAMMPS-style), keyed by the partner's id, so it survives neighbour
+// rebuilds and re-sorting; histories are read from last step's buffer and written to a new
+// one, so no grain writes what another reads. Parallel bonds are kept the same way: made at
+// t = 0 between touching grains, held by the lower id keyed by the partner's id, updated by
+// both grains from last step's state (identical numbers), written by the owner only.
+//
+// The contact law is chosen once per part: the pair loop is a template on the law
+// (std::visit over the part's law pair), so no contact branches on it.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem/contact_laws.hpp"
+#include "dem/dem_part.hpp"
+#include "dem/laws/absorbing_wall.hpp"
+#include "dem/laws/contact_force.hpp"
+#include "dem/laws/contact_geometry.hpp"
+#include "dem/laws/parallel_bond.hpp"
+#include "dem/laws/rate_dependent_friction.hpp"
+#include "dem/laws/rolling_resistance.hpp"
+#include "dem/packing.hpp"
+#include "fields/field_set.hpp"
+#include "neighbors/neighbor_list.hpp"
+#include "neighbors/verlet_skin.hpp"
+#include "parallel/parallel.hpp"
+#include "parts/part.hpp"
+
+namespace crater::dem::detail {
+
+constexpr Real kSkin = 0.3;  // neighbour-list margin, as a fraction of the largest diameter
+constexpr std::int64_t kNoContact = std::numeric_limits<std::int64_t>::min();
+// With bonds, the list holds every pair within 2 r_max (1 + kBondReach), so a bond stretched by
+// up to 0.1 r_max stays visible; one stretched further is reported as a fault.
+constexpr Real kBondReach = 0.05;
+
+// 2D grains are disks per metre of depth (masses, forces and energies per metre, as the SPH and
+// FE parts they touch), while Hertz-Mindlin is a law between spheres. Applied as it is to the
+// disk's mass (hertz_2d = "single_sphere", LAMMPS' and LIGGGHTS' 2D) the contact is about
+// 1/(2r) times too soft for grains per metre of depth: a 2D blast drove grains through one
+// another. With hertz_2d = "row_of_spheres" a disk stands for a row of spheres of its radius
+// along the depth, 1/p of them per metre with pitch p = r_1 + r_2 (a pair) or 2r (against a
+// wall): per metre, the force of one sphere contact carrying the mass m* p, divided by p
+// (docs/theory.md §3); restitution, friction and the contact's duration are that sphere
+// contact's. pitch = 0: the law as it is (3D, the linear spring, single_sphere).
+// The law in two halves (Law::prepare, Law::finish), as the pair loop runs it; evaluate_contact
+// is the two in one.
+template <int D>
+struct PreparedContact {
+  Real pitch = 0;
+  ContactPrep<D> part;
+};
+template <int D, class Law>
+[[gnu::always_inline]] inline PreparedContact<D> prepare_contact(const typename Law::Params& p,
+                                                                 const ContactGeometry<D>& g,
+                                                                 Real mass_eff, Real pitch,
+                                                                 const Vec<D>& shear_history) {
+  return {pitch,
+          Law::template prepare<D>(p, g, pitch > 0 ? mass_eff * pitch : mass_eff, shear_history)};
+}
+template <int D, class Law>
+[[gnu::always_inline]] inline ContactForce<D> finish_contact(const typename Law::Params& p,
+                                                             const ContactGeometry<D>& g,
+                                                             const RelativeVelocity<D>& rel,
+                                                             const PreparedContact<D>& prep,
+                                                             Real dt) {
+  ContactForce<D> cf = Law::template finish<D>(p, g, rel, prep.part, dt);
+  const Real pitch = prep.pitch;
+  if (!(pitch > 0)) return cf;
+  cf.force_on_1 /= pitch;
+  cf.torque_on_1 /= pitch;
+  cf.torque_on_2 /= pitch;
+  cf.normal_force /= pitch;
+  cf.tangential_force /= pitch;
+  cf.normal_stiffness /= pitch;
+  cf.elastic_energy /= pitch;
+  cf.dissipated_power /= pitch;
+  return cf;
+}
+
+template <int D, class Law>
+[[gnu::always_inline]] inline ContactForce<D> evaluate_contact(
+    const typename Law::Params& p, const ContactGeometry<D>& g, const RelativeVelocity<D>& rel,
+    Real mass_eff, Real pitch, const Vec<D>& shear_history, Real dt) {
+  return finish_contact<D, Law>(p, g, rel,
+                                prepare_contact<D, Law>(p, g, mass_eff, pitch, shear_history), dt);
+}
+
+template <int D>
+bool angular_finite(const AngularVec<D>& w) {
+  if constexpr (D == 2)
+    return std::isfinite(w);
+  else
+    return w.allFinite();
+}
+
+template <int D>
+class DemPart final : public parts::Part<D> {
+ public:
+  static constexpr int kMaxContacts = D == 2 ? 12 : 24;
+
+  /// The grains are `grains` if given (a packing, docs/theory.md), else those placed by hand,
+  /// else one per lattice site. `local_damping` overrides the part's (settling).
+  explicit DemPart(const PartSettings& settings, const std::vector<Grain<D>>* grains = nullptr,
+                   std::optional<Real> local_damping = std::nullopt);
+
+  const std::string& name() const override { return name_; }
+  const char* method() const override { return "dem"; }
+  Index count() const override { return f_.size(); }
+  Real mass_kg() const override {
+    return parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return m_[i]; });
+  }
+  parts::StableStep stable_step() const override;
+  void compute_forces(Real t) override;  // dem_pair_loop.cpp
+  std::optional<parts::Fault> check() const override;
+  std::optional<parts::ContactPoints<D>> contact_points() const override {
+    parts::ContactPoints<D> p;
+    p.position = &x_;
+    p.velocity = &v_;
+    p.mass = &m_;
+    p.radius = &r_;
+    p.angular_velocity = &w_;
+    p.surface_offset = &surface_offset_;
+    p.surface_overlap = &surface_overlap_;
+    return p;
+  }
+  void add_contact_forces(const std::vector<Vec<D>>& force,
+                          const std::vector<AngularVec<D>>& torque) override;
+  void advance(Real t, Real dt) override;
+  void finish_step(Real dt) override;
+  parts::Energies energies() const override;
+  parts::Geometry<D> geometry() const override {
+    parts::Geometry<D> g;
+    g.points = &x_;
+    return g;
+  }
+  std::vector<fields::FieldView> point_fields() const override { return f_.views(fields::kOutput); }
+  std::vector<parts::Diagnostic> diagnostics() const override;
+  void save_state(parts::StateWriter& w) const override;
+  void load_state(parts::StateReader& r) override;
+
+  void add_diagnostic(std::string name, Real value) {
+    diagnostics_.push_back({std::move(name), value});
+  }
+  /// The grains in id order (positions and radii).
+  std::vector<Grain<D>> grains() const;
+  /// Mean kinetic energy per grain, and m g r of the mean grain (the settling scale).
+  std::pair<Real, Real> settling_measure() const;
+
+ private:
+  // A rigid face of the domain box as the loops use it.
+  struct WallPlane {
+    int axis = 0;
+    bool upper = false;  // the face at domain_hi_ (else domain_lo_)
+    Real plane = 0;      // its coordinate on the axis [m]
+  };
+
+  // The pair loop runs in two passes, so that each contact is evaluated once, by its body 1
+  // (the grain of lower id), with no two threads adding to one grain:
+  //   pair_pass (per grain i): its owned pairs (i, j), id_i < id_j, in list order: bond and
+  //     contact laws, the pair's history and i's energies; i's share of the forces is summed
+  //     on the spot (PairTally), j's share goes to the pair's cache;
+  //   grain_pass (per grain i): gravity, then the shares of the pairs (j, i) that i receives,
+  //     in pair order (ascending owner, then the owner's list order), then its own sum; then
+  //     walls and damping.
+  // Every sum runs in an order fixed by the lists alone: the same numbers on any thread count.
+  // On one thread (no bonds, no outflow) pair_pass adds j's share to j's running sum at once
+  // (Received; it starts at m_j g), in the order the gather would: the pairs are met in
+  // ascending order, so the sums, and the results, are those of the gather, bit for bit; the
+  // cache is neither written nor read back.
+  // Most list entries are not in contact (the list reaches (1 + kSkin) x the contact
+  // distance): a squared-distance test with a margin rejects them before any law work.
+  // Body 2's share of a contact, what the gather reads at once; zero while the pair is not in
+  // contact, so that the gather may add it regardless. Which pairs hold anything: flags.
+  struct ContactResult {
+    Vec<D> f1 = Vec<D>::Zero();            // force on body 1 (body 2 gets -f1)
+    AngularVec<D> t2 = angular_zero<D>();  // torque on body 2
+  };
+  // A grain's received shares summed as they come (one thread: see above).
+  struct Received {
+    Vec<D> force = Vec<D>::Zero();  // m g minus the f1 of the pairs (j, i) met so far
+    AngularVec<D> torque = angular_zero<D>();
+  };
+  struct PairCache {
+    std::vector<std::uint8_t> flags;  // kBondOn, kContactOn
+    std::vector<ContactResult> contact;
+    std::vector<Vec<D>> bond_f1;
+    std::vector<AngularVec<D>> bond_t1, bond_t2;
+    // Kept for outflow only (a grain that leaves takes its partners' share of the energy with
+    // it, and the forces it exerted leave its partners): the elastic energy of the pair's
+    // contact and bond [J] and the contact's torque on body 1; read only where flags is set.
+    std::vector<Real> elastic;
+    std::vector<AngularVec<D>> t1;
+    void resize(std::size_t n, bool bonds, bool outflow) {
+      flags.assign(n, 0);
+      contact.assign(n, ContactResult{});
+      if (bonds) {
+        bond_f1.resize(n);
+        bond_t1.resize(n);
+        bond_t2.resize(n);
+      }
+      if (outflow) {
+        elastic.assign(n, 0);
+        t1.assign(n, angular_zero<D>());
+      }
+    }
+  };
+  static constexpr std::uint8_t kBondOn = 1, kContactOn = 2;
+  // |d|^2 > (r_1 + r_2)^2 x kTouchMargin: certainly apart (the exact test, overlap =
+  // r_1 + r_2 - |d| > 0, follows for the rest; the margin covers the rounding of both sides).
+  static constexpr Real kTouchMargin = 1 + 1e-12;
+
+  // What pair_pass leaves for grain_pass, per grain.
+  struct PairTally {
+    Vec<D> force = Vec<D>::Zero();  // sum of the owned pairs' forces and torques on i
+    AngularVec<D> torque = angular_zero<D>();
+    Real elastic = 0, dissipated = 0, released = 0;
+    int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
+  };
+  // What grain_pass sums for its grain, step by step.
+  struct GrainSum {
+    Vec<D> force = Vec<D>::Zero();
+    AngularVec<D> torque = angular_zero<D>();
+    Real elastic = 0, dissipated = 0;
+    int bonds = 0;  // intact bonds, owned and received
+  };
+
+  // pair_pass runs in chunks of the grain's owned pairs: a branch-free scan first keeps the
+  // pairs that may touch (or hold a bond); then the geometry and the law's roots (Law::prepare:
+  // the distance, the Hertz spring, the dashpots) for all of those, in short independent
+  // iterations that the processor overlaps; then the rest of each law, in list order. One
+  // contact is a long chain of roots and divisions: evaluated one after the other, the
+  // contacts wait on their chains (measured: 1.2x the contact rate in
+  // bench/bench_dem_kernels.cpp batched).
+  static constexpr int kScanChunk = 32;
+  template <class Law>
+  struct Candidate {
+    ContactGeometry<D> g;
+    PreparedContact<D> prep;
+  };
+
+  // pair_pass works on a block [first, last) of kPairBlock consecutive grains, whose owned
+  // pairs are contiguous (pair_begin_), so that a chunk of candidates spans several grains.
+  static constexpr Index kPairBlock = 16;
+
+  // Construction steps (dem_part.cpp; the walls' in dem_walls.cpp).
+  void init_laws(const PartSettings& settings);
+  void place_grains(const std::vector<Vec<D>>& pts, const std::vector<Real>& radii,
+                    const std::vector<Vec<D>>& vel);
+  void init_walls();
+  void init_absorbing_walls(const PartSettings& settings);
+  void make_bonds();  // dem_bonds.cpp
+
+  bool in_domain(Index i) const {
+    for (int d = 0; d < D; ++d)
+      if (!(x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d])) return false;
+    return true;
+  }
+  bool healthy(Index i) const {
+    return force_[i].allFinite() && angular_finite<D>(torque_[i]) &&
+           (outflow_remove_ ? x_[i].allFinite() : in_domain(i));
+  }
+  // check()'s test of grain i, made where its force is summed (grain_pass, and again when the
+  // contacts with other parts add theirs): the first failing grain is kept.
+  void note_health(Index i) {
+    if (healthy(i)) return;
+#pragma omp critical(crater_dem_overflow)
+    unhealthy_ = std::min(unhealthy_, i);
+  }
+
+  WallPlane wall_plane(parts::Face face) const {
+    WallPlane w;
+    w.axis = static_cast<int>(face) / 2;
+    w.upper = static_cast<int>(face) % 2 == 1;
+    w.plane = w.upper ? domain_hi_[w.axis] : domain_lo_[w.axis];
+    return w;
+  }
+  // Inside every face (x <= an upper plane, x >= a lower one): reflect_at_walls has nothing
+  // to do.
+  bool inside_guard(Index i) const {
+    bool inside = true;
+    for (int d = 0; d < D; ++d)
+      inside &= x_[i][d] >= guard_lo_[d] && x_[i][d] <= guard_hi_[d];
+    return inside;
+  }
+  void reflect_at_walls(Index i, Real& count, Real& lost);  // dem_walls.cpp
+
+  // The pitch of evaluate_contact: r_1 + r_2 (a wall: r_1 = r_2 = r) with hertz_2d =
+  // "row_of_spheres", else 0 (the law as it is).
+  Real row_pitch(Real r1, Real r2) const {
+    return rows_ ? r1 + r2 : Real(0);
+  }
+
+  // Outflow (dem_state.cpp).
+  void remove_outflow();
+  template <class... Payload>
+  void compact_slots(std::vector<std::int64_t>& key, std::span<const std::int64_t> gone,
+                     std::vector<Payload>&... payload);
+  Index pair_owner(std::size_t k) const;
+
+  // Neighbour lists and contact histories (dem_history.cpp).
+  void update_neighbors();
+  void build_lists();
+  void pack_history(std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
+                    std::vector<AngularVec<D>>& roll) const;
+  void unpack_history();
+  int find_slot(Index owner, std::int64_t partner) const;
+  void permute_slots(std::span<const Index> order);
+
+  // The force stage (dem_pair_loop.cpp): declared inline, as the loop's steps are inlined into
+  // it there.
+  inline int find_bond(Index owner, std::int64_t partner) const;
+  template <class Params>
+  inline Params at_rate(const Params& p, const RateDependentFriction& rate, Real normal_velocity,
+                        Real r1, Real r2) const;
+  inline void count_contact(Index i, PairTally& tally);
+  template <class Law>
+  inline void pair_pass(Index first, Index last, Real dt, const LawPair<Law>& laws);
+  template <class Law>
+  [[gnu::always_inline]] inline void pair_law(Index i, std::size_t k, const Candidate<Law>& cand,
+                                              Real dt, const LawPair<Law>& laws, PairTally& tally);
+  inline void clear_pair(std::size_t k, std::uint8_t& flags);
+  template <class Law>
+  inline void grain_pass(Index i, Real dt, const LawPair<Law>& laws);
+  [[gnu::always_inline]] inline GrainSum gather_shares(Index i, const PairTally& tally);
+  template <class Law>
+  [[gnu::always_inline]] inline void rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
+                                                         PairTally& tally, GrainSum& sum);
+  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, GrainSum& sum);
+  [[gnu::always_inline]] inline void close_bond_slots(Index i, const PairTally& tally);
+  inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
+
+  std::string name_;
+  Settings cfg_;
+  Vec<D> gravity_, domain_lo_, domain_hi_;
+  bool outflow_remove_ = false;  // domain.outflow = "remove" (remove_outflow)
+  Real rho_ = 0;
+  GranularMaterial grain_;
+  ContactLaws laws_;
+  RollingResistanceParams rolling_;
+  RateDependentFriction grain_rate_, wall_rate_;
+  ParallelBondParams bond_law_;
+  Real r_min_ = 0, r_max_ = 0;
+
+  fields::FieldSet<D> f_;
+  std::vector<std::int64_t>& id_;
+  std::vector<Vec<D>>& x_;
+  std::vector<Vec<D>>& v_;
+  std::vector<AngularVec<D>>& w_;
+  std::vector<Real>& r_;
+  std::vector<Real>& m_;
+  std::vector<Real>& inertia_;
+  std::vector<Vec<D>>& force_;
+  std::vector<AngularVec<D>>& torque_;
+  std::vector<Real>& contacts_;
+  std::vector<Real>& elastic_;
+  std::vector<Real>& dissipated_;
+  std::vector<Real>& local_power_;
+  std::vector<Real>& bonds_;          // intact bonds of the grain (output when bonds are on)
+  std::vector<Real>& bond_breaks_;    // bonds the grain owned that broke this step
+  std::vector<Real>& bond_released_;  // energy those bonds held [J]
+  // Absorbing walls: per grain, the static reaction F_0 of the face on each axis (a grain
+  // touches at most one face of an axis) and the work rate of those reactions.
+  std::vector<Vec<D>>& static_reaction_;
+  std::vector<Real>& static_power_;
+  std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
+  std::vector<AngularVec<D>>& contact_torque_;
+  std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
+  std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
+  Real contact_work_ = 0;               // work of those forces on the grains [J]
+  Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
+  bool contact_pending_ = false;        // moved since they were set
+  AbsorbingWallParams absorbing_;
+
+  // Contact history packed at rebuilds: kMaxContacts slots per grain (partner id, tangential
+  // spring, rolling moment; pack_history), authoritative while packed_.
+  std::vector<std::int64_t> partner_;
+  std::vector<Vec<D>> xi_;
+  std::vector<AngularVec<D>> roll_;  // rolling moments (empty when mu_r = 0)
+  bool packed_ = true;
+  // ... and while the list stands: per owned pair and per grain and wall (cfg_.walls order).
+  std::vector<Vec<D>> pair_xi_, wall_xi_;
+  std::vector<AngularVec<D>> pair_roll_, wall_roll_;  // empty when mu_r = 0
+  std::vector<std::uint32_t> wall_live_;  // per grain: bit w, a live contact with wall w
+  // The faces of cfg_.walls; with cfg_.absorbing_walls (reflect_at_walls); the box beyond whose
+  // planes (r_max away) a grain touches no face of cfg_.walls (+-inf where there is none).
+  std::vector<WallPlane> wall_planes_, guard_planes_;
+  Vec<D> clear_lo_, clear_hi_;
+  Vec<D> guard_lo_, guard_hi_;  // inside these bounds a grain is beyond no face (reflect_at_walls)
+  // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.
+  std::vector<std::int64_t> bond_partner_, bond_partner_new_;
+  std::vector<ParallelBondState<D>> bond_, bond_new_;
+
+  neighbors::NeighborList list_;
+  // Owned pairs (i, j), id_i < id_j: grain i's at pair_begin_[i] .. pair_begin_[i + 1], j in
+  // pair_j_; per list entry, its pair: 2 p if the row's grain owns it, else 2 p + 1.
+  std::vector<Index> pair_begin_, pair_j_;     // owned pairs (i, j) of grain i, in list order
+  std::vector<Index> recv_begin_, recv_pair_;  // pairs (j, i) that grain i receives, likewise
+  PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
+  bool scatter_ = false;                       // one thread: received shares summed in pair_pass
+  std::vector<Received> received_;             // per grain, with scatter_
+  // The largest squared displacement since the list's build, measured by advance; -1: unknown.
+  Real moved_sq_ = -1;
+  std::vector<PairTally> tally_;
+  neighbors::VerletSkin<D> skin_{kSkin};
+  Real last_dt_ = 0;
+  // 2D, a law whose disks stand for rows of spheres (row_of_spheres: hertz_2d =
+  // "row_of_spheres"; evaluate_contact).
+  bool rows_ = false;
+  Index overflow_ = 0, bond_lost_ = 0;
+  Index unhealthy_ = 0;  // the first grain check() fails (note_health), else the count
+  Index bonds_initial_ = 0;
+  Real bonds_broken_ = 0;
+  Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
+  std::vector<parts::Diagnostic> diagnostics_;
+  // Grains removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
+  // the energy booked with them [J] (eroded_j).
+  Index left_count_ = 0;
+  Real left_mass_kg_ = 0, left_energy_j_ = 0;
+  std::vector<std::uint8_t> keep_;  // scratch: remove_outflow's mask
+  Real time_s_ = 0;                 // of the last force stage, for the log
+};
+
+}  // namespace crater::dem::detail

@@ -1,0 +1,129 @@
+// Packed parts (dem_part.hpp): the cache key of a settled packing, the grains of a random
+// packing, and the settling run (a DemPart alone under gravity, dem_part_impl.hpp).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "dem/dem_part.hpp"
+#include "dem/dem_part_impl.hpp"
+
+namespace crater::dem {
+
+using parts::to_vec;
+
+// Everything that shapes a settled packing, as text for its cache key (hex floats: exact).
+template <int D>
+std::string packing_key_text(const PartSettings& settings) {
+  const parts::PartSetup& pc = settings.part;
+  std::string s = fmt::format("crater packing v2|D={}|", D);
+  auto v3 = [](const parts::Vec3& v) { return fmt::format("{:a},{:a},{:a}", v[0], v[1], v[2]); };
+  const auto& g = settings.grain;
+  s += fmt::format("domain={};{};g={}|", v3(pc.domain.min_m), v3(pc.domain.max_m),
+                   v3(pc.domain.gravity_m_s2));
+  s += fmt::format("mat={:a},{:a},{:a},{:a},{:a}|", settings.rho0_kg_m3, g.shear_modulus_pa,
+                   g.poisson_ratio, g.friction, g.restitution);
+  s += fmt::format("region={},{},{},{},{:a}|spacing={:a}|", static_cast<int>(pc.region.type),
+                   v3(pc.region.min_m), v3(pc.region.max_m), v3(pc.region.center_m),
+                   pc.region.radius_m, pc.spacing_m);
+  const auto& d = settings.dem;
+  s += fmt::format("dem={:a},{:a},{},{:a},{:a},{:a}|walls=", d.radius_min_m, d.radius_max_m, d.seed,
+                   d.rayleigh_fraction, d.wall_friction, d.wall_restitution);
+  for (const auto f : d.walls)
+    s += fmt::format("{},", static_cast<int>(f));
+  // Absorbing faces are rigid walls while settling (listed only when there are some, so the
+  // keys of packings without them are unchanged).
+  if (!d.absorbing_walls.empty()) {
+    s += "|absorbing=";
+    for (const auto f : d.absorbing_walls)
+      s += fmt::format("{},", static_cast<int>(f));
+  }
+  s += fmt::format("|law={},{:a},{:a},{:a},{:a},{:a},{},{:a},{:a}", static_cast<int>(d.contact),
+                   d.normal_stiffness_n_m, d.shear_stiffness_n_m, d.stiffness_step_fraction,
+                   d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,
+                   d.friction_rate_beta, d.friction_reference_strain_rate);
+  if (d.hertz_row_of_spheres) s += "|hertz_2d=row_of_spheres";
+  const auto& k = settings.packing;
+  s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.random, k.porosity,
+                   k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,
+                   settings.safety_factor);
+  for (std::size_t j = 0; j < k.sieve_diameter_m.size(); ++j)
+    s += fmt::format("{:a}:{:a},", k.sieve_diameter_m[j], k.sieve_passing[j]);
+  return s;
+}
+
+template <int D>
+std::vector<Grain<D>> random_grains(const PartSettings& settings) {
+  const parts::PartSetup& pc = settings.part;
+  const auto& k = settings.packing;
+  const std::string key_name = fmt::format("parts[{}].packing", pc.name);
+  const Real solid = (1 - k.porosity) * region_volume<D>(pc.region);
+  std::vector<Real> radii =
+      draw_radii<D>(k, settings.dem.radius_min_m, settings.dem.radius_max_m, solid,
+                    settings.dem.seed, std::size_t{50'000'000}, pc.where, key_name);
+  return random_packing<D>(pc.region, std::move(radii), to_vec<D>(pc.domain.gravity_m_s2),
+                           to_vec<D>(pc.domain.min_m), to_vec<D>(pc.domain.max_m),
+                           settings.dem.seed, pc.where, key_name);
+}
+
+// Settle: the part alone under gravity, with its walls and the settling damping, until the
+// grains have had the time to fall the column's height and their mean kinetic energy is
+// below settle_kinetic_ratio x m g r.
+template <int D>
+std::vector<Grain<D>> settle_grains(const PartSettings& settings,
+                                    const std::vector<Grain<D>>* grains, PackingReport& report) {
+  const parts::PartSetup& pc = settings.part;
+  const auto& k = settings.packing;
+  const std::string key_name = fmt::format("parts[{}].packing", pc.name);
+  detail::DemPart<D> part(settings, grains, k.settle_damping);
+  const Vec<D> g = to_vec<D>(pc.domain.gravity_m_s2);
+  Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
+  for (const auto& q : part.grains()) {
+    lo = std::min(lo, q.x.dot(g) / g.norm());
+    hi = std::max(hi, q.x.dot(g) / g.norm());
+  }
+  const Real t_fall = std::sqrt(2 * std::max(hi - lo, 0.0) / g.norm());
+  spdlog::info("part '{}': settling {} grains under gravity (at least {:.3g} s)", pc.name,
+               part.count(), t_fall);
+  Real t = 0;
+  long long steps = 0;
+  part.compute_forces(t);
+  while (true) {
+    const Real dt = settings.safety_factor * part.stable_step().dt_s;
+    part.advance(t, dt);
+    t += dt;
+    part.compute_forces(t);
+    if (auto fault = part.check())
+      throw InputError(pc.where, key_name,
+                       fmt::format("settling failed at t = {:.4g} s, grain {}: {}", t,
+                                   fault->entity_id, fault->what));
+    part.finish_step(dt);
+    ++steps;
+    if (steps % 200 != 0 || t < t_fall) continue;
+    const auto [ke, scale] = part.settling_measure();
+    if (ke < k.settle_kinetic_ratio * scale) break;
+    if (t > k.settle_max_time_s)
+      throw InputError(pc.where, key_name + ".settle_max_time_s",
+                       fmt::format("the grains did not settle in {} s: mean kinetic energy {:.3g} "
+                                   "x m g r, settled below {:.3g}; raise settle_max_time_s or "
+                                   "settle_damping",
+                                   k.settle_max_time_s, ke / scale, k.settle_kinetic_ratio));
+  }
+  report.settle_time_s = t;
+  report.settle_steps = steps;
+  return part.grains();
+}
+
+#define CRATER_DEM_SETTLING(D)                                          \
+  template std::string packing_key_text<D>(const PartSettings&);        \
+  template std::vector<Grain<D>> random_grains<D>(const PartSettings&); \
+  template std::vector<Grain<D>> settle_grains<D>(const PartSettings&,  \
+                                                  const std::vector<Grain<D>>*, PackingReport&);
+CRATER_DEM_SETTLING(2)
+CRATER_DEM_SETTLING(3)
+#undef CRATER_DEM_SETTLING
+
+}  // namespace crater::dem

@@ -1,0 +1,342 @@
+// The DEM part's state as the solver reads and keeps it (dem_part_impl.hpp): fault checks,
+// energies, diagnostics, the grains of a settled packing, outflow removal, and checkpoints.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+#include <algorithm>
+#include <span>
+#include <type_traits>
+#include <vector>
+
+#include "dem/dem_part_impl.hpp"
+
+namespace crater::dem::detail {
+namespace {
+
+template <int D>
+Real angular_kinetic(Real inertia, const AngularVec<D>& w) {
+  if constexpr (D == 2)
+    return 0.5 * inertia * w * w;
+  else
+    return 0.5 * inertia * w.squaredNorm();
+}
+
+// An empty history slot's payload.
+template <int D, class T>
+T blank() {
+  if constexpr (std::is_same_v<T, Vec<D>>)
+    return Vec<D>::Zero();
+  else if constexpr (std::is_same_v<T, AngularVec<D>>)
+    return angular_zero<D>();
+  else
+    return T{};
+}
+
+}  // namespace
+
+template <int D>
+std::optional<parts::Fault> DemPart<D>::check() const {
+  const Index n = f_.size();
+  if (overflow_ < n)
+    return parts::Fault{id_[overflow_],
+                        fmt::format("more than {} contacts on one grain: grains overlap far "
+                                    "beyond what the contact law allows (time step too "
+                                    "large or grains placed overlapping)",
+                                    kMaxContacts)};
+  if (bond_lost_ < n)
+    return parts::Fault{id_[bond_lost_],
+                        fmt::format("a bonded pair separated by more than {} x the largest "
+                                    "radius without the bond breaking: its strength is far "
+                                    "above what its stiffness allows",
+                                    2 * kBondReach)};
+  const Index bad = unhealthy_;  // note_health
+  if (bad >= n) return std::nullopt;
+  const Index i = bad;
+  if (!outflow_remove_ && !in_domain(i))
+    return parts::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
+                                            "[domain], add walls or set domain.outflow = "
+                                            "\"remove\"",
+                                            fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
+  if (!x_[i].allFinite())
+    return parts::Fault{id_[i], fmt::format("non-finite position x = ({}) m",
+                                            fmt::join(x_[i].data(), x_[i].data() + D, ", "))};
+  return parts::Fault{id_[i], "non-finite force or torque"};
+}
+
+template <int D>
+parts::Energies DemPart<D>::energies() const {
+  struct KE {
+    Real k = 0, e = 0;
+    KE& operator+=(const KE& o) {
+      k += o.k;
+      e += o.e;
+      return *this;
+    }
+  };
+  const KE s = parallel::deterministic_sum<KE>(f_.size(), [&](Index i) {
+    return KE{0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]),
+              elastic_[i]};
+  });
+  parts::Energies en;
+  en.kinetic_j = s.k;
+  // Stored in the springs + lost in contacts, minus the work of contacts with other parts.
+  en.contact_j = s.e + contact_dissipated_ - contact_work_;
+  en.damping_j = local_dissipated_;
+  en.external_work_j = external_work_;
+  en.eroded_j = left_energy_j_;
+  return en;
+}
+
+template <int D>
+std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const {
+  std::vector<parts::Diagnostic> d = diagnostics_;
+  if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty())
+    d.push_back({"wall_reflections", wall_reflections_});
+  if (cfg_.bonds.enabled) {
+    d.push_back({"bonds_initial", static_cast<Real>(bonds_initial_)});
+    d.push_back({"bonds_broken", bonds_broken_});
+  }
+  if (outflow_remove_) {
+    d.push_back({"left_domain_count", static_cast<Real>(left_count_)});
+    d.push_back({"left_domain_mass_kg", left_mass_kg_});
+    d.push_back({"left_domain_energy_j", left_energy_j_});
+  }
+  return d;
+}
+
+template <int D>
+std::vector<Grain<D>> DemPart<D>::grains() const {
+  std::vector<Grain<D>> g(static_cast<std::size_t>(f_.size()));
+  for (Index i = 0; i < f_.size(); ++i)
+    g[static_cast<std::size_t>(id_[i])] = {x_[i], r_[i]};
+  return g;
+}
+
+template <int D>
+std::pair<Real, Real> DemPart<D>::settling_measure() const {
+  const Index n = f_.size();
+  const Real k = energies().kinetic_j / static_cast<Real>(std::max<Index>(n, 1));
+  const Real m = mass_kg() / static_cast<Real>(std::max<Index>(n, 1));
+  const Real r = parallel::deterministic_sum<Real>(n, [&](Index i) { return r_[i]; }) /
+                 static_cast<Real>(std::max<Index>(n, 1));
+  return {k, m * gravity_.norm() * r};
+}
+
+// outflow = "remove": grains beyond the domain box leave the model at the end of the step,
+// with the velocities of t + dt. What they carried goes to eroded_j, so the balance still
+// closes: their kinetic and rotational energy, and the energy stored in their contacts and
+// bonds (elastic_ of the grains they end with), which would otherwise vanish from contact_j.
+// The rest keep their order (compaction in index order) and their contact and bond histories
+// (packed, less the slots keyed by a removed grain); the list is rebuilt at the next force
+// stage: the same numbers for any thread count, and after a restart from this state.
+template <int D>
+void DemPart<D>::remove_outflow() {
+  const Index n = f_.size();
+  keep_.resize(static_cast<std::size_t>(n));
+  const Index leaving = parallel::deterministic_sum<Index>(n, [&](Index i) {
+    keep_[static_cast<std::size_t>(i)] = in_domain(i);
+    return static_cast<Index>(!keep_[static_cast<std::size_t>(i)]);
+  });
+  if (leaving == 0) return;
+  struct Left {
+    Real mass = 0, energy = 0;
+    Left& operator+=(const Left& o) {
+      mass += o.mass;
+      energy += o.energy;
+      return *this;
+    }
+  };
+  const Left left = parallel::deterministic_sum<Left>(n, [&](Index i) {
+    if (!keep_[static_cast<std::size_t>(i)])
+      return Left{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() +
+                             angular_kinetic<D>(inertia_[i], w_[i]) + elastic_[i]};
+    // A staying grain's contacts and bonds with leaving ones: the energy of those it owns
+    // leaves with them (the others' is in the leaving grain's elastic_), and their forces
+    // leave its force_ and torque_ (undoing grain_pass), so that the next half kick owes
+    // nothing to a removed grain (exactly so without local damping, which acted on the sum).
+    Real lost = 0;
+    const auto own_first = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i)]);
+    const auto own_last = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i) + 1]);
+    for (std::size_t k = own_first; k < own_last; ++k) {
+      if (keep_[static_cast<std::size_t>(pair_j_[k])]) continue;
+      const std::uint8_t flags = cache_.flags[k];
+      if (flags) lost += cache_.elastic[k];
+      if (flags & kContactOn) {
+        force_[i] -= cache_.contact[k].f1;
+        torque_[i] -= cache_.t1[k];
+        contacts_[i] -= 1;  // it counts the contacts it owns (and its walls)
+      }
+      if (flags & kBondOn) {
+        force_[i] -= cache_.bond_f1[k];
+        torque_[i] -= cache_.bond_t1[k];
+        bonds_[i] -= 1;
+      }
+    }
+    const auto first = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i)]);
+    const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
+    for (std::size_t e = first; e < last; ++e) {
+      const auto k = static_cast<std::size_t>(recv_pair_[e]);
+      if (keep_[static_cast<std::size_t>(pair_owner(k))]) continue;
+      const std::uint8_t flags = cache_.flags[k];
+      if (flags & kContactOn) {
+        force_[i] += cache_.contact[k].f1;
+        torque_[i] -= cache_.contact[k].t2;
+      }
+      if (flags & kBondOn) {
+        force_[i] += cache_.bond_f1[k];
+        torque_[i] -= cache_.bond_t2[k];
+        bonds_[i] -= 1;
+      }
+    }
+    elastic_[i] -= lost;
+    return Left{0, lost};
+  });
+  if (left_count_ == 0)
+    spdlog::info(
+        "part '{}': grains leave the domain from t = {:.6g} s on and are removed "
+        "(domain.outflow = \"remove\"; left_domain_* in summary.json)",
+        name_, time_s_);
+  left_count_ += leaving;
+  left_mass_kg_ += left.mass;
+  left_energy_j_ += left.energy;
+
+  std::vector<std::int64_t> gone;  // ids of the leaving grains, sorted
+  for (Index i = 0; i < n; ++i)
+    if (!keep_[static_cast<std::size_t>(i)]) gone.push_back(id_[i]);
+  std::sort(gone.begin(), gone.end());
+  if (!packed_) pack_history(partner_, xi_, roll_);
+  packed_ = true;
+  compact_slots(partner_, gone, xi_, roll_);
+  compact_slots(bond_partner_, gone, bond_);
+  const Index kept = f_.compact(keep_);
+  if (!bond_partner_new_.empty()) {  // scratch of the next pair pass
+    bond_partner_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, kNoContact);
+    bond_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, ParallelBondState<D>{});
+  }
+  const std::size_t wall_slots = static_cast<std::size_t>(kept) * cfg_.walls.size();
+  wall_xi_.assign(wall_slots, Vec<D>::Zero());
+  if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
+  wall_live_.assign(static_cast<std::size_t>(kept), 0);
+  skin_.invalidate();
+}
+
+// The kMaxContacts slots of each kept grain (keep_), in order, less the slots keyed by a
+// grain in `gone` (its contacts and bonds end with it); the others move up, so that a grain's
+// slots stay filled from the first. `payload` moves with `key` (empty vectors: models that
+// are off).
+template <int D>
+template <class... Payload>
+void DemPart<D>::compact_slots(std::vector<std::int64_t>& key, std::span<const std::int64_t> gone,
+                               std::vector<Payload>&... payload) {
+  if (key.empty()) return;
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  std::size_t out = 0;  // the first slot of the next kept grain; never past the one read
+  for (std::size_t i = 0; i < keep_.size(); ++i) {
+    if (!keep_[i]) continue;
+    std::size_t k = out;
+    for (std::size_t s = 0; s < slots; ++s) {
+      const std::size_t from = i * slots + s;
+      const std::int64_t p = key[from];
+      if (p == kNoContact) break;
+      if (std::binary_search(gone.begin(), gone.end(), p)) continue;
+      key[k] = p;
+      ((payload.empty() ? void() : void(payload[k] = payload[from])), ...);
+      ++k;
+    }
+    for (; k < out + slots; ++k) {
+      key[k] = kNoContact;
+      ((payload.empty() ? void() : void(payload[k] = blank<D, Payload>())), ...);
+    }
+    out += slots;
+  }
+  key.resize(out);
+  ((payload.empty() ? void() : payload.resize(out)), ...);
+}
+
+// The grain that owns pair k (a binary search in pair_begin_; outflow only).
+template <int D>
+Index DemPart<D>::pair_owner(std::size_t k) const {
+  const auto it = std::upper_bound(pair_begin_.begin(), pair_begin_.end(), static_cast<Index>(k));
+  return static_cast<Index>(it - pair_begin_.begin()) - 1;
+}
+
+template <int D>
+void DemPart<D>::save_state(parts::StateWriter& w) const {
+  w.tag("dem");
+  f_.save(w);
+  if (packed_) {
+    w.vector(partner_);
+    w.vector(xi_);
+    w.vector(roll_);
+  } else {
+    std::vector<std::int64_t> partner;
+    std::vector<Vec<D>> xi;
+    std::vector<AngularVec<D>> roll;
+    pack_history(partner, xi, roll);
+    w.vector(partner);
+    w.vector(xi);
+    w.vector(roll);
+  }
+  w.vector(bond_partner_);
+  w.vector(bond_);
+  w.value(last_dt_);
+  w.value(bond_lost_);
+  w.value(bonds_initial_);
+  w.value(bonds_broken_);
+  w.value(external_work_);
+  w.value(contact_dissipated_);
+  w.value(local_dissipated_);
+  w.value(contact_work_);
+  w.value(contact_pending_);
+  w.value(wall_reflections_);
+  skin_.save(w);
+  w.tag("outflow");
+  w.value(left_count_);
+  w.value(left_mass_kg_);
+  w.value(left_energy_j_);
+}
+
+template <int D>
+void DemPart<D>::load_state(parts::StateReader& r) {
+  r.tag("dem");
+  moved_sq_ = -1;  // measured again at the next force stage
+  f_.load(r);
+  r.vector(partner_);
+  r.vector(xi_);
+  r.vector(roll_);
+  packed_ = true;
+  r.vector(bond_partner_);
+  r.vector(bond_);
+  r.value(last_dt_);
+  r.value(bond_lost_);
+  r.value(bonds_initial_);
+  r.value(bonds_broken_);
+  r.value(external_work_);
+  r.value(contact_dissipated_);
+  r.value(local_dissipated_);
+  r.value(contact_work_);
+  r.value(contact_pending_);
+  r.value(wall_reflections_);
+  skin_.load(r);
+  r.tag("outflow");
+  r.value(left_count_);
+  r.value(left_mass_kg_);
+  r.value(left_energy_j_);
+  if (skin_.radius() > 0) build_lists();
+}
+
+#define CRATER_DEM_STATE(D)                                                \
+  template std::optional<parts::Fault> DemPart<D>::check() const;          \
+  template parts::Energies DemPart<D>::energies() const;                   \
+  template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const; \
+  template std::vector<Grain<D>> DemPart<D>::grains() const;               \
+  template std::pair<Real, Real> DemPart<D>::settling_measure() const;     \
+  template void DemPart<D>::remove_outflow();                              \
+  template Index DemPart<D>::pair_owner(std::size_t) const;                \
+  template void DemPart<D>::save_state(parts::StateWriter&) const;         \
+  template void DemPart<D>::load_state(parts::StateReader&);
+CRATER_DEM_STATE(2)
+CRATER_DEM_STATE(3)
+#undef CRATER_DEM_STATE
+
+}  // namespace crater::dem::detail
