@@ -13,6 +13,14 @@
 #include "dem/laws/local_damping.hpp"
 
 namespace crater::dem::detail {
+namespace {
+
+// pair_pass's candidates, per thread, built once (a local array would zero its entries for
+// every block); of this file alone (internal linkage: the cheapest thread-local access).
+template <class Candidate, int N>
+thread_local std::array<Candidate, N> scan_candidates;
+
+}  // namespace
 
 template <int D>
 void DemPart<D>::compute_forces(Real t) {
@@ -104,8 +112,7 @@ inline void DemPart<D>::pair_pass(Index first, Index last, Real dt, const LawPai
   const bool bonds = !bond_partner_.empty();
   const Index end = pair_begin_[static_cast<std::size_t>(last)];
   std::array<Index, kScanChunk> near, owner_of;
-  // Per thread, built once (a local array would zero its entries for every block).
-  static thread_local std::array<Candidate<Law>, kScanChunk> cand;
+  std::array<Candidate<Law>, kScanChunk>& cand = scan_candidates<Candidate<Law>, kScanChunk>;
   Index owner = first;
   for (Index chunk = pair_begin_[static_cast<std::size_t>(first)]; chunk < end;
        chunk += kScanChunk) {
@@ -257,14 +264,15 @@ template <int D>
 template <class Law>
 inline void DemPart<D>::grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
   PairTally tally = tally_[static_cast<std::size_t>(i)];
-  GrainSum sum = gather_shares(i, tally);
-  rigid_wall_contacts<Law>(i, dt, laws, tally, sum);
+  Vec<D> force;
+  AngularVec<D> torque;
+  const int bonds = gather_shares(i, tally, force, torque);
+  Real elastic = tally.elastic, dissipated = tally.dissipated;
+  rigid_wall_contacts<Law>(i, dt, laws, tally, GrainSum{force, torque, elastic, dissipated});
   // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
-  const auto [absorbed, static_power] = absorbing_wall_loads(i, sum);
+  const auto [absorbed, static_power] = absorbing_wall_loads(i, force);
   if (!bond_partner_new_.empty()) close_bond_slots(i, tally);
 
-  Vec<D> force = sum.force;
-  AngularVec<D> torque = sum.torque;
   Real local_power = 0;
   if (cfg_.local_damping > 0) {
     // Cundall (1987), paper eq. 25: each component of the unbalanced force opposes the
@@ -280,27 +288,27 @@ inline void DemPart<D>::grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
   torque_[i] = torque;
   note_health(i);
   contacts_[i] = tally.slots;
-  elastic_[i] = sum.elastic;
-  dissipated_[i] = sum.dissipated;
+  elastic_[i] = elastic;
+  dissipated_[i] = dissipated;
   // Fields of models that are off stay zero, unwritten (compute_forces does not read them).
   if (cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty()) {
     local_power_[i] = local_power;
     static_power_[i] = static_power;
   }
   if (!bond_partner_.empty()) {
-    bonds_[i] = sum.bonds;
+    bonds_[i] = bonds;
     bond_breaks_[i] = tally.breaks;
     bond_released_[i] = tally.released;
   }
 }
 
 // grain_pass, first: gravity, the shares of the pairs (j, i) that grain i receives, then its
-// own pairs' sum (pair_pass's tally).
+// own pairs' sum (pair_pass's tally), into force and torque; returns the grain's intact bonds.
 template <int D>
-inline auto DemPart<D>::gather_shares(Index i, const PairTally& tally) -> GrainSum {
-  GrainSum sum;
-  Vec<D> force = m_[i] * gravity_;
-  AngularVec<D> torque = angular_zero<D>();
+inline int DemPart<D>::gather_shares(Index i, const PairTally& tally, Vec<D>& force,
+                                     AngularVec<D>& torque) {
+  force = m_[i] * gravity_;
+  torque = angular_zero<D>();
   int bonds = tally.bonds;
   const auto first = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i)]);
   const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
@@ -335,12 +343,7 @@ inline auto DemPart<D>::gather_shares(Index i, const PairTally& tally) -> GrainS
   }
   force += tally.force;
   torque += tally.torque;
-  sum.force = force;
-  sum.torque = torque;
-  sum.elastic = tally.elastic;
-  sum.dissipated = tally.dissipated;
-  sum.bonds = bonds;
-  return sum;
+  return bonds;
 }
 
 // grain_pass: grain i's contacts with the rigid walls (cfg_.walls), their histories kept per
@@ -348,7 +351,7 @@ inline auto DemPart<D>::gather_shares(Index i, const PairTally& tally) -> GrainS
 template <int D>
 template <class Law>
 inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
-                                            PairTally& tally, GrainSum& sum) {
+                                            PairTally& tally, GrainSum sum) {
   const bool rolling = rolling_.friction > 0;
   const std::size_t walls = wall_planes_.size();
   // Grains in the interior (further than r_max from every wall) skip the walls.
@@ -403,7 +406,7 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
 // grain_pass: the absorbing walls' forces on grain i (absorbing_wall.hpp); returns the power
 // their dashpots absorb and that of the held static reactions [W].
 template <int D>
-inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, GrainSum& sum) {
+inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& force) {
   Real absorbed = 0, static_power = 0;
   for (const parts::Face face : cfg_.absorbing_walls) {
     const WallPlane w = wall_plane(face);
@@ -413,7 +416,7 @@ inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, GrainSum&
     if (!g.touching()) continue;
     const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
         absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][w.axis]);
-    sum.force += aw.force;
+    force += aw.force;
     absorbed += aw.dissipated_power;
     static_power += aw.static_power;
   }

@@ -242,12 +242,12 @@ class DemPart final : public parts::Part<D> {
     Real elastic = 0, dissipated = 0, released = 0;
     int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
   };
-  // What grain_pass sums for its grain, step by step.
+  // What grain_pass sums for its grain, as its steps add to it.
   struct GrainSum {
-    Vec<D> force = Vec<D>::Zero();
-    AngularVec<D> torque = angular_zero<D>();
-    Real elastic = 0, dissipated = 0;
-    int bonds = 0;  // intact bonds, owned and received
+    Vec<D>& force;
+    AngularVec<D>& torque;
+    Real& elastic;
+    Real& dissipated;
   };
 
   // pair_pass runs in chunks of the grain's owned pairs: a branch-free scan first keeps the
@@ -347,11 +347,12 @@ class DemPart final : public parts::Part<D> {
   inline void clear_pair(std::size_t k, std::uint8_t& flags);
   template <class Law>
   inline void grain_pass(Index i, Real dt, const LawPair<Law>& laws);
-  [[gnu::always_inline]] inline GrainSum gather_shares(Index i, const PairTally& tally);
+  [[gnu::always_inline]] inline int gather_shares(Index i, const PairTally& tally, Vec<D>& force,
+                                                  AngularVec<D>& torque);
   template <class Law>
   [[gnu::always_inline]] inline void rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
-                                                         PairTally& tally, GrainSum& sum);
-  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, GrainSum& sum);
+                                                         PairTally& tally, GrainSum sum);
+  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, Vec<D>& force);
   [[gnu::always_inline]] inline void close_bond_slots(Index i, const PairTally& tally);
   inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
 
