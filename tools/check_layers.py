@@ -16,10 +16,11 @@ one group of folders that reach each other through includes (a strongly connecte
 `known` line that no longer matches anything is itself an error, so the list only shrinks.
 Exit status: 0 clean, 1 violations (each printed as file:line: what), 2 bad rules.
 """
-import argparse
 import re
 import sys
 from pathlib import Path
+
+import rule_check
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"(([a-z_]+)/[^"]*)"')
 
@@ -118,21 +119,5 @@ def check(root):
     return problems
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--root", type=Path, default=Path(__file__).resolve().parents[1])
-    args = ap.parse_args()
-    try:
-        problems = check(args.root)
-    except (OSError, ValueError) as e:
-        print(f"check_layers: {e}", file=sys.stderr)
-        return 2
-    for p in problems:
-        print(p)
-    if problems:
-        print(f"{len(problems)} layering problem(s)", file=sys.stderr)
-    return 1 if problems else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(rule_check.main(__doc__, check, "check_layers", "layering", (OSError, ValueError)))

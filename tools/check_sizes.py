@@ -16,13 +16,14 @@ free functions and constructors; a lambda counts towards the function that holds
 `known-...` line that no longer matches anything is itself an error, so the list only shrinks.
 Exit status: 0 clean, 1 over a limit, 2 bad rules or no ctags.
 """
-import argparse
 import json
 import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
+
+import rule_check
 
 
 def read_rules(doc):
@@ -107,21 +108,5 @@ def check(root):
     return problems
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--root", type=Path, default=Path(__file__).resolve().parents[1])
-    args = ap.parse_args()
-    try:
-        problems = check(args.root)
-    except (OSError, ValueError, subprocess.CalledProcessError) as e:
-        print(f"check_sizes: {e}", file=sys.stderr)
-        return 2
-    for p in problems:
-        print(p)
-    if problems:
-        print(f"{len(problems)} size problem(s)", file=sys.stderr)
-    return 1 if problems else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(rule_check.main(__doc__, check, "check_sizes", "size", (OSError, ValueError, subprocess.CalledProcessError)))

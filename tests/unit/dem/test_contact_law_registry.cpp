@@ -25,9 +25,12 @@ GranularMaterial sand() {
   return GranularMaterial{
       .shear_modulus_pa = 29e9, .poisson_ratio = 0.2, .friction = 0.84, .restitution = 0.5};
 }
+// dem::Settings state no defaults (the schema does): every field a law reads is set here.
 Settings settings(ContactLawKind kind) {
   Settings s;
   s.contact = kind;
+  s.rayleigh_fraction = 0.25;        // the schema's default
+  s.stiffness_step_fraction = 0.17;  // likewise
   s.normal_stiffness_n_m = 1e5;
   s.shear_stiffness_n_m = 4e5;
   s.wall_friction = 0.5;
