@@ -242,7 +242,8 @@ class DemPart final : public parts::Part<D> {
     Real elastic = 0, dissipated = 0, released = 0;
     int slots = 0, bond_slots = 0, bonds = 0, breaks = 0, bonds_seen = 0;
   };
-  // What grain_pass sums for its grain, as its steps add to it.
+  // What grain_pass sums for its grain, as its steps add to it: references to grain_pass's
+  // own locals (a struct of values passed in and out kept them in memory: 6 % slower).
   struct GrainSum {
     Vec<D>& force;
     AngularVec<D>& torque;
