@@ -13,7 +13,7 @@
 #   KEEP=0                            1: keep the run directories (printed)
 #
 # Each repetition runs
-#   crater run FILE --out TMPDIR --force --quiet --threads N --set output.vtu=false \
+#   crater run FILE --out TMPDIR/run --force --quiet --threads N --set output.vtu=false \
 #              --set time.max_steps=STEPS [--set ...]
 # and reads summary.json: parts[0].count, steps, run.wall_time_s, run.loop_time_s. It prints
 #   particle_steps_per_s = particles x steps / run.wall_time_s
@@ -67,21 +67,24 @@ run_case() {
   local sets=(--set output.vtu=false --set "time.max_steps=$steps")
   local kv
   for kv in "$@"; do sets+=(--set "$kv"); done
-  local th r out t0 t1 started line pss=() proc=() lps=() parts="" nsteps="" wall p status allc thr tsim loop lp
+  local th r tmp out t0 t1 started line pss=() proc=() lps=() parts="" nsteps="" wall p status allc thr tsim loop lp
   for th in $THREADS; do
     pss=(); proc=(); lps=()
     echo "# case=$name threads=$th file=${file#"$ROOT"/} steps=$steps sets=[$*] load: $(cut -d' ' -f1-3 /proc/loadavg)"
     for r in $(seq 1 "$REPS"); do
-      out=$(mktemp -d /tmp/crater_bench.XXXXXX)
+      # crater owns its run directory (it refuses one holding files it did not write): the run
+      # goes into a fresh subdirectory, its console output beside it.
+      tmp=$(mktemp -d /tmp/crater_bench.XXXXXX)
+      out="$tmp/run"
       t0=$(now)
       local started
       started=$(date -u +%H:%M:%S)
       local st0
       st0=$(steal_ticks)
       if ! "$CRATER" run "$file" --out "$out" --force --quiet --threads "$th" "${sets[@]}" \
-        > "$out/stdout.txt" 2>&1; then
+        > "$tmp/stdout.txt" 2>&1; then
         echo "ERROR: crater run failed (run directory $out):" >&2
-        cat "$out/stdout.txt" >&2
+        cat "$tmp/stdout.txt" >&2
         return 1
       fi
       t1=$(now)
@@ -108,7 +111,7 @@ PYEOF
       stolen=$(awk -v a="$st0" -v b="$(steal_ticks)" -v t="$TCK" 'BEGIN{printf "%.2f", (b-a)/t}')
       echo "rep=$r start=$started threads=$th particles=$parts steps=$nsteps wall_time_s=$wall loop_time_s=$loop process_s=$ps sim_time_s=$tsim steal_s=$stolen particle_steps_per_s=$p loop_particle_steps_per_s=$lp$([ "$allc" = - ] || echo " part_counts=$allc")"
       pss+=("$p"); proc+=("$ps"); lps+=("$lp")
-      if [ "$KEEP" = 1 ]; then echo "# kept $out"; else rm -rf "$out"; fi
+      if [ "$KEEP" = 1 ]; then echo "# kept $tmp"; else rm -rf "$tmp"; fi
     done
     echo "case=$name threads=$th particles=$parts steps=$steps particle_steps_per_s=$(median "${pss[@]}") loop_particle_steps_per_s=$(median "${lps[@]}") process_s=$(median "${proc[@]}")"
   done
