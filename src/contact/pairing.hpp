@@ -5,6 +5,7 @@
 // comment; registry.hpp picks the pairing of a contact from what its two parts offer.
 #pragma once
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <string>
@@ -53,6 +54,14 @@ struct ContactSums {
   Real max_overlap_m = 0;                  // deepest overlap [m]
   Real normal_force_n = 0;                 // total normal force [N] (N/m in 2D)
   Vec<D> force_on_other = Vec<D>::Zero();  // total force on the contact's second part
+
+  /// Counts one pair in contact: its overlap [m], normal force [N] and force on the second part.
+  void add(Real overlap_m, Real normal_n, const Vec<D>& on_other) {
+    ++active;
+    max_overlap_m = std::max(max_overlap_m, overlap_m);
+    normal_force_n += normal_n;
+    force_on_other += on_other;
+  }
 };
 
 /// The springs summed per body over the pairs in contact [N/m]: sum k w per face node of a
@@ -96,6 +105,21 @@ class Pairing {
   /// dt = spring_step(sum k, m) of each, the first body that sets the smallest.
   void limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,
                                const std::vector<Real>& mass, const char* what) const;
+  /// Whether the spring sums must be found afresh for bodies of these counts: none since the
+  /// last apply(), or bodies were removed since (the sums are per body index).
+  bool load_stale(std::size_t n_points, std::size_t n_other) const {
+    return !load_.known || load_.points.size() != n_points || load_.other.size() != n_other;
+  }
+  /// Fills the spring sums afresh, without forces: sized for n_points and n_other bodies, then
+  /// add(h) for each contact h of `found`.
+  template <class Found, class Add>
+  void measure(std::size_t n_points, std::size_t n_other, const Found& found, Add add) const {
+    load_.points.assign(n_points, 0);
+    load_.other.assign(n_other, 0);
+    for (const auto& h : found)
+      add(h);
+    load_.known = true;
+  }
 
   ContactSettings settings_;
   std::size_t points_, other_;
@@ -103,6 +127,13 @@ class Pairing {
   ContactSums<D> last_;      // of the last apply()
   mutable SpringSums load_;  // from the last apply() (load_.known) or found afresh
 };
+
+/// Builds a pairing of type P (the factories of registry.cpp's table).
+template <class P, int D>
+std::unique_ptr<Pairing<D>> make_pairing_of(const ContactSettings& settings, std::size_t points,
+                                            std::size_t other, const PartList<D>& parts) {
+  return std::make_unique<P>(settings, points, other, parts);
+}
 
 /// Smallest positive mass of a node on the surface's faces [kg] (infinity when none).
 template <int D>

@@ -15,24 +15,25 @@ namespace crater::contact {
 
 template <int D>
 void ParticleParticle<D>::limit_step(const PartList<D>& parts, StepSearch& search) const {
-  const auto pts = parts[points_]->contact_points();
+  const auto pts = parts[this->points_]->contact_points();
   if (!pts || pts->mass->empty()) return;
   const Real m_min = lightest_particle(*pts);
-  const auto grains = parts[other_]->contact_points();
+  const auto grains = parts[this->other_]->contact_points();
   if (!grains || grains->radius->empty()) return;
   const Real r_max = *std::max_element(grains->radius->begin(), grains->radius->end());
-  const Real k_max = settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? r_max : Real(1));
+  const Real k_max = this->settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? r_max : Real(1));
   const Real m_grain = lightest_particle(*grains);
-  search.consider(spring_step(k_max, std::min(m_min, m_grain), settings_.damping_ratio), -1, [&] {
-    return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", name_, k_max);
-  });
+  search.consider(spring_step(k_max, std::min(m_min, m_grain), this->settings_.damping_ratio), -1,
+                  [&] {
+                    return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m",
+                                       this->name_, k_max);
+                  });
   // Bodies pressed by several springs at once (found afresh when particles were removed
   // since the last apply(): the cached sums are per particle index).
-  if (!load_.known || load_.points.size() != pts->mass->size() ||
-      load_.other.size() != grains->mass->size())
-    measure_load(parts);
-  this->limit_by_summed_springs(search, load_.points, *pts->mass, "particle");
-  this->limit_by_summed_springs(search, load_.other, *grains->mass, "particle of the other part");
+  if (this->load_stale(pts->mass->size(), grains->mass->size())) measure_load(parts);
+  this->limit_by_summed_springs(search, this->load_.points, *pts->mass, "particle");
+  this->limit_by_summed_springs(search, this->load_.other, *grains->mass,
+                                "particle of the other part");
 }
 
 template <int D>
@@ -71,35 +72,33 @@ std::vector<typename ParticleParticle<D>::Pair> ParticleParticle<D>::pairs(
 
 template <int D>
 Real ParticleParticle<D>::stiffness(const parts::ContactPoints<D>& grains, Index j) const {
-  return settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? (*grains.radius)[at(j)] : Real(1));
+  return this->settings_.penalty_scale * grain_modulus_pa_ *
+         (D == 3 ? (*grains.radius)[at(j)] : Real(1));
 }
 
 template <int D>
 void ParticleParticle<D>::add_load(const parts::ContactPoints<D>& grains, const Pair& pp) const {
   const Real k = stiffness(grains, pp.b);
-  load_.points[at(pp.a)] += k;
-  load_.other[at(pp.b)] += k;
+  this->load_.points[at(pp.a)] += k;
+  this->load_.other[at(pp.b)] += k;
 }
 
 template <int D>
 void ParticleParticle<D>::measure_load(const PartList<D>& parts) const {
-  const auto pts = parts[points_]->contact_points();
-  load_.points.assign(pts->position->size(), 0);
-  const auto grains = parts[other_]->contact_points();
-  load_.other.assign(grains->position->size(), 0);
-  for (const Pair& pp : pairs(*pts, *grains))
-    add_load(*grains, pp);
-  load_.known = true;
+  const auto pts = parts[this->points_]->contact_points();
+  const auto grains = parts[this->other_]->contact_points();
+  this->measure(pts->position->size(), grains->position->size(), pairs(*pts, *grains),
+                [&](const Pair& pp) { add_load(*grains, pp); });
 }
 
 template <int D>
 void ParticleParticle<D>::apply(const PartList<D>& parts, Real /*dt_s*/, ContactForces<D>& out) {
-  const auto pa = parts[points_]->contact_points();
-  const auto pb = parts[other_]->contact_points();
+  const auto pa = parts[this->points_]->contact_points();
+  const auto pb = parts[this->other_]->contact_points();
   const parts::ContactPoints<D>& a = *pa;
   const parts::ContactPoints<D>& b = *pb;
   this->restart(a.position->size(), b.position->size());
-  load_.known = true;
+  this->load_.known = true;
   const std::vector<Pair> found = pairs(a, b);
   // Per pair results, in list order (a ascending, then b ascending).
   struct PairForce {
@@ -117,18 +116,15 @@ void ParticleParticle<D>::apply(const PartList<D>& parts, Real /*dt_s*/, Contact
     if (b.angular_velocity) v -= spin_cross<D>((*b.angular_velocity)[at(pp.b)], pf.arm_b);
     pf.force = penalty_force<D>(stiffness(b, pp.b), pp.overlap, n, v,
                                 reduced_mass((*a.mass)[at(pp.a)], (*b.mass)[at(pp.b)]),
-                                settings_.damping_ratio, settings_.friction, pf.normal);
+                                this->settings_.damping_ratio, this->settings_.friction, pf.normal);
   });
-  std::vector<Vec<D>>& f_a = out.force[points_];
-  std::vector<Vec<D>>& f_b = out.force[other_];
-  std::vector<AxialVec<D>>& t_b = out.torque[other_];
+  std::vector<Vec<D>>& f_a = out.force[this->points_];
+  std::vector<Vec<D>>& f_b = out.force[this->other_];
+  std::vector<AxialVec<D>>& t_b = out.torque[this->other_];
   for (std::size_t q = 0; q < found.size(); ++q) {
     const Pair& pp = found[q];
     const PairForce& pf = push[q];
-    ++last_.active;
-    last_.max_overlap_m = std::max(last_.max_overlap_m, pp.overlap);
-    last_.normal_force_n += pf.normal;
-    last_.force_on_other -= pf.force;
+    this->last_.add(pp.overlap, pf.normal, -pf.force);
     f_a[at(pp.a)] += pf.force;
     f_b[at(pp.b)] -= pf.force;
     if (!t_b.empty()) t_b[at(pp.b)] += moment_of<D>(pf.arm_b, Vec<D>(-pf.force));

@@ -2,7 +2,6 @@
 // with E the grains' Young's modulus; coupling.hpp's header comment has the equations.
 #pragma once
 
-#include <memory>
 #include <vector>
 
 #include "contact/pairing.hpp"
@@ -32,25 +31,11 @@ class ParticleParticle final : public Pairing<D> {
                                  const parts::ContactPoints<D>& b);
 
  private:
-  using Pairing<D>::settings_;
-  using Pairing<D>::points_;
-  using Pairing<D>::other_;
-  using Pairing<D>::name_;
-  using Pairing<D>::last_;
-  using Pairing<D>::load_;
-
   Real stiffness(const parts::ContactPoints<D>& grains, Index j) const;
   void add_load(const parts::ContactPoints<D>& grains, const Pair& pp) const;
   void measure_load(const PartList<D>& parts) const;
 
   Real grain_modulus_pa_;  // E of the grains [Pa]
 };
-
-template <int D>
-std::unique_ptr<Pairing<D>> make_particle_particle(const ContactSettings& settings,
-                                                   std::size_t points, std::size_t other,
-                                                   const PartList<D>& parts) {
-  return std::make_unique<ParticleParticle<D>>(settings, points, other, parts);
-}
 
 }  // namespace crater::contact

@@ -27,10 +27,12 @@ struct Entry {
 
 template <int D>
 constexpr std::array<Entry<D>, 4> kPairings{{
-    {PartKind::Particles, PartKind::Surface, &make_particle_surface<D>},             // sph-fem
-    {PartKind::RotatingParticles, PartKind::Surface, &make_particle_surface<D>},     // dem-fem
-    {PartKind::Surface, PartKind::Surface, &make_surface_surface<D>},                // fem-fem
-    {PartKind::Particles, PartKind::RotatingParticles, &make_particle_particle<D>},  // sph-dem
+    {PartKind::Particles, PartKind::Surface, &make_pairing_of<ParticleSurface<D>, D>},  // sph-fem
+    {PartKind::RotatingParticles, PartKind::Surface,
+     &make_pairing_of<ParticleSurface<D>, D>},                                       // dem-fem
+    {PartKind::Surface, PartKind::Surface, &make_pairing_of<SurfaceSurface<D>, D>},  // fem-fem
+    {PartKind::Particles, PartKind::RotatingParticles,
+     &make_pairing_of<ParticleParticle<D>, D>},  // sph-dem
 }};
 
 }  // namespace

@@ -1,6 +1,8 @@
 // The state archive: a part's state as tagged binary blocks (StateWriter), read back with
 // every block's tag and size checked (StateReader). Checkpoints (io/checkpoint/) wrap the
-// bytes in a file; the parts write and read them through Part::save_state / load_state.
+// bytes in a file; the parts write and read them through Part::save_state / load_state. The
+// two classes offer the same calls (tag, value, vector, block), so a part can state its layout
+// once, in a function templated on the archive, for both directions.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +35,11 @@ class StateWriter {
   void string(std::string_view s) {
     value(static_cast<std::uint64_t>(s.size()));
     bytes_.append(s);
+  }
+  /// An object that writes itself: x.save(*this).
+  template <class T>
+  void block(const T& x) {
+    x.save(*this);
   }
   const std::string& bytes() const { return bytes_; }
 
@@ -72,6 +79,11 @@ class StateReader {
   std::string string() {
     const auto n = value<std::uint64_t>();
     return std::string(take(n));
+  }
+  /// An object that reads itself: x.load(*this).
+  template <class T>
+  void block(T& x) {
+    x.load(*this);
   }
   bool done() const { return pos_ == bytes_.size(); }
   [[noreturn]] void fail(const std::string& why) const {

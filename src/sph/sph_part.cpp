@@ -395,32 +395,28 @@ class SphPart final : public parts::Part<D> {
     }
   }
 
+  // The checkpoint layout, for both directions (Self: const for writing).
+  template <class Archive, class Self>
+  static void archive(Archive& a, Self& s) {
+    a.tag("sph");
+    a.block(s.f_);
+    a.value(s.h_max_);
+    a.value(s.external_work_);
+    a.value(s.contact_.work_j);
+    a.value(s.contact_.last_dt_s);
+    a.value(s.contact_.pending);
+    a.value(s.reflections_);
+    a.value(s.max_penetration_);
+    a.block(s.skin_);
+    a.block(s.outflow_);
+  }
+
  public:
   void save_state(parts::StateWriter& w) const override {
-    w.tag("sph");
-    f_.save(w);
-    w.value(h_max_);
-    w.value(external_work_);
-    w.value(contact_.work_j);
-    w.value(contact_.last_dt_s);
-    w.value(contact_.pending);
-    w.value(reflections_);
-    w.value(max_penetration_);
-    skin_.save(w);
-    outflow_.save(w);
+    archive(w, *this);
   }
   void load_state(parts::StateReader& r) override {
-    r.tag("sph");
-    f_.load(r);
-    r.value(h_max_);
-    r.value(external_work_);
-    r.value(contact_.work_j);
-    r.value(contact_.last_dt_s);
-    r.value(contact_.pending);
-    r.value(reflections_);
-    r.value(max_penetration_);
-    skin_.load(r);
-    outflow_.load(r);
+    archive(r, *this);
     if (skin_.radius() > 0) build_lists();
   }
 

@@ -1,15 +1,18 @@
 // What a normal + tangential contact law returns for one pair at one step, and how the normal
 // and tangential sub-model results combine into forces and torques on both bodies.
 //
-// A law is a value type with a parameter struct and one static function, so a DEM pair loop can
+// A law is a value type with a parameter struct and two static functions, so a DEM pair loop can
 // take it as a template parameter and stay branch-free (STYLE habit 1):
 //   struct SomeLaw {
 //     using Params = SomeParams;
-//     template <int D>
-//     static ContactForce<D> evaluate(const Params&, const ContactGeometry<D>&,
-//                                     const RelativeVelocity<D>&, Real mass_eff,
-//                                     const Vec<D>& shear_history, Real dt);
+//     template <int D>   // the roots and divisions of a pair (ContactPrep)
+//     static ContactPrep<D> prepare(const Params&, const ContactGeometry<D>&, Real mass_eff,
+//                                   const Vec<D>& shear_history);
+//     template <int D>   // the force from them
+//     static ContactForce<D> finish(const Params&, const ContactGeometry<D>&,
+//                                   const RelativeVelocity<D>&, const ContactPrep<D>&, Real dt);
 //   };
+// plus what a DEM part asks of it (law_binding.hpp); law_force() runs both halves in one call.
 // (HertzMindlin in hertz_mindlin.hpp, LinearSpring in linear_spring.hpp.) The law is pure: the
 // updated shear history comes back in the result; the caller stores it with the contact.
 #pragma once
@@ -109,6 +112,17 @@ template <int D>
           .stiffness = shear_stiffness, .damping = part.tangential_damping, .friction = friction},
       normal.force, v.tangential, part.carried_history, dt);
   return combine_contact_force<D>(g, normal, tangential);
+}
+
+/// A law's force on a touching pair in one call: Law::finish of Law::prepare. mass_eff m* [kg],
+/// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
+template <class Law, int D>
+[[gnu::always_inline]] inline ContactForce<D> law_force(const typename Law::Params& p,
+                                                        const ContactGeometry<D>& g,
+                                                        const RelativeVelocity<D>& v, Real mass_eff,
+                                                        const Vec<D>& shear_history, Real dt) {
+  return Law::template finish<D>(p, g, v, Law::template prepare<D>(p, g, mass_eff, shear_history),
+                                 dt);
 }
 
 }  // namespace crater::dem

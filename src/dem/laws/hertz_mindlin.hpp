@@ -93,62 +93,34 @@ inline NormalForce hertz_normal_spring(Real youngs_modulus_eff, Real radius_eff,
   return out;
 }
 
-/// The law's roots and divisions (contact_force.hpp, ContactPrep): the Hertz spring and both
-/// dashpot coefficients at the pair's overlap, mass_eff m* [kg], and the shear history \xi of
-/// the previous step [m] (zero for a new contact) carried into the current tangent plane.
-template <int D>
-[[gnu::always_inline]] inline ContactPrep<D> hertz_mindlin_prepare(const HertzMindlinParams& p,
-                                                                   const ContactGeometry<D>& g,
-                                                                   Real mass_eff,
-                                                                   const Vec<D>& shear_history) {
-  ContactPrep<D> out;
-  out.spring = hertz_normal_spring(p.youngs_modulus_eff_pa, g.radius_eff, g.overlap);
-  out.normal_damping = tsuji_dashpot_coefficient(p.damping_ratio, out.spring.stiffness, mass_eff);
-  // S_t = (4 G*/E*) S_n, and so \gamma_t = \sqrt{4 G*/E*} \gamma_n.
-  out.tangential_damping =
-      p.tangential_damping ? p.sqrt_stiffness_ratio * out.normal_damping : Real(0);
-  out.carried_history = rotate_into_tangent_plane(shear_history, g.normal);
-  return out;
-}
-
-/// Hertz-Mindlin force on a touching pair from its prepared part, velocities v, dt [s].
-template <int D>
-[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin_finish(const HertzMindlinParams& p,
-                                                                   const ContactGeometry<D>& g,
-                                                                   const RelativeVelocity<D>& v,
-                                                                   const ContactPrep<D>& part,
-                                                                   Real dt) {
-  // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n.
-  return finish_spring_dashpot<D>(g, v, part, p.stiffness_ratio * part.spring.stiffness, p.friction,
-                                  p.limit_attractive_force, dt);
-}
-
-/// Hertz-Mindlin force on a touching pair (see the file comment). mass_eff m* [kg],
-/// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
-template <int D>
-[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin(const HertzMindlinParams& p,
-                                                            const ContactGeometry<D>& g,
-                                                            const RelativeVelocity<D>& v,
-                                                            Real mass_eff,
-                                                            const Vec<D>& shear_history, Real dt) {
-  return hertz_mindlin_finish<D>(p, g, v, hertz_mindlin_prepare<D>(p, g, mass_eff, shear_history),
-                                 dt);
-}
-
 /// The law as a type, for a pair loop templated on it (contact_force.hpp), and what a DEM part
-/// asks of it (law_binding.hpp; defined at the end of this file).
+/// asks of it (law_binding.hpp; part_laws and part_step are defined at the end of this file).
 struct HertzMindlin {
   using Params = HertzMindlinParams;
+
+  /// The law's roots and divisions (contact_force.hpp, ContactPrep): the Hertz spring and both
+  /// dashpot coefficients at the pair's overlap, mass_eff m* [kg], and the shear history \xi of
+  /// the previous step [m] (zero for a new contact) carried into the current tangent plane.
   template <int D>
   [[gnu::always_inline]] static ContactPrep<D> prepare(const Params& p, const ContactGeometry<D>& g,
                                                        Real mass_eff, const Vec<D>& shear_history) {
-    return hertz_mindlin_prepare<D>(p, g, mass_eff, shear_history);
+    ContactPrep<D> out;
+    out.spring = hertz_normal_spring(p.youngs_modulus_eff_pa, g.radius_eff, g.overlap);
+    out.normal_damping = tsuji_dashpot_coefficient(p.damping_ratio, out.spring.stiffness, mass_eff);
+    // S_t = (4 G*/E*) S_n, and so \gamma_t = \sqrt{4 G*/E*} \gamma_n.
+    out.tangential_damping =
+        p.tangential_damping ? p.sqrt_stiffness_ratio * out.normal_damping : Real(0);
+    out.carried_history = rotate_into_tangent_plane(shear_history, g.normal);
+    return out;
   }
+  /// The force on a touching pair from its prepared part, velocities v, dt [s].
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> finish(const Params& p, const ContactGeometry<D>& g,
                                                        const RelativeVelocity<D>& v,
                                                        const ContactPrep<D>& part, Real dt) {
-    return hertz_mindlin_finish<D>(p, g, v, part, dt);
+    // S_t = 8 G* sqrt(R* δ) = (4 G*/E*) S_n.
+    return finish_spring_dashpot<D>(g, v, part, p.stiffness_ratio * part.spring.stiffness,
+                                    p.friction, p.limit_attractive_force, dt);
   }
 
   static LawPair<HertzMindlin> part_laws(const Settings& dem, const GranularMaterial& grain);
@@ -158,6 +130,17 @@ struct HertzMindlin {
     return std::nullopt;  // none: the scenario gives absorbing walls' P-wave speed
   }
 };
+
+/// Hertz-Mindlin force on a touching pair (see the file comment). mass_eff m* [kg],
+/// shear_history \xi of the previous step [m] (zero for a new contact), dt [s].
+template <int D>
+[[gnu::always_inline]] inline ContactForce<D> hertz_mindlin(const HertzMindlinParams& p,
+                                                            const ContactGeometry<D>& g,
+                                                            const RelativeVelocity<D>& v,
+                                                            Real mass_eff,
+                                                            const Vec<D>& shear_history, Real dt) {
+  return law_force<HertzMindlin, D>(p, g, v, mass_eff, shear_history, dt);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Time scales.

@@ -59,65 +59,39 @@ inline LinearSpringParams linear_spring_params(Real normal_stiffness, Real shear
   return p;
 }
 
-/// The law's roots and divisions (contact_force.hpp, ContactPrep): the linear spring, both
-/// dashpot coefficients (mass_eff m* [kg]) and the shear history \xi [m] carried into the
-/// current tangent plane.
-template <int D>
-[[gnu::always_inline]] inline ContactPrep<D> linear_spring_prepare(const LinearSpringParams& p,
-                                                                   const ContactGeometry<D>& g,
-                                                                   Real mass_eff,
-                                                                   const Vec<D>& shear_history) {
-  ContactPrep<D> out;
-  const Real delta = std::max(g.overlap, Real(0));
-  out.spring.elastic_force = p.normal_stiffness_n_m * delta;
-  out.spring.force = out.spring.elastic_force;
-  out.spring.stiffness = p.normal_stiffness_n_m;
-  out.spring.elastic_energy = Real(0.5) * out.spring.elastic_force * delta;
-  out.normal_damping =
-      linear_dashpot_coefficient(p.damping_ratio, p.normal_stiffness_n_m, mass_eff);
-  out.tangential_damping =
-      p.tangential_damping
-          ? linear_dashpot_coefficient(p.damping_ratio, p.shear_stiffness_n_m, mass_eff)
-          : Real(0);
-  out.carried_history = rotate_into_tangent_plane(shear_history, g.normal);
-  return out;
-}
-
-/// The linear law's force from its prepared part (see linear_spring).
-template <int D>
-[[gnu::always_inline]] inline ContactForce<D> linear_spring_finish(const LinearSpringParams& p,
-                                                                   const ContactGeometry<D>& g,
-                                                                   const RelativeVelocity<D>& v,
-                                                                   const ContactPrep<D>& part,
-                                                                   Real dt) {
-  return finish_spring_dashpot<D>(g, v, part, p.shear_stiffness_n_m, p.friction,
-                                  p.limit_attractive_force, dt);
-}
-
-/// Linear spring-dashpot force on a touching pair (see the file comment). mass_eff m* [kg],
-/// shear_history \xi of the previous step [m], dt [s].
-template <int D>
-inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactGeometry<D>& g,
-                                     const RelativeVelocity<D>& v, Real mass_eff,
-                                     const Vec<D>& shear_history, Real dt) {
-  return linear_spring_finish<D>(p, g, v, linear_spring_prepare<D>(p, g, mass_eff, shear_history),
-                                 dt);
-}
-
 /// The law as a type, for a pair loop templated on it (contact_force.hpp), and what a DEM part
 /// asks of it (law_binding.hpp).
 struct LinearSpring {
   using Params = LinearSpringParams;
+
+  /// The law's roots and divisions (contact_force.hpp, ContactPrep): the linear spring, both
+  /// dashpot coefficients (mass_eff m* [kg]) and the shear history \xi [m] carried into the
+  /// current tangent plane.
   template <int D>
   [[gnu::always_inline]] static ContactPrep<D> prepare(const Params& p, const ContactGeometry<D>& g,
                                                        Real mass_eff, const Vec<D>& shear_history) {
-    return linear_spring_prepare<D>(p, g, mass_eff, shear_history);
+    ContactPrep<D> out;
+    const Real delta = std::max(g.overlap, Real(0));
+    out.spring.elastic_force = p.normal_stiffness_n_m * delta;
+    out.spring.force = out.spring.elastic_force;
+    out.spring.stiffness = p.normal_stiffness_n_m;
+    out.spring.elastic_energy = Real(0.5) * out.spring.elastic_force * delta;
+    out.normal_damping =
+        linear_dashpot_coefficient(p.damping_ratio, p.normal_stiffness_n_m, mass_eff);
+    out.tangential_damping =
+        p.tangential_damping
+            ? linear_dashpot_coefficient(p.damping_ratio, p.shear_stiffness_n_m, mass_eff)
+            : Real(0);
+    out.carried_history = rotate_into_tangent_plane(shear_history, g.normal);
+    return out;
   }
+  /// The force from the prepared part (see linear_spring).
   template <int D>
   [[gnu::always_inline]] static ContactForce<D> finish(const Params& p, const ContactGeometry<D>& g,
                                                        const RelativeVelocity<D>& v,
                                                        const ContactPrep<D>& part, Real dt) {
-    return linear_spring_finish<D>(p, g, v, part, dt);
+    return finish_spring_dashpot<D>(g, v, part, p.shear_stiffness_n_m, p.friction,
+                                    p.limit_attractive_force, dt);
   }
 
   /// The part's springs k_n, k_s [N/m] with the grains' restitution and friction; walls take
@@ -135,6 +109,15 @@ struct LinearSpring {
     return 2 * mean.radius_m * std::sqrt(dem.normal_stiffness_n_m / mean.mass_kg);
   }
 };
+
+/// Linear spring-dashpot force on a touching pair (see the file comment). mass_eff m* [kg],
+/// shear_history \xi of the previous step [m], dt [s].
+template <int D>
+inline ContactForce<D> linear_spring(const LinearSpringParams& p, const ContactGeometry<D>& g,
+                                     const RelativeVelocity<D>& v, Real mass_eff,
+                                     const Vec<D>& shear_history, Real dt) {
+  return law_force<LinearSpring, D>(p, g, v, mass_eff, shear_history, dt);
+}
 
 inline LawPair<LinearSpring> LinearSpring::part_laws(const Settings& dem,
                                                      const GranularMaterial& grain) {

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <utility>
 
 #include "io/scenario/schema_keys.hpp"
 #include "materials/damage/johnson_cook_damage.hpp"
@@ -14,120 +15,111 @@ namespace {
 
 using namespace keys;
 
+using Reader = decltype(MaterialLaw::read);
+
+// An equation of state: a law of SPH parts.
+MaterialLaw equation_of_state(const char* model, std::vector<KeySchema> keys, Reader read) {
+  return {.model = model, .method = "sph", .keys = std::move(keys), .read = read};
+}
+
+// A law of DEM grains.
+MaterialLaw grain_law(const char* model, std::vector<KeySchema> keys, Reader read) {
+  return {.model = model, .method = "dem", .keys = std::move(keys), .read = read};
+}
+
 // ---- equations of state (sph) --------------------------------------------------------------
 
 void read_jwl(const LawInput& in, MaterialConfig& m) {
-  materials::JwlParams p;
-  p.rho0_kg_m3 = m.rho0_kg_m3;
-  p.a_pa = in.num("a_pa");
-  p.b_pa = in.num("b_pa");
-  p.r1 = in.num("r1");
-  p.r2 = in.num("r2");
-  p.omega = in.num("omega");
-  p.e0_j_m3 = in.num("e0_j_m3");
-  p.d_cj_m_s = in.num("d_cj_m_s");
+  const materials::JwlParams p{.rho0_kg_m3 = m.rho0_kg_m3,
+                               .a_pa = in.num("a_pa"),
+                               .b_pa = in.num("b_pa"),
+                               .r1 = in.num("r1"),
+                               .r2 = in.num("r2"),
+                               .omega = in.num("omega"),
+                               .e0_j_m3 = in.num("e0_j_m3"),
+                               .d_cj_m_s = in.num("d_cj_m_s")};
   in.report(materials::jwl_check(p));
   m.eos = p;
 }
 
 MaterialLaw jwl() {
-  return {
-      .model = "jwl",
-      .method = "sph",
-      .keys =
-          {
-              required(
-                  positive(real("rho0_kg_m3", "kg/m^3", "Unreacted explosive density rho_0."))),
-              required(positive(real("a_pa", "Pa", "JWL A (paper eq. 40)."))),
-              required(positive(real("b_pa", "Pa", "JWL B."))),
-              required(positive(real("r1", "1", "JWL R1."))),
-              required(positive(real("r2", "1", "JWL R2."))),
-              required(positive(real("omega", "1", "JWL Grueneisen coefficient omega."))),
-              required(positive(
-                  real("e0_j_m3", "J/m^3", "Detonation energy per unit initial volume E_0."))),
-              required(
-                  positive(real("d_cj_m_s", "m/s", "Detonation (Chapman-Jouguet) velocity D."))),
-          },
-      .read = read_jwl,
-  };
+  return equation_of_state(
+      "jwl",
+      {
+          required(positive(real("rho0_kg_m3", "kg/m^3", "Unreacted explosive density rho_0."))),
+          required(positive(real("a_pa", "Pa", "JWL A (paper eq. 40)."))),
+          required(positive(real("b_pa", "Pa", "JWL B."))),
+          required(positive(real("r1", "1", "JWL R1."))),
+          required(positive(real("r2", "1", "JWL R2."))),
+          required(positive(real("omega", "1", "JWL Grueneisen coefficient omega."))),
+          required(
+              positive(real("e0_j_m3", "J/m^3", "Detonation energy per unit initial volume E_0."))),
+          required(positive(real("d_cj_m_s", "m/s", "Detonation (Chapman-Jouguet) velocity D."))),
+      },
+      read_jwl);
 }
 
 void read_ideal_gas(const LawInput& in, MaterialConfig& m) {
-  materials::IdealGasParams p;
-  p.gamma = in.num("gamma");
+  const materials::IdealGasParams p{.gamma = in.num("gamma")};
   in.report(materials::ideal_gas_check(p));
   m.eos = p;
 }
 
 MaterialLaw ideal_gas() {
-  return {
-      .model = "ideal_gas",
-      .method = "sph",
-      .keys =
-          {
-              required(
-                  positive(real("rho0_kg_m3", "kg/m^3", "Reference density (default initial)."))),
-              required(positive(real("gamma", "1", "Ratio of specific heats; > 1."))),
-          },
-      .read = read_ideal_gas,
-  };
+  return equation_of_state(
+      "ideal_gas",
+      {
+          required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density (default initial)."))),
+          required(positive(real("gamma", "1", "Ratio of specific heats; > 1."))),
+      },
+      read_ideal_gas);
 }
 
 void read_tait(const LawInput& in, MaterialConfig& m) {
-  materials::TaitParams p;
-  p.rho0_kg_m3 = m.rho0_kg_m3;
-  p.c0_m_s = in.num("c0_m_s");
-  p.gamma = in.num("gamma");
-  p.background_pa = in.num("background_pa");
+  const materials::TaitParams p{.rho0_kg_m3 = m.rho0_kg_m3,
+                                .c0_m_s = in.num("c0_m_s"),
+                                .gamma = in.num("gamma"),
+                                .background_pa = in.num("background_pa")};
   in.report(materials::tait_check(p));
   m.eos = p;
 }
 
 MaterialLaw tait() {
-  return {
-      .model = "tait",
-      .method = "sph",
-      .keys =
-          {
-              required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density rho_0 (eq. 35)."))),
-              required(positive(
-                  real("c0_m_s", "m/s", "Reference sound speed; B = rho_0 c_0^2 / gamma."))),
-              with_default(positive(real("gamma", "1", "Tait exponent.")), "7"),
-              with_default(real("background_pa", "Pa", "Background pressure added to eq. 35."),
-                           "0"),
-          },
-      .read = read_tait,
-  };
+  return equation_of_state(
+      "tait",
+      {
+          required(positive(real("rho0_kg_m3", "kg/m^3", "Reference density rho_0 (eq. 35)."))),
+          required(
+              positive(real("c0_m_s", "m/s", "Reference sound speed; B = rho_0 c_0^2 / gamma."))),
+          with_default(positive(real("gamma", "1", "Tait exponent.")), "7"),
+          with_default(real("background_pa", "Pa", "Background pressure added to eq. 35."), "0"),
+      },
+      read_tait);
 }
 
 // ---- grains (dem) ----------------------------------------------------------------------------
 
 void read_granular(const LawInput& in, MaterialConfig& m) {
-  m.granular.shear_modulus_pa = in.num("shear_modulus_pa");
-  m.granular.poisson_ratio = in.num("poisson_ratio");
-  m.granular.friction = in.num("friction");
-  m.granular.restitution = in.num("restitution");
+  m.granular = {.shear_modulus_pa = in.num("shear_modulus_pa"),
+                .poisson_ratio = in.num("poisson_ratio"),
+                .friction = in.num("friction"),
+                .restitution = in.num("restitution")};
 }
 
 MaterialLaw granular() {
-  return {
-      .model = "granular",
-      .method = "dem",
-      .keys =
-          {
-              required(positive(real("rho0_kg_m3", "kg/m^3", "Grain (solid) density."))),
-              required(positive(real("shear_modulus_pa", "Pa", "Grain shear modulus G."))),
-              required(
-                  at_most(at_least(real("poisson_ratio", "1", "Grain Poisson's ratio."), 0), 0.5)),
-              required(
-                  at_least(real("friction", "1", "Grain-grain Coulomb friction coefficient."), 0)),
-              required(at_most(positive(real("restitution", "1",
-                                             "Normal coefficient of restitution (sets the "
-                                             "contact damping).")),
-                               1)),
-          },
-      .read = read_granular,
-  };
+  return grain_law(
+      "granular",
+      {
+          required(positive(real("rho0_kg_m3", "kg/m^3", "Grain (solid) density."))),
+          required(positive(real("shear_modulus_pa", "Pa", "Grain shear modulus G."))),
+          required(at_most(at_least(real("poisson_ratio", "1", "Grain Poisson's ratio."), 0), 0.5)),
+          required(at_least(real("friction", "1", "Grain-grain Coulomb friction coefficient."), 0)),
+          required(at_most(positive(real("restitution", "1",
+                                         "Normal coefficient of restitution (sets the "
+                                         "contact damping).")),
+                           1)),
+      },
+      read_granular);
 }
 
 // ---- strength laws (fem) ---------------------------------------------------------------------
@@ -146,6 +138,11 @@ std::vector<KeySchema> elastic_keys_and(const std::vector<KeySchema>& own) {
   k.insert(k.end(), own.begin(), own.end());
   return k;
 }
+
+// A strength law of FEM parts: the keys every solid has, then its own.
+MaterialLaw strength_law(const char* model, const std::vector<KeySchema>& own, Reader read) {
+  return {.model = model, .method = "fem", .keys = elastic_keys_and(own), .read = read};
+}
 materials::ElasticParams read_elastic_constants(const LawInput& in) {
   return {.youngs_modulus_pa = in.num("youngs_modulus_pa"),
           .poisson_ratio = in.num("poisson_ratio")};
@@ -157,7 +154,7 @@ void read_elastic(const LawInput& in, MaterialConfig& m) {
 }
 
 MaterialLaw elastic() {
-  return {.model = "elastic", .method = "fem", .keys = elastic_keys(), .read = read_elastic};
+  return strength_law("elastic", {}, read_elastic);
 }
 
 TableSchema make_jc_damage() {
@@ -186,15 +183,15 @@ void read_jc_damage(const LawInput& in, const materials::JohnsonCookParams& p, M
   const toml::node* dn = in.table.get("damage");
   if (!dn) return;
   const auto& dt = *dn->as_table();
-  materials::JohnsonCookDamageParams d;
-  d.d1 = reader::num(dt, "d1");
-  d.d2 = reader::num(dt, "d2");
-  d.d3 = reader::num(dt, "d3");
-  d.d4 = reader::num(dt, "d4");
-  d.d5 = reader::num(dt, "d5");
-  d.reference_strain_rate_1_s = p.reference_strain_rate_1_s;
-  d.room_temperature_k = p.room_temperature_k;
-  d.melt_temperature_k = p.melt_temperature_k;
+  const materials::JohnsonCookDamageParams d{
+      .d1 = reader::num(dt, "d1"),
+      .d2 = reader::num(dt, "d2"),
+      .d3 = reader::num(dt, "d3"),
+      .d4 = reader::num(dt, "d4"),
+      .d5 = reader::num(dt, "d5"),
+      .reference_strain_rate_1_s = p.reference_strain_rate_1_s,
+      .room_temperature_k = p.room_temperature_k,
+      .melt_temperature_k = p.melt_temperature_k};
   // The failure strain at zero triaxiality must be positive, or every element fails at
   // its first plastic step.
   if (!(d.d1 + d.d2 > 0))
@@ -206,19 +203,19 @@ void read_jc_damage(const LawInput& in, const materials::JohnsonCookParams& p, M
 }
 
 void read_johnson_cook(const LawInput& in, MaterialConfig& m) {
-  materials::JohnsonCookParams p;
-  p.elastic = read_elastic_constants(in);
-  p.a_pa = in.num("a_pa");
-  p.b_pa = in.num("b_pa");
-  p.n = in.num("n");
-  p.c = in.num("c");
-  p.m = in.num("m");
-  p.reference_strain_rate_1_s = in.num("reference_strain_rate_1_s");
-  p.thermal_softening = in.boolean("thermal_softening");
-  p.room_temperature_k = in.num("room_temperature_k");
-  p.melt_temperature_k = in.num("melt_temperature_k");
-  p.specific_heat_j_kg_k = in.num("specific_heat_j_kg_k");
-  p.taylor_quinney = in.num("taylor_quinney");
+  const materials::JohnsonCookParams p{
+      .elastic = read_elastic_constants(in),
+      .a_pa = in.num("a_pa"),
+      .b_pa = in.num("b_pa"),
+      .n = in.num("n"),
+      .c = in.num("c"),
+      .m = in.num("m"),
+      .reference_strain_rate_1_s = in.num("reference_strain_rate_1_s"),
+      .room_temperature_k = in.num("room_temperature_k"),
+      .melt_temperature_k = in.num("melt_temperature_k"),
+      .thermal_softening = in.boolean("thermal_softening"),
+      .taylor_quinney = in.num("taylor_quinney"),
+      .specific_heat_j_kg_k = in.num("specific_heat_j_kg_k")};
   if (!(p.melt_temperature_k > p.room_temperature_k))
     in.error("melt_temperature_k",
              fmt::format("expected a melting temperature above room_temperature_k = {} K, got {} K",
@@ -229,10 +226,9 @@ void read_johnson_cook(const LawInput& in, MaterialConfig& m) {
 }
 
 MaterialLaw johnson_cook() {
-  return {
-      .model = "johnson_cook",
-      .method = "fem",
-      .keys = elastic_keys_and({
+  return strength_law(
+      "johnson_cook",
+      {
           required(
               positive(real("a_pa", "Pa", "Johnson-Cook A, the initial yield stress (eq. 41)."))),
           required(at_least(real("b_pa", "Pa", "Johnson-Cook B, hardening modulus."), 0)),
@@ -242,10 +238,9 @@ MaterialLaw johnson_cook() {
           with_default(positive(real("reference_strain_rate_1_s", "1/s",
                                      "Reference plastic strain rate of the rate term (eq. 41).")),
                        "1.0"),
-          with_default(of_type(real("thermal_softening", "",
-                                    "Use the (1 - T*^m) term with adiabatic heating (off in the "
-                                    "paper)."),
-                               KeyType::Bool),
+          with_default(flag("thermal_softening",
+                            "Use the (1 - T*^m) term with adiabatic heating (off in the "
+                            "paper)."),
                        "false"),
           with_default(positive(real("room_temperature_k", "K", "T_room of T*.")), "293.15"),
           with_default(positive(real("melt_temperature_k", "K", "T_melt of T*.")), "1793.0"),
@@ -260,9 +255,8 @@ MaterialLaw johnson_cook() {
           absent_means_unset(
               sub("damage", KeyType::Table, jc_damage_schema(),
                   "Johnson-Cook damage; elements erode at D = 1. Unset: no damage, no erosion.")),
-      }),
-      .read = read_johnson_cook,
-  };
+      },
+      read_johnson_cook);
 }
 
 void read_drucker_prager(const LawInput& in, MaterialConfig& m) {
@@ -284,10 +278,9 @@ void read_drucker_prager(const LawInput& in, MaterialConfig& m) {
 }
 
 MaterialLaw drucker_prager() {
-  return {
-      .model = "drucker_prager",
-      .method = "fem",
-      .keys = elastic_keys_and({
+  return strength_law(
+      "drucker_prager",
+      {
           required(at_least(real("cohesion_pa", "Pa", "Mohr-Coulomb cohesion c."), 0)),
           required(at_most(
               at_least(real("friction_angle_deg", "deg", "Mohr-Coulomb friction angle phi."), 0),
@@ -301,9 +294,8 @@ MaterialLaw drucker_prager() {
                               "the triaxial compression or extension meridian, or the plane-"
                               "strain collapse load."),
                        "\"compression\""),
-      }),
-      .read = read_drucker_prager,
-  };
+      },
+      read_drucker_prager);
 }
 
 // What each method's parts take, in words: for the `model` key's help and the error of a part

@@ -19,12 +19,9 @@ TableSchema make_scenario() {
       required(text("name", "Short name of the scenario; written to summary.json.")),
       with_default(text("description", "Free text shown by `crater check` and in the report."),
                    "\"\""),
-      with_default(at_most(at_least(of_type(real("dimension", "1",
-                                                 "2 (plane strain, per metre of depth) or 3."),
-                                            KeyType::Integer),
-                                    2),
-                           3),
-                   "2"),
+      with_default(
+          at_most(at_least(whole("dimension", "2 (plane strain, per metre of depth) or 3."), 2), 3),
+          "2"),
       required(positive(real("end_time_s", "s", "Simulated time at which the run stops."))),
   };
   return t;
@@ -42,11 +39,8 @@ TableSchema make_time() {
       positive(real("fixed_dt_s", "s",
                     "Use this step instead of the computed one. Rejected if it exceeds the "
                     "stable step (the limiting part is named). Unset: computed every step.")),
-      with_default(
-          at_least(of_type(real("max_steps", "1", "Stop after this many steps (0: no limit)."),
-                           KeyType::Integer),
-                   0),
-          "0"),
+      with_default(at_least(whole("max_steps", "Stop after this many steps (0: no limit)."), 0),
+                   "0"),
       with_default(at_least(real("energy_warn_error", "1",
                                  "Energy guard: warn once when the relative energy balance "
                                  "error (history.csv energy_error, checked at every history "
@@ -68,21 +62,18 @@ TableSchema make_output() {
   t.keys = {
       positive(
           real("interval_s", "s", "Simulated time between VTU frames. Unset: end_time_s / 20.")),
-      with_default(at_least(of_type(real("history_every", "1",
-                                         "Write a history.csv row every this many steps."),
-                                    KeyType::Integer),
-                            1),
-                   "10"),
-      with_default(of_type(real("vtu", "", "Write VTU/PVD files."), KeyType::Bool), "true"),
+      with_default(
+          at_least(whole("history_every", "Write a history.csv row every this many steps."), 1),
+          "10"),
+      with_default(flag("vtu", "Write VTU/PVD files."), "true"),
       with_default(choice("vtu_encoding", {"appended", "base64"},
                           "VTU data layout: raw appended binary (smallest, fastest) or inline "
                           "base64."),
                    "\"appended\""),
-      with_default(at_least(of_type(real("checkpoint_every_steps", "1",
-                                         "Write a checkpoint (<out>/checkpoints/) every this "
-                                         "many steps; 0: not by step count. A run resumes "
-                                         "from one with `crater run SCENARIO --resume DIR`."),
-                                    KeyType::Integer),
+      with_default(at_least(whole("checkpoint_every_steps",
+                                  "Write a checkpoint (<out>/checkpoints/) every this "
+                                  "many steps; 0: not by step count. A run resumes "
+                                  "from one with `crater run SCENARIO --resume DIR`."),
                             0),
                    "0"),
       with_default(at_least(real("checkpoint_every_s", "s",
@@ -91,16 +82,13 @@ TableSchema make_output() {
                                  "write one."),
                             0),
                    "120"),
-      with_default(at_least(of_type(real("checkpoint_keep", "1",
-                                         "Newest checkpoints kept; older ones are deleted."),
-                                    KeyType::Integer),
-                            1),
-                   "2"),
-      with_default(at_least(of_type(real("max_frames", "1",
-                                         "Most VTU frames a run may write (end_time_s / "
-                                         "interval_s + 1); more is refused as a likely "
-                                         "mistake in interval_s."),
-                                    KeyType::Integer),
+      with_default(
+          at_least(whole("checkpoint_keep", "Newest checkpoints kept; older ones are deleted."), 1),
+          "2"),
+      with_default(at_least(whole("max_frames",
+                                  "Most VTU frames a run may write (end_time_s / "
+                                  "interval_s + 1); more is refused as a likely "
+                                  "mistake in interval_s."),
                             1),
                    "10000"),
       with_default(positive(real("max_bytes", "B",
@@ -215,10 +203,9 @@ TableSchema make_sph() {
                                          "speed).")),
                            1.0),
                    "0.3"),
-      with_default(of_type(real("variable_h", "",
-                                "Smoothing length follows the density, h = h_0 (rho_0/rho)^(1/D) "
-                                "(paper eq. 37, integrated)."),
-                           KeyType::Bool),
+      with_default(flag("variable_h",
+                        "Smoothing length follows the density, h = h_0 (rho_0/rho)^(1/D) "
+                        "(paper eq. 37, integrated)."),
                    "true"),
       with_default(at_most(at_least(real("xsph_epsilon", "1",
                                          "XSPH velocity smoothing epsilon (eq. 39); 0: off."),
@@ -242,13 +229,11 @@ TableSchema make_sph() {
                    "[]"),
       with_default(
           at_most(
-              at_least(
-                  of_type(real("wall_layers", "1",
-                               "No-slip walls: least number of layers of dummy wall particles (at "
-                               "spacing_m); more are laid when the kernel support of the largest "
-                               "particle (2 h) needs them. Unused by free-slip walls."),
-                          KeyType::Integer),
-                  1),
+              at_least(whole("wall_layers",
+                             "No-slip walls: least number of layers of dummy wall particles (at "
+                             "spacing_m); more are laid when the kernel support of the largest "
+                             "particle (2 h) needs them. Unused by free-slip walls."),
+                       1),
               6),
           "3"),
       with_default(choice("wall_slip", {"free", "no"},
@@ -292,8 +277,7 @@ TableSchema make_bond() {
                 {},
                 {}};
   t.keys = {
-      with_default(of_type(real("enabled", "", "Bond the grains at t = 0."), KeyType::Bool),
-                   "false"),
+      with_default(flag("enabled", "Bond the grains at t = 0."), "false"),
       with_default(choice("radius_rule", {"min", "mean", "effective"},
                           "Bond radius R: min = multiplier x min(r1, r2) (Potyondy & Cundall); "
                           "mean = multiplier x (r1 + r2)/2, effective = multiplier x r1 r2 / "
@@ -363,9 +347,7 @@ TableSchema make_dem() {
       positive(real("radius_max_m", "m",
                     "Largest grain radius, at most spacing_m / 2. Unset: "
                     "spacing_m / 2.")),
-      with_default(
-          at_least(of_type(real("seed", "1", "Seed of the radius draw."), KeyType::Integer), 0),
-          "1"),
+      with_default(at_least(whole("seed", "Seed of the radius draw."), 0), "1"),
       with_default(at_most(at_least(real("local_damping", "1",
                                          "Cundall local damping alpha (eq. 25): 0.157 dynamic, "
                                          "0.7 quasi-static, 0 off."),
@@ -388,11 +370,10 @@ TableSchema make_dem() {
                                  "use 0.3); acts while the rolling spring is below its limit."),
                             0),
                    "0"),
-      with_default(of_type(real("rate_dependent_friction", "",
-                                "Friction angle rises with the contact strain rate: phi_dyn = "
-                                "phi_s (1 + beta log10(rate / rate_0)) above rate_0, rate = "
-                                "abs(v_n) / (r_1 + r_2) (paper section III-C)."),
-                           KeyType::Bool),
+      with_default(flag("rate_dependent_friction",
+                        "Friction angle rises with the contact strain rate: phi_dyn = "
+                        "phi_s (1 + beta log10(rate / rate_0)) above rate_0, rate = "
+                        "abs(v_n) / (r_1 + r_2) (paper section III-C)."),
                    "false"),
       with_default(
           at_least(
@@ -466,9 +447,7 @@ TableSchema make_packing() {
                    "random: mass fraction passing each sieve of sieve_diameter_m, ascending "
                    "from 0 to 1 (grains are uniform in diameter within each class)."),
               KeyType::RealArray),
-      with_default(of_type(real("settle", "", "Settle the grains under gravity before the run."),
-                           KeyType::Bool),
-                   "false"),
+      with_default(flag("settle", "Settle the grains under gravity before the run."), "false"),
       with_default(positive(real("settle_kinetic_ratio", "1",
                                  "Settled when the grains' mean kinetic energy is below this x "
                                  "m g r of the mean grain.")),
@@ -649,10 +628,9 @@ TableSchema make_fem() {
       positive(real("erosion_plastic_strain", "1",
                     "Elements erode when their effective plastic strain reaches this (as "
                     "LS-DYNA's *MAT_ADD_EROSION). Unset: only Johnson-Cook damage erodes.")),
-      with_default(of_type(real("erode_inverted", "",
-                                "An element turned inside out (volume <= 0) erodes, and the run "
-                                "goes on; false: the run stops (exit 3) naming it."),
-                           KeyType::Bool),
+      with_default(flag("erode_inverted",
+                        "An element turned inside out (volume <= 0) erodes, and the run "
+                        "goes on; false: the run stops (exit 3) naming it."),
                    "false"),
       with_default(
           at_most(at_least(real("erosion_step_ratio", "1",
@@ -823,39 +801,11 @@ const TableSchema& scenario_schema() {
 namespace {
 
 std::string type_doc(const KeySchema& k) {
-  switch (k.type) {
-    case KeyType::Real:
-      return "number";
-    case KeyType::Integer:
-      return "integer";
-    case KeyType::Bool:
-      return "bool";
-    case KeyType::String:
-      return "string";
-    case KeyType::Choice: {
-      std::string s;
-      for (std::size_t i = 0; i < k.choices.size(); ++i)
-        s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
-      return s;
-    }
-    case KeyType::ChoiceList: {
-      std::string s = "array of ";
-      for (std::size_t i = 0; i < k.choices.size(); ++i)
-        s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
-      return s;
-    }
-    case KeyType::StringArray:
-      return "[string, ...]";
-    case KeyType::RealVector:
-      return "[number; dimension]";
-    case KeyType::RealArray:
-      return "[number, ...]";
-    case KeyType::Table:
-      return "table";
-    case KeyType::TableArray:
-      return "array of tables";
-  }
-  return "";
+  if (k.type != KeyType::Choice && k.type != KeyType::ChoiceList) return words_of(k.type).doc;
+  std::string s = k.type == KeyType::ChoiceList ? "array of " : "";
+  for (std::size_t i = 0; i < k.choices.size(); ++i)
+    s += (i ? " \\| " : "") + ("`\"" + k.choices[i] + "\"`");
+  return s;
 }
 
 std::string range_doc(const KeySchema& k) {

@@ -3,6 +3,7 @@
 // docs/scenario-format.md (`crater schema --markdown`), so the two cannot drift apart.
 #pragma once
 
+#include <iterator>
 #include <map>
 #include <optional>
 #include <string>
@@ -23,6 +24,30 @@ enum class KeyType {
   Table,        // sub-table described by `sub`
   TableArray,   // array of tables ([[name]]) each described by `sub`
 };
+
+/// What a key's type is called: in the scenario reference (`doc`, e.g. "number") and in an
+/// error's "expected ..." (`expected`, e.g. "a number").
+struct KeyTypeWords {
+  const char* doc;
+  const char* expected;
+};
+/// By KeyType, in its order.
+inline constexpr KeyTypeWords kKeyTypeWords[] = {
+    {"number", "a number"},
+    {"integer", "an integer"},
+    {"bool", "true or false"},
+    {"string", "a string"},
+    {"string", "a string"},
+    {"array of strings", "an array of strings"},
+    {"[string, ...]", "an array of strings"},
+    {"[number; dimension]", "an array of numbers"},
+    {"[number, ...]", "an array of numbers"},
+    {"table", "a table"},
+    {"array of tables", "an array of tables ([[...]])"}};
+static_assert(std::size(kKeyTypeWords) == static_cast<std::size_t>(KeyType::TableArray) + 1);
+inline KeyTypeWords words_of(KeyType t) {
+  return kKeyTypeWords[static_cast<std::size_t>(t)];
+}
 
 struct TableSchema;
 

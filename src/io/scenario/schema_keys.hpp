@@ -67,6 +67,14 @@ inline KeySchema text(std::string name, std::string doc) {
 inline KeySchema vec(std::string name, std::string unit, std::string doc) {
   return of_type(real(std::move(name), std::move(unit), std::move(doc)), KeyType::RealVector);
 }
+/// A whole number (a count, a seed, a dimension).
+inline KeySchema whole(std::string name, std::string doc) {
+  return of_type(real(std::move(name), "1", std::move(doc)), KeyType::Integer);
+}
+/// true or false.
+inline KeySchema flag(std::string name, std::string doc) {
+  return of_type(real(std::move(name), "", std::move(doc)), KeyType::Bool);
+}
 inline KeySchema absent_means_unset(KeySchema k) {
   k.absent_means_unset = true;
   return k;

@@ -4,59 +4,29 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <sstream>
 
 namespace crater::io {
 namespace {
 
 std::string type_name(KeyType t, int dimension) {
-  switch (t) {
-    case KeyType::Real:
-      return "a number";
-    case KeyType::Integer:
-      return "an integer";
-    case KeyType::Bool:
-      return "true or false";
-    case KeyType::String:
-      return "a string";
-    case KeyType::Choice:
-      return "a string";
-    case KeyType::ChoiceList:
-    case KeyType::StringArray:
-      return "an array of strings";
-    case KeyType::RealVector:
-      return fmt::format("an array of {} numbers", dimension);
-    case KeyType::RealArray:
-      return "an array of numbers";
-    case KeyType::Table:
-      return "a table";
-    case KeyType::TableArray:
-      return "an array of tables ([[...]])";
-  }
-  return "?";
+  if (t == KeyType::RealVector) return fmt::format("an array of {} numbers", dimension);
+  return words_of(t).expected;
 }
 
 std::string node_type_name(const toml::node& n) {
   switch (n.type()) {
-    case toml::node_type::table:
-      return "a table";
-    case toml::node_type::array:
-      return "an array";
-    case toml::node_type::string:
-      return "a string";
-    case toml::node_type::integer:
-      return "an integer";
-    case toml::node_type::floating_point:
-      return "a number";
-    case toml::node_type::boolean:
-      return "a boolean";
-    case toml::node_type::date:
-      return "a date";
-    case toml::node_type::time:
-      return "a time";
-    case toml::node_type::date_time:
-      return "a date-time";
-    default:
+    case toml::node_type::none:
       return "nothing";
+    case toml::node_type::floating_point:
+      return "a number";  // toml++ says "floating-point"
+    default: {
+      // toml++'s own words: table, array, string, integer, boolean, date, time, date-time.
+      std::ostringstream os;
+      os << n.type();
+      const std::string word = os.str();
+      return (word.front() == 'a' || word.front() == 'i' ? "an " : "a ") + word;
+    }
   }
 }
 

@@ -29,11 +29,7 @@ namespace crater::materials {
 
 /// Johnson-Cook damage constants D_1..D_5 [-] and the rate/temperature references.
 struct JohnsonCookDamageParams {
-  Real d1 = 0;
-  Real d2 = 0;
-  Real d3 = 0;
-  Real d4 = 0;
-  Real d5 = 0;
+  Real d1 = 0, d2 = 0, d3 = 0, d4 = 0, d5 = 0;  // D_1..D_5 of the file comment [-]
   Real reference_strain_rate_1_s = 1.0;
   Real min_rate_ratio = 1.0;
   Real room_temperature_k = 293.15;

@@ -1,0 +1,176 @@
+// The searches of face_search.hpp.
+#include "contact/face_search.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <span>
+
+#include "core/index.hpp"
+#include "neighbors/neighbor_list.hpp"
+#include "parallel/parallel.hpp"
+
+namespace crater::contact {
+
+template <int D>
+FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf) {
+  constexpr int kF = parts::kFaceNodes<D>;
+  const auto& xn = *surf.node_position;
+  const auto& faces = *surf.faces;
+  FaceCentres<D> out;
+  out.centre.resize(faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    Vec<D> c = Vec<D>::Zero();
+    for (Index n : faces[f])
+      c += xn[at(n)] / Real(kF);
+    out.centre[f] = c;
+    for (Index n : faces[f])
+      out.half_size = std::max(out.half_size, (xn[at(n)] - c).norm());
+  }
+  return out;
+}
+
+template <int D>
+std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
+                                           const parts::ContactSurface<D>& surf) {
+  constexpr int kF = parts::kFaceNodes<D>;
+  const auto& xn = *surf.node_position;
+  const auto& faces = *surf.faces;
+  const Index nf = static_cast<Index>(faces.size());
+  const Index np = static_cast<Index>(pts.position->size());
+  if (nf == 0 || np == 0) return {};
+
+  // Candidates: faces whose centre is within r_max + the largest face half-size.
+  const FaceCentres<D> fc = face_centres(surf);
+  const std::vector<Vec<D>>& centre = fc.centre;
+  const Real half_size = fc.half_size;
+  const Real r_max = *std::max_element(pts.radius->begin(), pts.radius->end());
+  neighbors::NeighborList candidates;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*pts.position),
+                                 std::span<const Vec<D>>(centre), r_max + half_size, candidates);
+  // Only the particles with a candidate face (a few per cent of a soil bed) are looked at.
+  const std::vector<Index> near =
+      parallel::select(np, [&](Index i) { return !candidates.of(i).empty(); });
+  std::vector<FaceHit<D>> found(near.size());
+  parallel::for_each(static_cast<Index>(near.size()), [&](Index k) {
+    const Index i = near[at(k)];
+    const Vec<D>& x = (*pts.position)[at(i)];
+    const Real r = (*pts.radius)[at(i)];
+    FaceHit<D> best;
+    best.body = i;
+    for (Index f : candidates.of(i)) {
+      std::array<Vec<D>, kF> fx;
+      for (int q = 0; q < kF; ++q)
+        fx[at(q)] = xn[at(faces[at(f)][at(q)])];
+      const FacePoint<D> fp = closest_on_face<D>(x, fx);
+      const Vec<D> nf_out = face_normal<D>(fx);
+      const Vec<D> d = x - fp.point;
+      const Real s = d.dot(nf_out);
+      Real overlap = 0;
+      Vec<D> n;
+      if (s >= 0) {
+        const Real dist = d.norm();
+        overlap = r - dist;
+        n = dist > 0 ? Vec<D>(d / dist) : nf_out;
+      } else {
+        if (s <= -r) continue;  // beyond the reach of this face (e.g. the other side of a plate)
+        overlap = r - s;
+        n = nf_out;
+      }
+      if (overlap > best.overlap) {
+        best.face = f;
+        best.overlap = overlap;
+        best.where = fp;
+        best.n = n;
+      }
+    }
+    found[at(k)] = best;
+  });
+  const std::vector<Index> touching = parallel::select(
+      static_cast<Index>(found.size()), [&](Index k) { return found[at(k)].face >= 0; });
+  std::vector<FaceHit<D>> touched(touching.size());
+  for (std::size_t k = 0; k < touching.size(); ++k)
+    touched[k] = found[at(touching[k])];
+  return touched;
+}
+
+template <int D>
+std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
+                                       const parts::ContactSurface<D>& faces_of) {
+  constexpr int kF = parts::kFaceNodes<D>;
+  const auto& xa = *nodes_of.node_position;
+  const auto& xb = *faces_of.node_position;
+  const auto& faces = *faces_of.faces;
+  // The surface nodes of `nodes_of` that carry mass, ascending, with the stiffest of their
+  // own faces.
+  std::vector<Real> node_k(xa.size(), 0);
+  for (std::size_t f = 0; f < nodes_of.faces->size(); ++f)
+    for (Index n : (*nodes_of.faces)[f])
+      node_k[at(n)] = std::max(node_k[at(n)], (*nodes_of.face_stiffness)[f]);
+  std::vector<Index> nodes;
+  for (std::size_t n = 0; n < xa.size(); ++n)
+    if (node_k[n] > 0 && (*nodes_of.node_mass)[n] > 0) nodes.push_back(static_cast<Index>(n));
+  std::vector<FaceHit<D>> hits(nodes.size());
+  const Index nf = static_cast<Index>(faces.size());
+  if (nf == 0 || nodes.empty()) return hits;
+
+  const FaceCentres<D> fc = face_centres(faces_of);
+  const std::vector<Vec<D>>& centre = fc.centre;
+  const Real half_size = fc.half_size;
+  std::vector<Real> size(at(nf));
+  for (Index f = 0; f < nf; ++f) {
+    std::array<Vec<D>, kF> fx;
+    for (int k = 0; k < kF; ++k)
+      fx[at(k)] = xb[at(faces[at(f)][at(k)])];
+    if constexpr (D == 2) {
+      size[at(f)] = (fx[1] - fx[0]).norm();
+    } else {
+      size[at(f)] = std::sqrt(Real(0.5) * (fx[2] - fx[0]).cross(fx[3] - fx[1]).norm());
+    }
+  }
+  std::vector<Vec<D>> x(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    x[i] = xa[at(nodes[i])];
+  // A node within half a face's size behind it, projecting onto it, is within
+  // sqrt(half_size^2 + (half_size)^2) of its centre.
+  neighbors::NeighborList candidates;
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(centre),
+                                 Real(1.5) * half_size, candidates);
+  parallel::for_each(static_cast<Index>(nodes.size()), [&](Index i) {
+    FaceHit<D> best;
+    best.body = nodes[at(i)];
+    const Vec<D>& p = x[at(i)];
+    for (Index f : candidates.of(i)) {
+      std::array<Vec<D>, kF> fx;
+      for (int k = 0; k < kF; ++k)
+        fx[at(k)] = xb[at(faces[at(f)][at(k)])];
+      const FacePoint<D> fp = closest_on_face<D>(p, fx);
+      const Vec<D> nf_out = face_normal<D>(fx);
+      const Vec<D> d = p - fp.point;
+      const Real s = d.dot(nf_out);
+      const Real len = size[at(f)];
+      if (s >= 0 || -s > Real(0.5) * len) continue;
+      if ((d - s * nf_out).norm() > Real(0.01) * len) continue;  // projects beside the face
+      if (best.face >= 0 && (-s > best.overlap || (-s == best.overlap && f > best.face))) continue;
+      best.face = f;
+      best.where = fp;
+      best.n = nf_out;
+      best.overlap = -s;
+      best.k = std::min((*faces_of.face_stiffness)[at(f)], node_k[at(best.body)]);
+    }
+    hits[at(i)] = best;
+  });
+  return hits;
+}
+
+#define CRATER_FACE_SEARCH(D)                                                              \
+  template FaceCentres<D> face_centres<D>(const parts::ContactSurface<D>&);                \
+  template std::vector<FaceHit<D>> particle_face_hits<D>(const parts::ContactPoints<D>&,   \
+                                                         const parts::ContactSurface<D>&); \
+  template std::vector<FaceHit<D>> node_face_hits<D>(const parts::ContactSurface<D>&,      \
+                                                     const parts::ContactSurface<D>&);
+CRATER_FACE_SEARCH(2)
+CRATER_FACE_SEARCH(3)
+#undef CRATER_FACE_SEARCH
+
+}  // namespace crater::contact
