@@ -27,7 +27,7 @@ void DemPart<D>::compute_forces(Real t) {
   time_s_ = t;
   update_neighbors();
   const Index n = f_.size();
-  const Real dt = last_dt_;
+  const Real dt = contact_.last_dt_s;  // the step just taken
   overflow_ = n;
   bond_lost_ = n;
   unhealthy_ = n;

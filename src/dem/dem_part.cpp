@@ -276,14 +276,10 @@ void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
   if (static_cast<Index>(force.size()) != f_.size() ||
       static_cast<Index>(torque.size()) != f_.size())
     throw std::logic_error("dem: contact forces for another grain count");
-  if (contact_pending_ && last_dt_ > 0) {
-    const Real half_dt = 0.5 * last_dt_;
-    contact_work_ += parallel::deterministic_sum<Real>(f_.size(), [&](Index i) {
-      return half_dt * (v_[i].dot(contact_force_[i] + force[i]) +
-                        angular_dot<D>(w_[i], contact_torque_[i] + torque[i]));
-    });
-  }
-  contact_pending_ = false;
+  contact_.settle(f_.size(), [&](Index i) {
+    return v_[i].dot(contact_force_[i] + force[i]) +
+           angular_dot<D>(w_[i], contact_torque_[i] + torque[i]);
+  });
   parallel::for_each(f_.size(), [&](Index i) {
     contact_force_[i] = force[i];
     contact_torque_[i] = torque[i];
@@ -296,8 +292,7 @@ void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
 template <int D>
 void DemPart<D>::advance(Real /*t*/, Real dt) {
   const Real half = 0.5 * dt;
-  last_dt_ = dt;
-  contact_pending_ = true;
+  contact_.moved(dt);
   // One pass: kick, drift, the wall guard (reflect), the power of gravity at the new
   // velocities (before any reflection) and the largest squared displacement since the list
   // was built, which update_neighbors then needs not measure again.

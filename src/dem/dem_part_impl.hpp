@@ -49,6 +49,8 @@
 #include "neighbors/neighbor_list.hpp"
 #include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
+#include "parts/contact_points.hpp"
+#include "parts/outflow.hpp"
 #include "parts/part.hpp"
 
 namespace crater::dem::detail {
@@ -394,9 +396,8 @@ class DemPart final : public parts::Part<D> {
   std::vector<AngularVec<D>>& contact_torque_;
   std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
   std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
-  Real contact_work_ = 0;               // work of those forces on the grains [J]
+  parts::ContactWork contact_;          // work of those forces on the grains
   Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
-  bool contact_pending_ = false;        // moved since they were set
   AbsorbingWallParams absorbing_;
 
   // Contact history packed at rebuilds: kMaxContacts slots per grain (partner id, tangential
@@ -430,7 +431,6 @@ class DemPart final : public parts::Part<D> {
   Real moved_sq_ = -1;
   std::vector<PairTally> tally_;
   neighbors::VerletSkin<D> skin_{kSkin};
-  Real last_dt_ = 0;
   // 2D, a law whose disks stand for rows of spheres (row_of_spheres: hertz_2d =
   // "row_of_spheres"; evaluate_contact).
   bool rows_ = false;
@@ -440,12 +440,10 @@ class DemPart final : public parts::Part<D> {
   Real bonds_broken_ = 0;
   Real external_work_ = 0, contact_dissipated_ = 0, local_dissipated_ = 0;
   std::vector<parts::Diagnostic> diagnostics_;
-  // Grains removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
-  // the energy booked with them [J] (eroded_j).
-  Index left_count_ = 0;
-  Real left_mass_kg_ = 0, left_energy_j_ = 0;
-  std::vector<std::uint8_t> keep_;  // scratch: remove_outflow's mask
-  Real time_s_ = 0;                 // of the last force stage, for the log
+  // Grains removed beyond the domain box (outflow = "remove"): the survivors' mask of the
+  // current removal, and how many left, their mass and the energy booked with them (eroded_j).
+  parts::OutflowRemoval outflow_;
+  Real time_s_ = 0;  // of the last force stage, for the log
 };
 
 }  // namespace crater::dem::detail

@@ -80,10 +80,10 @@ parts::Energies DemPart<D>::energies() const {
   parts::Energies en;
   en.kinetic_j = s.k;
   // Stored in the springs + lost in contacts, minus the work of contacts with other parts.
-  en.contact_j = s.e + contact_dissipated_ - contact_work_;
+  en.contact_j = s.e + contact_dissipated_ - contact_.work_j;
   en.damping_j = local_dissipated_;
   en.external_work_j = external_work_;
-  en.eroded_j = left_energy_j_;
+  en.eroded_j = outflow_.energy_j();
   return en;
 }
 
@@ -96,11 +96,7 @@ std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const {
     d.push_back({"bonds_initial", static_cast<Real>(bonds_initial_)});
     d.push_back({"bonds_broken", bonds_broken_});
   }
-  if (outflow_remove_) {
-    d.push_back({"left_domain_count", static_cast<Real>(left_count_)});
-    d.push_back({"left_domain_mass_kg", left_mass_kg_});
-    d.push_back({"left_domain_energy_j", left_energy_j_});
-  }
+  if (outflow_remove_) outflow_.add_diagnostics(d);
   return d;
 }
 
@@ -132,24 +128,12 @@ std::pair<Real, Real> DemPart<D>::settling_measure() const {
 template <int D>
 void DemPart<D>::remove_outflow() {
   const Index n = f_.size();
-  keep_.resize(static_cast<std::size_t>(n));
-  const Index leaving = parallel::deterministic_sum<Index>(n, [&](Index i) {
-    keep_[static_cast<std::size_t>(i)] = in_domain(i);
-    return static_cast<Index>(!keep_[static_cast<std::size_t>(i)]);
-  });
+  const Index leaving = outflow_.mark(n, [&](Index i) { return in_domain(i); });
   if (leaving == 0) return;
-  struct Left {
-    Real mass = 0, energy = 0;
-    Left& operator+=(const Left& o) {
-      mass += o.mass;
-      energy += o.energy;
-      return *this;
-    }
-  };
-  const Left left = parallel::deterministic_sum<Left>(n, [&](Index i) {
-    if (!keep_[static_cast<std::size_t>(i)])
-      return Left{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() +
-                             angular_kinetic<D>(inertia_[i], w_[i]) + elastic_[i]};
+  const parts::Removed left = parallel::deterministic_sum<parts::Removed>(n, [&](Index i) {
+    if (!outflow_.kept(i))
+      return parts::Removed{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() +
+                                       angular_kinetic<D>(inertia_[i], w_[i]) + elastic_[i]};
     // A staying grain's contacts and bonds with leaving ones: the energy of those it owns
     // leaves with them (the others' is in the leaving grain's elastic_), and their forces
     // leave its force_ and torque_ (undoing grain_pass), so that the next half kick owes
@@ -158,7 +142,7 @@ void DemPart<D>::remove_outflow() {
     const auto own_first = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i)]);
     const auto own_last = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i) + 1]);
     for (std::size_t k = own_first; k < own_last; ++k) {
-      if (keep_[static_cast<std::size_t>(pair_j_[k])]) continue;
+      if (outflow_.kept(pair_j_[k])) continue;
       const std::uint8_t flags = cache_.flags[k];
       if (flags) lost += cache_.elastic[k];
       if (flags & kContactOn) {
@@ -176,7 +160,7 @@ void DemPart<D>::remove_outflow() {
     const auto last = static_cast<std::size_t>(recv_begin_[static_cast<std::size_t>(i) + 1]);
     for (std::size_t e = first; e < last; ++e) {
       const auto k = static_cast<std::size_t>(recv_pair_[e]);
-      if (keep_[static_cast<std::size_t>(pair_owner(k))]) continue;
+      if (outflow_.kept(pair_owner(k))) continue;
       const std::uint8_t flags = cache_.flags[k];
       if (flags & kContactOn) {
         force_[i] += cache_.contact[k].f1;
@@ -189,26 +173,19 @@ void DemPart<D>::remove_outflow() {
       }
     }
     elastic_[i] -= lost;
-    return Left{0, lost};
+    return parts::Removed{0, lost};
   });
-  if (left_count_ == 0)
-    spdlog::info(
-        "part '{}': grains leave the domain from t = {:.6g} s on and are removed "
-        "(domain.outflow = \"remove\"; left_domain_* in summary.json)",
-        name_, time_s_);
-  left_count_ += leaving;
-  left_mass_kg_ += left.mass;
-  left_energy_j_ += left.energy;
+  outflow_.book(name_, "grains", time_s_, leaving, left);
 
   std::vector<std::int64_t> gone;  // ids of the leaving grains, sorted
   for (Index i = 0; i < n; ++i)
-    if (!keep_[static_cast<std::size_t>(i)]) gone.push_back(id_[i]);
+    if (!outflow_.kept(i)) gone.push_back(id_[i]);
   std::sort(gone.begin(), gone.end());
   if (!packed_) pack_history(partner_, xi_, roll_);
   packed_ = true;
   compact_slots(partner_, gone, xi_, roll_);
   compact_slots(bond_partner_, gone, bond_);
-  const Index kept = f_.compact(keep_);
+  const Index kept = outflow_.compact(f_);
   if (!bond_partner_new_.empty()) {  // scratch of the next pair pass
     bond_partner_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, kNoContact);
     bond_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, ParallelBondState<D>{});
@@ -220,8 +197,8 @@ void DemPart<D>::remove_outflow() {
   skin_.invalidate();
 }
 
-// The kMaxContacts slots of each kept grain (keep_), in order, less the slots keyed by a
-// grain in `gone` (its contacts and bonds end with it); the others move up, so that a grain's
+// The kMaxContacts slots of each kept grain (outflow_.survivors()), in order, less the slots keyed
+// by a grain in `gone` (its contacts and bonds end with it); the others move up, so that a grain's
 // slots stay filled from the first. `payload` moves with `key` (empty vectors: models that
 // are off).
 template <int D>
@@ -230,9 +207,10 @@ void DemPart<D>::compact_slots(std::vector<std::int64_t>& key, std::span<const s
                                std::vector<Payload>&... payload) {
   if (key.empty()) return;
   constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  const std::span<const std::uint8_t> keep = outflow_.survivors();
   std::size_t out = 0;  // the first slot of the next kept grain; never past the one read
-  for (std::size_t i = 0; i < keep_.size(); ++i) {
-    if (!keep_[i]) continue;
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i]) continue;
     std::size_t k = out;
     for (std::size_t s = 0; s < slots; ++s) {
       const std::size_t from = i * slots + s;
@@ -279,21 +257,18 @@ void DemPart<D>::save_state(parts::StateWriter& w) const {
   }
   w.vector(bond_partner_);
   w.vector(bond_);
-  w.value(last_dt_);
+  w.value(contact_.last_dt_s);
   w.value(bond_lost_);
   w.value(bonds_initial_);
   w.value(bonds_broken_);
   w.value(external_work_);
   w.value(contact_dissipated_);
   w.value(local_dissipated_);
-  w.value(contact_work_);
-  w.value(contact_pending_);
+  w.value(contact_.work_j);
+  w.value(contact_.pending);
   w.value(wall_reflections_);
   skin_.save(w);
-  w.tag("outflow");
-  w.value(left_count_);
-  w.value(left_mass_kg_);
-  w.value(left_energy_j_);
+  outflow_.save(w);
 }
 
 template <int D>
@@ -307,21 +282,18 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   packed_ = true;
   r.vector(bond_partner_);
   r.vector(bond_);
-  r.value(last_dt_);
+  r.value(contact_.last_dt_s);
   r.value(bond_lost_);
   r.value(bonds_initial_);
   r.value(bonds_broken_);
   r.value(external_work_);
   r.value(contact_dissipated_);
   r.value(local_dissipated_);
-  r.value(contact_work_);
-  r.value(contact_pending_);
+  r.value(contact_.work_j);
+  r.value(contact_.pending);
   r.value(wall_reflections_);
   skin_.load(r);
-  r.tag("outflow");
-  r.value(left_count_);
-  r.value(left_mass_kg_);
-  r.value(left_energy_j_);
+  outflow_.load(r);
   if (skin_.radius() > 0) build_lists();
 }
 
