@@ -89,8 +89,8 @@ double MemoryEstimate::total_bytes() const {
 
 double bytes_per_entity(const io::PartConfig& part, int dimension) {
   const MethodBytes& b = dimension == 3 ? kBytes3d : kBytes2d;
-  if (part.method == "sph") return part.sph.variable_h ? b.sph_variable_h : b.sph_fixed_h;
-  return part.method == "dem" ? b.dem : b.fem;
+  if (part.is(io::Method::Sph)) return part.sph().variable_h ? b.sph_variable_h : b.sph_fixed_h;
+  return part.is(io::Method::Dem) ? b.dem : b.fem;
 }
 
 MemoryEstimate estimate_memory(const io::Config& c) {
@@ -98,8 +98,13 @@ MemoryEstimate estimate_memory(const io::Config& c) {
   m.base_bytes = kBaseBytes;
   const MethodBytes& b = c.dimension == 3 ? kBytes3d : kBytes2d;
   for (const auto& pc : c.parts) {
-    PartMemory p{pc.name, pc.method,         pc.estimated_count, pc.estimated_wall_count,
-                 0,       pc.resolution_key, pc.resolution_where};
+    PartMemory p{pc.name,
+                 io::method_name(pc.method()),
+                 pc.estimated_count,
+                 pc.estimated_wall_count,
+                 0,
+                 pc.resolution_key,
+                 pc.resolution_where};
     p.bytes = p.count * bytes_per_entity(pc, c.dimension) + p.wall_count * b.sph_wall;
     m.parts.push_back(std::move(p));
   }
