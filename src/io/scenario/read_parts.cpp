@@ -201,11 +201,10 @@ void Builder::read_zones(const toml::array& za, const SourceLocation& w, const s
 void Builder::check_method_material(const Config& c, const toml::table& t, const SourceLocation& w,
                                     const std::string& key, const PartConfig& p) {
   const std::string& model = c.materials[p.material].model;
-  const std::string method = method_name(p.method());
-  if (method != material_law(model).method)
+  if (p.method() != material_law(model).method)
     error(loc(t, "material", w), key + ".material",
-          fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", method, materials_of_method(method),
-                      c.materials[p.material].name, model));
+          fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", method_name(p.method()),
+                      materials_of_method(p.method()), c.materials[p.material].name, model));
 }
 
 // Carving: a part may leave the regions of named other parts empty.
