@@ -325,6 +325,10 @@ class DemPart final : public parts::Part<D> {
   void compact_slots(std::vector<std::int64_t>& key, std::span<const std::int64_t> gone,
                      std::vector<Payload>&... payload);
   Index pair_owner(std::size_t k) const;
+  // The checkpoint blocks after the contact history, for both directions (Self: const for
+  // writing), so that save_state and load_state cannot drift apart (dem_state.cpp).
+  template <class Archive, class Self>
+  static void archive_bonds_and_ledgers(Archive& a, Self& s);
 
   // Neighbour lists and contact histories (dem_history.cpp).
   void update_neighbors();

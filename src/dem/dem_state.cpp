@@ -239,6 +239,25 @@ Index DemPart<D>::pair_owner(std::size_t k) const {
 }
 
 template <int D>
+template <class Archive, class Self>
+void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s) {
+  a.vector(s.bond_partner_);
+  a.vector(s.bond_);
+  a.value(s.contact_.last_dt_s);
+  a.value(s.bond_lost_);
+  a.value(s.bonds_initial_);
+  a.value(s.bonds_broken_);
+  a.value(s.external_work_);
+  a.value(s.contact_dissipated_);
+  a.value(s.local_dissipated_);
+  a.value(s.contact_.work_j);
+  a.value(s.contact_.pending);
+  a.value(s.wall_reflections_);
+  a.block(s.skin_);
+  a.block(s.outflow_);
+}
+
+template <int D>
 void DemPart<D>::save_state(parts::StateWriter& w) const {
   w.tag("dem");
   f_.save(w);
@@ -255,20 +274,7 @@ void DemPart<D>::save_state(parts::StateWriter& w) const {
     w.vector(xi);
     w.vector(roll);
   }
-  w.vector(bond_partner_);
-  w.vector(bond_);
-  w.value(contact_.last_dt_s);
-  w.value(bond_lost_);
-  w.value(bonds_initial_);
-  w.value(bonds_broken_);
-  w.value(external_work_);
-  w.value(contact_dissipated_);
-  w.value(local_dissipated_);
-  w.value(contact_.work_j);
-  w.value(contact_.pending);
-  w.value(wall_reflections_);
-  skin_.save(w);
-  outflow_.save(w);
+  archive_bonds_and_ledgers(w, *this);
 }
 
 template <int D>
@@ -280,20 +286,7 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   r.vector(xi_);
   r.vector(roll_);
   packed_ = true;
-  r.vector(bond_partner_);
-  r.vector(bond_);
-  r.value(contact_.last_dt_s);
-  r.value(bond_lost_);
-  r.value(bonds_initial_);
-  r.value(bonds_broken_);
-  r.value(external_work_);
-  r.value(contact_dissipated_);
-  r.value(local_dissipated_);
-  r.value(contact_.work_j);
-  r.value(contact_.pending);
-  r.value(wall_reflections_);
-  skin_.load(r);
-  outflow_.load(r);
+  archive_bonds_and_ledgers(r, *this);
   if (skin_.radius() > 0) build_lists();
 }
 

@@ -32,18 +32,18 @@ parts::PartSetup part_setup(const io::Config& config, const io::PartConfig& part
 
 sph::PartSettings sph_settings(const io::Config& config, const io::PartConfig& part) {
   const io::MaterialConfig& m = config.materials[part.material];
-  return {part_setup(config, part), part.sph, m.eos, m.rho0_kg_m3};
+  return {part_setup(config, part), part.sph(), m.eos, m.rho0_kg_m3};
 }
 
 dem::PartSettings dem_settings(const io::Config& config, const io::PartConfig& part) {
   const io::MaterialConfig& m = config.materials[part.material];
-  return {part_setup(config, part), part.dem, part.packing, m.granular, m.rho0_kg_m3,
+  return {part_setup(config, part), part.dem(), part.packing(), m.granular, m.rho0_kg_m3,
           config.time.safety_factor};
 }
 
 fem::PartSettings fem_settings(const io::Config& config, const io::PartConfig& part) {
   const io::MaterialConfig& m = config.materials[part.material];
-  return {part_setup(config, part), part.fem, m.solid, m.rho0_kg_m3};
+  return {part_setup(config, part), part.fem(), m.solid, m.rho0_kg_m3};
 }
 
 /// The scenario's contacts as contact/ takes them; per part E = 2 G (1 + nu) of its granular
@@ -110,8 +110,8 @@ std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
   std::vector<std::unique_ptr<Part<D>>> parts;
   for (std::size_t i = 0; i < config.parts.size(); ++i) {
     const io::PartConfig& pc = config.parts[i];
-    if (pc.method == "sph") parts.push_back(sph::make_sph_part<D>(sph_settings(config, pc)));
-    if (pc.method == "fem") {
+    if (pc.is(io::Method::Sph)) parts.push_back(sph::make_sph_part<D>(sph_settings(config, pc)));
+    if (pc.is(io::Method::Fem)) {
       try {
         parts.push_back(fem::make_fem_part<D>(fem_settings(config, pc)));
       } catch (const InputError& e) {
@@ -120,7 +120,7 @@ std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
         throw InputError(e.where(), fmt::format("parts[{}].fem.mesh_file", i), e.what());
       }
     }
-    if (pc.method != "dem") continue;
+    if (!pc.is(io::Method::Dem)) continue;
     const dem::PartSettings settings = dem_settings(config, pc);
     if (settings.packing.random || settings.packing.settle)
       parts.push_back(packed_dem_part<D>(settings));

@@ -42,8 +42,10 @@ constexpr MethodBytes kBytes3d{
 
 std::atomic<int> g_activity{static_cast<int>(Activity::Setup)};
 
-const char* entity_noun(const std::string& method) {
-  return method == "sph" ? "particles" : method == "dem" ? "grains" : "elements";
+const char* entity_noun(io::Method method) {
+  return method == io::Method::Sph   ? "particles"
+         : method == io::Method::Dem ? "grains"
+                                     : "elements";
 }
 
 std::string read_text(const char* path) {
@@ -73,9 +75,9 @@ std::string part_message(const PartMemory& p, const MemoryEstimate& m, const Ava
       "part '{}' ({}): about {:.3g} {}{} need about {} of the {} estimated for the run, above "
       "the limit of {} (output.memory_limit_fraction = {} of {} available, {}); coarsen the "
       "resolution or free memory",
-      p.name, p.method, p.count, entity_noun(p.method), walls, format_bytes(p.bytes),
-      format_bytes(m.total_bytes()), format_bytes(fraction * a.bytes), fraction,
-      format_bytes(a.bytes), a.source);
+      p.name, io::method_name(p.method), p.count, entity_noun(p.method), walls,
+      format_bytes(p.bytes), format_bytes(m.total_bytes()), format_bytes(fraction * a.bytes),
+      fraction, format_bytes(a.bytes), a.source);
 }
 
 }  // namespace
@@ -89,8 +91,8 @@ double MemoryEstimate::total_bytes() const {
 
 double bytes_per_entity(const io::PartConfig& part, int dimension) {
   const MethodBytes& b = dimension == 3 ? kBytes3d : kBytes2d;
-  if (part.method == "sph") return part.sph.variable_h ? b.sph_variable_h : b.sph_fixed_h;
-  return part.method == "dem" ? b.dem : b.fem;
+  if (part.is(io::Method::Sph)) return part.sph().variable_h ? b.sph_variable_h : b.sph_fixed_h;
+  return part.is(io::Method::Dem) ? b.dem : b.fem;
 }
 
 MemoryEstimate estimate_memory(const io::Config& c) {
@@ -98,7 +100,7 @@ MemoryEstimate estimate_memory(const io::Config& c) {
   m.base_bytes = kBaseBytes;
   const MethodBytes& b = c.dimension == 3 ? kBytes3d : kBytes2d;
   for (const auto& pc : c.parts) {
-    PartMemory p{pc.name, pc.method,         pc.estimated_count, pc.estimated_wall_count,
+    PartMemory p{pc.name, pc.method(),       pc.estimated_count, pc.estimated_wall_count,
                  0,       pc.resolution_key, pc.resolution_where};
     p.bytes = p.count * bytes_per_entity(pc, c.dimension) + p.wall_count * b.sph_wall;
     m.parts.push_back(std::move(p));
@@ -140,11 +142,13 @@ std::string format_bytes(double bytes) {
 
 std::string memory_line(const MemoryEstimate& m, const AvailableMemory& a, double fraction) {
   std::string per;
-  for (const std::string method : {"sph", "dem", "fem"}) {
+  for (const io::Method method : {io::Method::Sph, io::Method::Dem, io::Method::Fem}) {
     double s = 0;
     for (const auto& p : m.parts)
       if (p.method == method) s += p.bytes;
-    if (s > 0) per += fmt::format("{}{} {}", per.empty() ? "" : ", ", method, format_bytes(s));
+    if (s > 0)
+      per +=
+          fmt::format("{}{} {}", per.empty() ? "" : ", ", io::method_name(method), format_bytes(s));
   }
   return fmt::format(
       "memory: about {} estimated ({}{}base {}), {} available ({}); limit {} x "

@@ -21,7 +21,7 @@ namespace crater::solver {
 /// One part's share of the estimate.
 struct PartMemory {
   std::string name;
-  std::string method;
+  io::Method method{};
   Real count = 0;       // particles, grains or elements (PartConfig::estimated_count)
   Real wall_count = 0;  // no-slip wall particles (sph)
   double bytes = 0;

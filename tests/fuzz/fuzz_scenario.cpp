@@ -134,17 +134,17 @@ Estimate estimate(const Config& c) {
   Estimate e;
   for (const auto& p : c.parts) {
     const double laid0 = e.laid, walls0 = e.walls;
-    if (p.method == "sph") {
+    if (p.is(Method::Sph)) {
       e.laid += lattice_points(p.region, p.spacing_m, dim);
       for (const auto& z : p.zones)
         if (z.spacing_m) e.laid += lattice_points(z.region, *z.spacing_m, dim);
-      if (p.sph.wall_no_slip && !p.sph.walls.empty()) {
+      if (p.sph().wall_no_slip && !p.sph().walls.empty()) {
         // Layers: at least wall_layers, and enough for the support (2 h) of the coarsest
         // particle; a face is layers thick and spans the domain (plus the other faces' layers).
         const Real pitch = dim == 2 ? largest_pitch<2>(p) : largest_pitch<3>(p);
         const double layers = std::max<double>(
-            p.sph.wall_layers, std::ceil(2 * p.sph.h_factor * pitch / p.spacing_m - 1e-9));
-        for (const auto face : p.sph.walls) {
+            p.sph().wall_layers, std::ceil(2 * p.sph().h_factor * pitch / p.spacing_m - 1e-9));
+        for (const auto face : p.sph().walls) {
           const int axis = static_cast<int>(face) / 2;
           double n = layers;
           for (int d = 0; d < dim; ++d) {
@@ -155,14 +155,14 @@ Estimate estimate(const Config& c) {
           e.walls += std::isfinite(n) ? n : HUGE_VAL;
         }
       }
-    } else if (p.method == "dem") {
-      if (p.packing.settle) e.buildable = false;  // a simulation, and a cache file on disk
-      if (!p.dem.particles.empty()) {
-        e.laid += static_cast<double>(p.dem.particles.size());
-      } else if (p.packing.random) {
+    } else if (p.is(Method::Dem)) {
+      if (p.packing().settle) e.buildable = false;  // a simulation, and a cache file on disk
+      if (!p.dem().particles.empty()) {
+        e.laid += static_cast<double>(p.dem().particles.size());
+      } else if (p.packing().random) {
         // Grains of the smallest radius filling the region's bounding box.
-        Real r = p.dem.radius_min_m;
-        for (const Real dm : p.packing.sieve_diameter_m)
+        Real r = p.dem().radius_min_m;
+        for (const Real dm : p.packing().sieve_diameter_m)
           r = std::min(r, 0.5 * dm);
         double vol = 1;
         for (int d = 0; d < dim; ++d) {

@@ -9,7 +9,10 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include "core/error.hpp"
@@ -87,19 +90,47 @@ using FemLoadConfig = fem::LoadSettings;
 using FemConfig = fem::Settings;
 using parts::DetonationPoint;
 
+/// A part's discretisation; the scenario's `method` key, mapped once by the reader.
+enum class Method { Sph, Dem, Fem };
+
+/// "sph", "dem" or "fem": the key's value, for messages.
+inline const char* method_name(Method m) {
+  switch (m) {
+    case Method::Sph:
+      return "sph";
+    case Method::Dem:
+      return "dem";
+    case Method::Fem:
+      return "fem";
+  }
+  throw std::logic_error("method_name: not a Method");
+}
+
+/// A DEM part's settings: its grains' ([parts.dem]) and their packing ([parts.packing]).
+struct DemPartConfig {
+  DemConfig dem;
+  PackingConfig packing;
+};
+
+/// The settings of one method, alternatives in the order of Method: the alternative held is
+/// the part's method (one source of truth, no second member to disagree with it).
+using MethodConfig = std::variant<SphConfig, DemPartConfig, FemConfig>;
+// PartConfig::method() reads the index: the alternatives stay in Method's order.
+template <Method M>
+using MethodSettings = std::variant_alternative_t<static_cast<std::size_t>(M), MethodConfig>;
+static_assert(std::is_same_v<MethodSettings<Method::Sph>, SphConfig> &&
+              std::is_same_v<MethodSettings<Method::Dem>, DemPartConfig> &&
+              std::is_same_v<MethodSettings<Method::Fem>, FemConfig>);
+
 struct PartConfig {
   std::string name;
-  std::string method;      // "sph", "dem" or "fem"
+  MethodConfig settings;   // its method's settings only; method() is which
   std::size_t material{};  // index into Config::materials
   Real spacing_m{};
   RegionConfig region;
   InitialConfig initial;
   std::vector<ZoneConfig> zones;
   std::vector<std::size_t> carve;  // parts whose regions this part's particles leave empty
-  SphConfig sph;
-  DemConfig dem;
-  PackingConfig packing;
-  FemConfig fem;
   std::vector<DetonationPoint> detonations;
   SourceLocation where;
   // Size estimated when the scenario is loaded, before anything is built (the memory check of
@@ -109,6 +140,19 @@ struct PartConfig {
   Real estimated_wall_count{};
   std::string resolution_key;
   SourceLocation resolution_where;
+
+  Method method() const { return static_cast<Method>(settings.index()); }
+  bool is(Method m) const { return method() == m; }
+  // Another method's settings are not there: asking for them is a logic error
+  // (std::bad_variant_access), not a row of zeros.
+  const SphConfig& sph() const { return std::get<SphConfig>(settings); }
+  SphConfig& sph() { return std::get<SphConfig>(settings); }
+  const DemConfig& dem() const { return std::get<DemPartConfig>(settings).dem; }
+  DemConfig& dem() { return std::get<DemPartConfig>(settings).dem; }
+  const PackingConfig& packing() const { return std::get<DemPartConfig>(settings).packing; }
+  PackingConfig& packing() { return std::get<DemPartConfig>(settings).packing; }
+  const FemConfig& fem() const { return std::get<FemConfig>(settings); }
+  FemConfig& fem() { return std::get<FemConfig>(settings); }
 };
 
 /// A contact between two parts ([[contacts]]): penalty forces, equal and opposite.

@@ -19,12 +19,12 @@ using Reader = decltype(MaterialLaw::read);
 
 // An equation of state: a law of SPH parts.
 MaterialLaw equation_of_state(const char* model, std::vector<KeySchema> keys, Reader read) {
-  return {.model = model, .method = "sph", .keys = std::move(keys), .read = read};
+  return {.model = model, .method = Method::Sph, .keys = std::move(keys), .read = read};
 }
 
 // A law of DEM grains.
 MaterialLaw grain_law(const char* model, std::vector<KeySchema> keys, Reader read) {
-  return {.model = model, .method = "dem", .keys = std::move(keys), .read = read};
+  return {.model = model, .method = Method::Dem, .keys = std::move(keys), .read = read};
 }
 
 // ---- equations of state (sph) --------------------------------------------------------------
@@ -141,7 +141,7 @@ std::vector<KeySchema> elastic_keys_and(const std::vector<KeySchema>& own) {
 
 // A strength law of FEM parts: the keys every solid has, then its own.
 MaterialLaw strength_law(const char* model, const std::vector<KeySchema>& own, Reader read) {
-  return {.model = model, .method = "fem", .keys = elastic_keys_and(own), .read = read};
+  return {.model = model, .method = Method::Fem, .keys = elastic_keys_and(own), .read = read};
 }
 materials::ElasticParams read_elastic_constants(const LawInput& in) {
   return {.youngs_modulus_pa = in.num("youngs_modulus_pa"),
@@ -301,18 +301,19 @@ MaterialLaw drucker_prager() {
 // What each method's parts take, in words: for the `model` key's help and the error of a part
 // given a material of another method. {} stands for the method's models.
 struct MethodWords {
-  const char* method;
+  Method method;
   const char* needs;  // "method \"sph\" needs <this>"
   const char* help;   // a phrase of the `model` key's help
   bool quoted;        // the models in quotes in `needs`
 };
 constexpr MethodWords kMethodWords[] = {
-    {"sph", "an equation-of-state material ({})", "an equation of state for SPH parts ({})", false},
-    {"dem", "a {} material", "{} for DEM parts", true},
-    {"fem", "a solid material ({})", "a strength law for FEM parts ({})", false},
+    {Method::Sph, "an equation-of-state material ({})", "an equation of state for SPH parts ({})",
+     false},
+    {Method::Dem, "a {} material", "{} for DEM parts", true},
+    {Method::Fem, "a solid material ({})", "a strength law for FEM parts ({})", false},
 };
 
-std::string models_of(const char* method, bool quoted) {
+std::string models_of(Method method, bool quoted) {
   std::string s;
   for (const MaterialLaw& law : material_laws())
     if (law.method == method)
@@ -320,13 +321,13 @@ std::string models_of(const char* method, bool quoted) {
   return s;
 }
 
-const MethodWords& words_of(const std::string& method) {
+const MethodWords& words_of(Method method) {
   for (const MethodWords& w : kMethodWords)
     if (method == w.method) return w;
-  throw std::logic_error("no method " + method);
+  throw std::logic_error(std::string("no method ") + method_name(method));
 }
 
-std::string help_of(const char* method) {
+std::string help_of(Method method) {
   const MethodWords& w = words_of(method);
   return fmt::format(fmt::runtime(w.help), models_of(w.method, false));
 }
@@ -355,10 +356,11 @@ std::vector<std::string> material_models() {
 }
 
 std::string material_model_doc() {
-  return "The law: " + help_of("sph") + ", " + help_of("dem") + ", or " + help_of("fem") + ".";
+  return "The law: " + help_of(Method::Sph) + ", " + help_of(Method::Dem) + ", or " +
+         help_of(Method::Fem) + ".";
 }
 
-std::string materials_of_method(const std::string& method) {
+std::string materials_of_method(Method method) {
   const MethodWords& w = words_of(method);
   return fmt::format(fmt::runtime(w.needs), models_of(w.method, w.quoted));
 }

@@ -45,7 +45,7 @@ struct LawInput {
 /// One material law of the scenario format.
 struct MaterialLaw {
   std::string model;            // the value of `model`, e.g. "tait"
-  std::string method;           // the method whose parts take it: "sph", "dem" or "fem"
+  Method method;                // the method whose parts take it
   std::vector<KeySchema> keys;  // its keys besides `name` and `model`, in the docs' order
   /// Fills the material's parameters (m.eos, m.granular or m.solid; m.rho0_kg_m3 is read).
   void (*read)(const LawInput& in, MaterialConfig& m);
@@ -62,6 +62,6 @@ std::vector<std::string> material_models();
 std::string material_model_doc();
 
 /// What a method's parts take, in words ("an equation-of-state material (jwl, ...)").
-std::string materials_of_method(const std::string& method);
+std::string materials_of_method(Method method);
 
 }  // namespace crater::io

@@ -28,7 +28,7 @@ void Builder::read_contacts(Config& c, const SourceLocation& top) {
       error(pw, key + ".parts", fmt::format("expected two part names, got {}", names.size()));
       continue;
     }
-    std::array<std::string, 2> methods;
+    std::array<Method, 2> methods{};
     bool ok = true;
     for (std::size_t j = 0; j < 2; ++j) {
       const std::string name = names.get(j)->as_string()->get();
@@ -44,20 +44,21 @@ void Builder::read_contacts(Config& c, const SourceLocation& top) {
         continue;
       }
       k.parts[j] = static_cast<std::size_t>(it - c.parts.begin());
-      methods[j] = it->method;
+      methods[j] = it->method();
     }
     if (!ok) continue;
     // Particles against a solid's surface, or SPH against DEM particles.
-    std::array<std::string, 2> m = methods;
-    std::sort(m.begin(), m.end());
-    const bool supported = (m[0] == "dem" && (m[1] == "fem" || m[1] == "sph")) ||
-                           (m[0] == "fem" && (m[1] == "sph" || m[1] == "fem"));
+    auto joins = [&](Method a, Method b) {
+      return (methods[0] == a && methods[1] == b) || (methods[0] == b && methods[1] == a);
+    };
+    const bool supported = joins(Method::Dem, Method::Fem) || joins(Method::Dem, Method::Sph) ||
+                           joins(Method::Fem, Method::Sph) || joins(Method::Fem, Method::Fem);
     if (!supported)
-      error(
-          pw, key + ".parts",
-          fmt::format("contacts join sph or dem particles to an fem surface, sph to dem "
-                      "particles, or two fem surfaces; '{}' and '{}' are {} and {}",
-                      c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, methods[0], methods[1]));
+      error(pw, key + ".parts",
+            fmt::format("contacts join sph or dem particles to an fem surface, sph to dem "
+                        "particles, or two fem surfaces; '{}' and '{}' are {} and {}",
+                        c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, method_name(methods[0]),
+                        method_name(methods[1])));
     for (const auto& other : c.contacts)
       if (std::minmax(other.parts[0], other.parts[1]) == std::minmax(k.parts[0], k.parts[1]))
         error(pw, key + ".parts",
@@ -74,25 +75,25 @@ void Builder::read_probes(Config& c, const SourceLocation& top) {
   const SourceLocation w = where_of(t, top);
   c.probes.stress_time_s = num(t, "stress_time_s");
   c.probes.surface_bin_m = opt_num(t, "surface_bin_m");
-  auto part = [&](const char* key, const char* method) -> std::optional<std::size_t> {
+  auto part = [&](const char* key, Method method) -> std::optional<std::size_t> {
     const toml::node* n = t.get(key);
     if (!n) return std::nullopt;
     const std::string name = n->as_string()->get();
     const auto it = std::find_if(c.parts.begin(), c.parts.end(),
                                  [&](const PartConfig& p) { return p.name == name; });
-    if (it == c.parts.end() || it->method != method) {
+    if (it == c.parts.end() || !it->is(method)) {
       std::string known;
       for (const auto& p : c.parts)
-        if (p.method == method) known += (known.empty() ? "'" : ", '") + p.name + "'";
+        if (p.is(method)) known += (known.empty() ? "'" : ", '") + p.name + "'";
       error(loc(t, key, w), std::string("probes.") + key,
-            fmt::format("expected the name of a {} part ({}), got '{}'", method,
+            fmt::format("expected the name of a {} part ({}), got '{}'", method_name(method),
                         known.empty() ? std::string("the scenario has none") : known, name));
       return std::nullopt;
     }
     return static_cast<std::size_t>(it - c.parts.begin());
   };
-  c.probes.plate = part("plate", "fem");
-  c.probes.soil = part("soil", "dem");
+  c.probes.plate = part("plate", Method::Fem);
+  c.probes.soil = part("soil", Method::Dem);
   if (c.probes.plate && c.probes.stress_time_s > c.end_time_s)
     c_warnings_.push_back(
         fmt::format("probes.stress_time_s = {} s is after scenario.end_time_s = {} s: "

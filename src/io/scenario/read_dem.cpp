@@ -16,36 +16,37 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   const int dim = c.dimension;
   const auto& dt = table(t, "dem");
   const SourceLocation dw = where_of(dt, w);
+  DemConfig& d = p.dem();
   read_packing(c, t, w, key, p);
-  p.dem.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
-  p.dem.radius_min_m = opt_num(dt, "radius_min_m").value_or(p.dem.radius_max_m);
-  if (!p.packing.random && p.dem.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
+  d.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
+  d.radius_min_m = opt_num(dt, "radius_min_m").value_or(d.radius_max_m);
+  if (!p.packing().random && d.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
     error(loc(dt, "radius_max_m", dw), key + ".dem.radius_max_m",
           fmt::format("expected at most spacing_m / 2 = {} m (grains sit on a lattice of "
                       "pitch spacing_m), got {} m",
-                      0.5 * p.spacing_m, p.dem.radius_max_m));
-  if (p.dem.radius_min_m > p.dem.radius_max_m)
+                      0.5 * p.spacing_m, d.radius_max_m));
+  if (d.radius_min_m > d.radius_max_m)
     error(loc(dt, "radius_min_m", dw), key + ".dem.radius_min_m",
-          fmt::format("expected at most radius_max_m = {} m, got {} m", p.dem.radius_max_m,
-                      p.dem.radius_min_m));
-  p.dem.seed = static_cast<std::uint64_t>(dt.get("seed")->as_integer()->get());
-  p.dem.local_damping = num(dt, "local_damping");
-  p.dem.rayleigh_fraction = num(dt, "rayleigh_fraction");
-  p.dem.walls = read_faces(*dt.get("walls")->as_array(), dw, key + ".dem.walls", dim);
-  p.dem.wall_friction = num(dt, "wall_friction");
-  p.dem.wall_restitution = num(dt, "wall_restitution");
-  p.dem.contact =
+          fmt::format("expected at most radius_max_m = {} m, got {} m", d.radius_max_m,
+                      d.radius_min_m));
+  d.seed = static_cast<std::uint64_t>(dt.get("seed")->as_integer()->get());
+  d.local_damping = num(dt, "local_damping");
+  d.rayleigh_fraction = num(dt, "rayleigh_fraction");
+  d.walls = read_faces(*dt.get("walls")->as_array(), dw, key + ".dem.walls", dim);
+  d.wall_friction = num(dt, "wall_friction");
+  d.wall_restitution = num(dt, "wall_restitution");
+  d.contact =
       str(dt, "contact") == "linear_spring" ? DemContact::LinearSpring : DemContact::HertzMindlin;
-  p.dem.stiffness_step_fraction = num(dt, "stiffness_step_fraction");
-  p.dem.hertz_row_of_spheres = str(dt, "hertz_2d") == "row_of_spheres";
-  if (p.dem.contact == DemContact::LinearSpring) {
+  d.stiffness_step_fraction = num(dt, "stiffness_step_fraction");
+  d.hertz_row_of_spheres = str(dt, "hertz_2d") == "row_of_spheres";
+  if (d.contact == DemContact::LinearSpring) {
     if (const auto kn = opt_num(dt, "normal_stiffness_n_m")) {
-      p.dem.normal_stiffness_n_m = *kn;
+      d.normal_stiffness_n_m = *kn;
       // Mindlin's ratio of tangential to normal stiffness of equal grains.
       const Real nu = p.material < c.materials.size()
                           ? c.materials[p.material].granular.poisson_ratio
                           : Real(0);
-      p.dem.shear_stiffness_n_m =
+      d.shear_stiffness_n_m =
           opt_num(dt, "shear_stiffness_n_m").value_or(*kn * 2 * (1 - nu) / (2 - nu));
     } else {
       error(loc(dt, "contact", dw), key + ".dem.normal_stiffness_n_m",
@@ -58,13 +59,13 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
               "only used by contact = \"linear_spring\"; the Hertz-Mindlin stiffness "
               "follows from the material");
   }
-  p.dem.rolling_friction = num(dt, "rolling_friction");
-  p.dem.rolling_damping = num(dt, "rolling_damping");
-  p.dem.rate_dependent_friction = dt.get("rate_dependent_friction")->as_boolean()->get();
-  p.dem.friction_rate_beta = num(dt, "friction_rate_beta");
-  p.dem.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
-  read_absorbing_walls(dt, dw, key, dim, p.dem);
-  read_bonds(table(dt, "bonds"), dw, key, p.dem.bonds);
+  d.rolling_friction = num(dt, "rolling_friction");
+  d.rolling_damping = num(dt, "rolling_damping");
+  d.rate_dependent_friction = dt.get("rate_dependent_friction")->as_boolean()->get();
+  d.friction_rate_beta = num(dt, "friction_rate_beta");
+  d.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
+  read_absorbing_walls(dt, dw, key, dim, d);
+  read_bonds(table(dt, "bonds"), dw, key, d.bonds);
   if (const toml::node* pn = t.get("particles")) read_particles(c, *pn->as_array(), w, key, p);
 }
 
@@ -112,7 +113,7 @@ void Builder::read_particles(const Config& c, const toml::array& pa, const Sourc
                   fmt::format(" and radius {} m", q.radius_m));
         break;
       }
-    p.dem.particles.push_back(q);
+    p.dem().particles.push_back(q);
   }
 }
 
@@ -120,7 +121,7 @@ void Builder::read_packing(const Config& c, const toml::table& t, const SourceLo
                            const std::string& key, PartConfig& p) {
   const auto& pt = table(t, "packing");
   const SourceLocation pw = where_of(pt, w);
-  PackingConfig& k = p.packing;
+  PackingConfig& k = p.packing();
   k.random = str(pt, "method") == "random";
   k.settle = pt.get("settle")->as_boolean()->get();
   k.settle_kinetic_ratio = num(pt, "settle_kinetic_ratio");

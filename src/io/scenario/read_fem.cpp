@@ -19,7 +19,7 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
   const int dim = c.dimension;
   const auto& ft = table(t, "fem");
   const SourceLocation fw = where_of(ft, w);
-  FemConfig& f = p.fem;
+  FemConfig& f = p.fem();
   f.hourglass_stiffness = str(ft, "hourglass") == "stiffness";
   f.hourglass_coefficient = num(ft, "hourglass_coefficient");
   f.bulk_viscosity_quadratic = num(ft, "bulk_viscosity_quadratic");
@@ -192,7 +192,7 @@ void Builder::read_fem_loads(const toml::array& la, const SourceLocation& fw,
               "expected a finite pressure");
         ok = false;
       }
-    if (ok) p.fem.loads.push_back(l);
+    if (ok) p.fem().loads.push_back(l);
   }
 }
 
@@ -201,7 +201,7 @@ void Builder::read_fem_loads(const toml::array& la, const SourceLocation& fw,
 // (a degenerate element is found then: still an input error, at `crater check` too).
 void Builder::read_fem_mesh(const Config& c, const toml::table& ft, const SourceLocation& fw,
                             const std::string& key, PartConfig& p) {
-  FemConfig& f = p.fem;
+  FemConfig& f = p.fem();
   const SourceLocation mw = loc(ft, "mesh_file", fw);
   std::error_code ec;
   if (!fs::is_regular_file(f.mesh_file, ec)) {

@@ -48,6 +48,13 @@ Real distance_to_box(const Vec3& p, const Aabb& b, int dim) {
   return std::sqrt(s);
 }
 
+// The validated `method` as the settings its reader fills: the alternative held is the method.
+MethodConfig method_settings(const std::string& method) {
+  if (method == "sph") return SphConfig{};
+  if (method == "dem") return DemPartConfig{};
+  return FemConfig{};  // the schema accepts only the three
+}
+
 }  // namespace
 
 Real distance_to_region(const Vec3& p, const RegionConfig& r, int dim) {
@@ -106,11 +113,11 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
   PartConfig p;
   p.where = w;
   p.name = str(t, "name");
-  p.method = str(t, "method");
+  p.settings = method_settings(str(t, "method"));
   // An FEM part read from a mesh file takes its geometry from the mesh; every other part
   // is a region filled at a spacing.
   const toml::node* fem_node = t.get("fem");
-  const bool from_mesh = p.method == "fem" && fem_node && fem_node->is_table() &&
+  const bool from_mesh = p.is(Method::Fem) && fem_node && fem_node->is_table() &&
                          fem_node->as_table()->get("mesh_file");
   if (from_mesh) {
     for (const char* k : {"spacing_m", "region"})
@@ -123,7 +130,7 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
         error(w, key + "." + k,
               std::string("missing required key (") +
                   (k == std::string("region") ? "a table [parts.region]" : "a number, in m") + ")" +
-                  (p.method == "fem" ? ", or give fem.mesh_file" : ""));
+                  (p.is(Method::Fem) ? ", or give fem.mesh_file" : ""));
   }
   p.spacing_m = opt_num(t, "spacing_m").value_or(0);
   for (const auto& other : c.parts)
@@ -155,7 +162,7 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
   const toml::table* region_table = t.get("region") ? t.get("region")->as_table() : nullptr;
   if (region_table)
     p.region = read_region(*region_table, where_of(*region_table, w), key + ".region", dim);
-  if (region_table && p.method == "fem" && p.region.type != RegionType::Box)
+  if (region_table && p.is(Method::Fem) && p.region.type != RegionType::Box)
     error(loc(*region_table, "type", w), key + ".region.type",
           "an FEM part's structured mesh fills a box; for other shapes give fem.mesh_file");
 
@@ -166,9 +173,9 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
   if (const toml::node* zn = t.get("zones")) read_zones(*zn->as_array(), w, key, dim, p);
   if (region_table) check_region(c, t, *region_table, w, key, p);
   if (p.material < c.materials.size()) check_method_material(c, t, w, key, p);
-  if (p.method == "sph") read_sph(c, t, w, key, p);
-  if (p.method == "dem") read_dem(c, t, w, key, p);
-  if (p.method == "fem") read_fem(c, t, w, key, p);
+  if (p.is(Method::Sph)) read_sph(c, t, w, key, p);
+  if (p.is(Method::Dem)) read_dem(c, t, w, key, p);
+  if (p.is(Method::Fem)) read_fem(c, t, w, key, p);
   return p;
 }
 
@@ -194,10 +201,10 @@ void Builder::read_zones(const toml::array& za, const SourceLocation& w, const s
 void Builder::check_method_material(const Config& c, const toml::table& t, const SourceLocation& w,
                                     const std::string& key, const PartConfig& p) {
   const std::string& model = c.materials[p.material].model;
-  if (p.method != material_law(model).method)
+  if (p.method() != material_law(model).method)
     error(loc(t, "material", w), key + ".material",
-          fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", p.method,
-                      materials_of_method(p.method), c.materials[p.material].name, model));
+          fmt::format("method \"{}\" needs {}; '{}' is \"{}\"", method_name(p.method()),
+                      materials_of_method(p.method()), c.materials[p.material].name, model));
 }
 
 // Carving: a part may leave the regions of named other parts empty.
@@ -208,10 +215,11 @@ void Builder::read_carving(Config& c, const toml::array& arr, const SourceLocati
     if (!cn || i >= c.parts.size()) continue;
     const SourceLocation cw = loc(t, "carve", where_of(t, top));
     PartConfig& p = c.parts[i];
-    if (p.method == "fem")
+    if (p.is(Method::Fem))
       error(cw, fmt::format("parts[{}].carve", i),
             "only sph and dem parts are carved; an fem part's mesh is its shape");
-    if (p.packing.settle)
+    // Only a DEM part settles (an sph or fem part has no packing).
+    if (p.is(Method::Dem) && p.packing().settle)
       error(cw, fmt::format("parts[{}].carve", i),
             "a carved part cannot be settled yet (the hole would fill while it settles); set "
             "packing.settle = false");
@@ -326,10 +334,10 @@ void Builder::check_region(const Config& c, const toml::table& t, const toml::ta
       min_extent = std::min(min_extent, b.hi[d] - b.lo[d]);
     if (!(min_extent > 0) || !(p.spacing_m > 0)) {
       // An inverted region was reported above; a missing spacing too.
-    } else if (p.method == "fem" ? p.spacing_m > min_extent * (1 + 1e-9)
+    } else if (p.is(Method::Fem) ? p.spacing_m > min_extent * (1 + 1e-9)
                                  : p.spacing_m > min_extent / 2)
       error(loc(t, "spacing_m", w), key + ".spacing_m",
-            p.method == "fem"
+            p.is(Method::Fem)
                 ? fmt::format("expected an element size at most the region's smallest extent "
                               "({} m), got {} m",
                               min_extent, p.spacing_m)

@@ -13,20 +13,21 @@ void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocati
                        const std::string& key, PartConfig& p) {
   const int dim = c.dimension;
   const auto& st = table(t, "sph");
-  p.sph.kernel = str(st, "kernel") == "cubic_spline" ? sph::KernelKind::CubicSpline
-                                                     : sph::KernelKind::WendlandC2;
-  p.sph.h_factor = num(st, "h_factor");
-  p.sph.av_alpha = num(st, "av_alpha");
-  p.sph.av_beta = num(st, "av_beta");
-  p.sph.cfl = num(st, "cfl");
-  p.sph.variable_h = st.get("variable_h")->as_boolean()->get();
-  p.sph.xsph_epsilon = num(st, "xsph_epsilon");
-  p.sph.tensile_epsilon = num(st, "tensile_epsilon");
-  p.sph.viscosity_pa_s = num(st, "viscosity_pa_s");
-  p.sph.wall_layers = static_cast<int>(st.get("wall_layers")->as_integer()->get());
-  p.sph.wall_no_slip = str(st, "wall_slip") == "no";
-  p.sph.walls = read_faces(*st.get("walls")->as_array(), w, key + ".sph.walls", dim);
-  for (const Face f : p.sph.walls) {
+  SphConfig& s = p.sph();
+  s.kernel = str(st, "kernel") == "cubic_spline" ? sph::KernelKind::CubicSpline
+                                                 : sph::KernelKind::WendlandC2;
+  s.h_factor = num(st, "h_factor");
+  s.av_alpha = num(st, "av_alpha");
+  s.av_beta = num(st, "av_beta");
+  s.cfl = num(st, "cfl");
+  s.variable_h = st.get("variable_h")->as_boolean()->get();
+  s.xsph_epsilon = num(st, "xsph_epsilon");
+  s.tensile_epsilon = num(st, "tensile_epsilon");
+  s.viscosity_pa_s = num(st, "viscosity_pa_s");
+  s.wall_layers = static_cast<int>(st.get("wall_layers")->as_integer()->get());
+  s.wall_no_slip = str(st, "wall_slip") == "no";
+  s.walls = read_faces(*st.get("walls")->as_array(), w, key + ".sph.walls", dim);
+  for (const Face f : s.walls) {
     // The wall lattice is laid at the part's spacing along the face: the domain's extent
     // along the face's other axes should be a multiple of it, or gaps open at the far end.
     for (int d = 0; d < dim; ++d) {
@@ -40,16 +41,16 @@ void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocati
                         kFaceNames[static_cast<int>(f)]));
     }
   }
-  if (p.sph.wall_no_slip && !p.sph.walls.empty() && p.spacing_m > 0) {
+  if (s.wall_no_slip && !s.walls.empty() && p.spacing_m > 0) {
     // Dummy particles fill every walled face over the whole domain, as deep as the kernel
     // support of the largest particle (the coarsest lattice: part or zone).
     Real coarsest = p.spacing_m;
     for (const auto& z : p.zones)
       if (z.spacing_m) coarsest = std::max(coarsest, *z.spacing_m);
     const Real layers =
-        std::max<Real>(p.sph.wall_layers, std::ceil(2 * p.sph.h_factor * coarsest / p.spacing_m));
+        std::max<Real>(s.wall_layers, std::ceil(2 * s.h_factor * coarsest / p.spacing_m));
     Real count = 0;
-    for (Face f : p.sph.walls) {
+    for (Face f : s.walls) {
       Real n = layers;
       for (int d = 0; d < dim; ++d)
         if (d != static_cast<int>(f) / 2)

@@ -44,19 +44,19 @@ void estimate_part(const Config& c, const toml::table& t, const SourceLocation& 
   const std::string key = "parts." + p.name + ".";
   p.resolution_key = key + "spacing_m";
   p.resolution_where = key_where(&t, "spacing_m", w);
-  if (p.method == "fem") {
+  if (p.is(Method::Fem)) {
     p.estimated_count = fem_elements(c, p);
-    if (!p.fem.mesh_file.empty()) {
+    if (!p.fem().mesh_file.empty()) {
       p.resolution_key = key + "fem.mesh_file";
       p.resolution_where = key_where(sub_table(t, "fem"), "mesh_file", w);
     }
-  } else if (p.method == "dem" && !p.dem.particles.empty()) {
-    p.estimated_count = static_cast<Real>(p.dem.particles.size());
+  } else if (p.is(Method::Dem) && !p.dem().particles.empty()) {
+    p.estimated_count = static_cast<Real>(p.dem().particles.size());
     p.resolution_key = key + "particles";
     p.resolution_where = key_where(&t, "particles", w);
-  } else if (p.method == "dem" && p.packing.random) {
+  } else if (p.is(Method::Dem) && p.packing().random) {
     p.estimated_count = packed_grains(c, p);
-    const bool sieve = !p.packing.sieve_diameter_m.empty();
+    const bool sieve = !p.packing().sieve_diameter_m.empty();
     p.resolution_key = key + (sieve ? "packing.sieve_diameter_m" : "dem.radius_min_m");
     p.resolution_where = sieve ? key_where(sub_table(t, "packing"), "sieve_diameter_m", w)
                                : key_where(sub_table(t, "dem"), "radius_min_m", w);
@@ -113,16 +113,16 @@ Real lattice_sites(const Config& c, const PartConfig& p) {
 
 Real packed_grains(const Config& c, const PartConfig& p) {
   const int dim = c.dimension;
-  const Real solid = (1 - p.packing.porosity) * region_volume(p.region, dim);
+  const Real solid = (1 - p.packing().porosity) * region_volume(p.region, dim);
   auto grains = [&](Real fraction, Real r_min, Real r_max) {
     const Real v = mean_grain_volume(r_min, r_max, dim);
     return v > 0 ? fraction * solid / v : 0;
   };
-  const auto& d = p.packing.sieve_diameter_m;
-  const auto& f = p.packing.sieve_passing;
+  const auto& d = p.packing().sieve_diameter_m;
+  const auto& f = p.packing().sieve_passing;
   Real n = 0;
   if (d.empty() || d.size() != f.size()) {
-    n = grains(1, p.dem.radius_min_m, p.dem.radius_max_m);
+    n = grains(1, p.dem().radius_min_m, p.dem().radius_max_m);
   } else {
     // As draw_radii: what passes the finest sieve at its size, then band by band.
     n = grains(f[0], 0.5 * d[0], 0.5 * d[0]);
@@ -133,7 +133,7 @@ Real packed_grains(const Config& c, const PartConfig& p) {
 }
 
 Real fem_elements(const Config& c, const PartConfig& p) {
-  if (p.fem.elements) return static_cast<Real>(p.fem.elements->element_count());
+  if (p.fem().elements) return static_cast<Real>(p.fem().elements->element_count());
   if (!(p.spacing_m > 0)) return 0;
   Real n = 1;
   for (int d = 0; d < c.dimension; ++d)

@@ -117,7 +117,7 @@ TEST(ScenarioLoad, DefaultsAreFilled) {
   EXPECT_EQ(c.description, "");
   for (int d = 0; d < 3; ++d)
     EXPECT_EQ(c.domain.gravity_m_s2[d], 0.0);
-  const auto& sph = c.parts[0].sph;
+  const auto& sph = c.parts[0].sph();
   EXPECT_EQ(sph.kernel, sph::KernelKind::WendlandC2);
   EXPECT_DOUBLE_EQ(sph.h_factor, 1.3);
   EXPECT_DOUBLE_EQ(sph.av_alpha, 1.0);
@@ -232,7 +232,7 @@ TEST(ScenarioLoad, SetTopLevelAndNewSubTable) {
       kBase, "unit.toml",
       {"time.safety_factor=0.25", "parts.charge.sph.h_factor=2.0", "scenario.name=renamed"});
   EXPECT_DOUBLE_EQ(c.time.safety_factor, 0.25);
-  EXPECT_DOUBLE_EQ(c.parts[0].sph.h_factor, 2.0);
+  EXPECT_DOUBLE_EQ(c.parts[0].sph().h_factor, 2.0);
   EXPECT_EQ(c.name, "renamed");  // a bare word is taken as a string
 }
 

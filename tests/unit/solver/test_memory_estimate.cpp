@@ -86,7 +86,7 @@ TEST(SizeEstimate, MeanGrainVolumeOfEqualRadiiIsTheGrain) {
 
 TEST(SizeEstimate, StructuredFemMeshCountsWholeElements) {
   io::PartConfig p;
-  p.method = "fem";
+  p.settings = io::FemConfig{};
   p.spacing_m = 0.02;
   p.region.min_m = {0.0, 0.0, 0.0};
   p.region.max_m = {1.0, 0.2, 0.1};
