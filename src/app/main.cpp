@@ -76,6 +76,12 @@ int cmd_check(const std::string& scenario, const std::vector<std::string>& sets,
     if (!limiting || r.stable.allowed_s(safety) < limiting->stable.allowed_s(safety)) limiting = &r;
   }
   if (c.dimension == 2) fmt::print("(2D: masses per metre of depth)\n");
+  for (const auto& r : reports)
+    if (r.bed.size() == 2)
+      fmt::print(
+          "{}: solid fraction {:.4f} of its region less the parts it is carved around, "
+          "bulk density {:.1f} kg/m^3\n",
+          r.name, r.bed[0].value, r.bed[1].value);
   if (limiting && limiting->stable.absolute)
     fmt::print("global step: {:.4e} s ({}: {}; an accuracy bound, not scaled by the safety factor)",
                limiting->stable.allowed_s(safety), limiting->name, limiting->stable.reason);

@@ -4,8 +4,9 @@
 // pair_roll_) and per grain and wall (wall_xi_, wall_roll_), updated in place by the one
 // thread that evaluates the contact, as LAMMPS keeps its history with the neighbour list. At
 // a rebuild (and in a restart file) they are packed into kMaxContacts slots per grain keyed
-// by the partner's id (partner_, xi_, roll_; walls: -1 - face), which survive the re-sort,
-// and unpacked into the new list. A contact that is not touching holds a zero history.
+// by the partner's id (partner_, xi_, roll_; walls: -1 - face; the fixed bodies of settling: -7 -
+// their number), which survive the re-sort, and unpacked into the new list. A contact that is not
+// touching holds a zero history.
 #include <algorithm>
 #include <span>
 #include <vector>
@@ -126,7 +127,7 @@ void DemPart<D>::pack_history(std::vector<std::int64_t>& partner, std::vector<Ve
   else
     roll.clear();
   const bool pairs = static_cast<Index>(pair_begin_.size()) == n + 1;
-  const std::size_t walls = cfg_.walls.size();
+  const std::size_t walls = wall_planes_.size();
   parallel::for_each(n, [&](Index i) {
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     std::size_t k = 0;
@@ -147,8 +148,7 @@ void DemPart<D>::pack_history(std::vector<std::int64_t>& partner, std::vector<Ve
     for (std::size_t w = 0; w < walls; ++w) {
       const std::size_t at = static_cast<std::size_t>(i) * walls + w;
       if (!(wall_live_[static_cast<std::size_t>(i)] >> w & 1u)) continue;
-      put(-1 - static_cast<std::int64_t>(cfg_.walls[w]), wall_xi_[at],
-          wall_roll_.empty() ? angular_zero<D>() : wall_roll_[at]);
+      put(wall_key(w), wall_xi_[at], wall_roll_.empty() ? angular_zero<D>() : wall_roll_[at]);
     }
     for (; k < static_cast<std::size_t>(kMaxContacts); ++k) {
       partner[base + k] = kNoContact;
@@ -162,7 +162,7 @@ void DemPart<D>::pack_history(std::vector<std::int64_t>& partner, std::vector<Ve
 template <int D>
 void DemPart<D>::unpack_history() {
   const Index n = f_.size();
-  const std::size_t walls = cfg_.walls.size();
+  const std::size_t walls = wall_planes_.size();
   parallel::for_each(n, [&](Index i) {
     const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
     for (Index p = pair_begin_[static_cast<std::size_t>(i)];
@@ -178,7 +178,7 @@ void DemPart<D>::unpack_history() {
     wall_live_[static_cast<std::size_t>(i)] = 0;
     for (std::size_t w = 0; w < walls; ++w) {
       const std::size_t at = static_cast<std::size_t>(i) * walls + w;
-      const int k = find_slot(i, -1 - static_cast<std::int64_t>(cfg_.walls[w]));
+      const int k = find_slot(i, wall_key(w));
       if (k >= 0) wall_live_[static_cast<std::size_t>(i)] |= 1u << w;
       wall_xi_[at] = k < 0 ? Vec<D>::Zero() : xi_[base + static_cast<std::size_t>(k)];
       if (!wall_roll_.empty())

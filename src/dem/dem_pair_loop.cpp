@@ -359,22 +359,28 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
   const Real reach = r_max_ * kTouchMargin;
   for (int d = 0; d < D; ++d)
     near_wall |= !(x_[i][d] - clear_lo_[d] > reach && clear_hi_[d] - x_[i][d] > reach);
+  near_wall |= !bodies_.empty();
   std::uint32_t& live = wall_live_[static_cast<std::size_t>(i)];
   if (!near_wall && live)  // a wall contact left behind in one step (never in practice) ends
     for (std::size_t w = 0; w < walls; ++w)
       clear_wall(live, w, static_cast<std::size_t>(i) * walls + w);
   for (std::size_t w = 0; near_wall && w < walls; ++w) {
-    const int axis = wall_planes_[w].axis;
-    const Real plane = wall_planes_[w].plane;
+    const WallPlane& wall = wall_planes_[w];
     const std::size_t at = static_cast<std::size_t>(i) * walls + w;
     // The distance to the plane is |x_axis - plane|: grains clearly apart skip the geometry.
-    if (std::abs(x_[i][axis] - plane) > r_[i] * kTouchMargin) {
+    if (wall.body ? parts::region_distance<D>(*wall.body, x_[i]) > r_[i] * kTouchMargin
+                  : std::abs(x_[i][wall.axis] - wall.plane) > r_[i] * kTouchMargin) {
       clear_wall(live, w, at);
       continue;
     }
-    Vec<D> foot = x_[i];
-    foot[axis] = plane;
-    const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+    ContactGeometry<D> g;
+    if (wall.body) {
+      g = body_geometry<D>(*wall.body, x_[i], r_[i]);
+    } else {
+      Vec<D> foot = x_[i];
+      foot[wall.axis] = wall.plane;
+      g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
+    }
     if (!g.touching()) {
       clear_wall(live, w, at);
       continue;

@@ -78,8 +78,9 @@ InitialGrains<D> initial_grains(const PartSettings& settings, const std::vector<
       vel.push_back(to_vec<D>(pc.initial.velocity_m_s));
     }
   }
-  if (!pc.carving.empty()) {
-    // Leave the carved parts' regions empty (a charge, a plate inside the soil box).
+  if (!pc.carving.empty() && !grains) {
+    // Leave the carved parts' regions empty (a charge, a plate inside the soil box); a packing
+    // did so itself (and its settled grains may rest on them, a little overlapped).
     const std::vector<parts::RegionConfig>& carving = pc.carving;
     std::size_t kept = 0;
     for (std::size_t k = 0; k < pts.size(); ++k) {
@@ -159,11 +160,31 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
   }
   const InitialGrains<D> start = initial_grains<D>(settings, grains, local_damping.has_value());
   place_grains(start.pts, start.radii, start.vel);
+  add_bed_measures(settings);
+  // While settling, the parts this one is carved around (a charge, a plate) are fixed bodies
+  // the grains rest on; in the run those parts' own contacts take over.
+  if (local_damping) bodies_ = settings.part.carving;
   init_walls();
   // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
   // the run, between the settled grains.
   if (cfg_.bonds.enabled && !local_damping) make_bonds();
   if (!cfg_.absorbing_walls.empty()) init_absorbing_walls(settings);
+}
+
+// The bed's solid fraction, the grains' volume over the region's less what the parts it is
+// carved around take (parts::carved_volume: a box region), and its bulk density, the grains'
+// density times that fraction (summary.json, crater check).
+template <int D>
+void DemPart<D>::add_bed_measures(const PartSettings& settings) {
+  const parts::RegionConfig& region = settings.part.region;
+  Real free = parts::region_volume_of<D>(region);
+  if (region.type == parts::RegionType::Box)
+    free -= parts::carved_volume<D>(region, settings.part.carving);
+  if (!(free > 0)) return;
+  const Real solid =
+      parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return grain_volume<D>(r_[i]); });
+  add_diagnostic("solid_fraction", solid / free);
+  add_diagnostic("bulk_density_kg_m3", settings.rho0_kg_m3 * solid / free);
 }
 
 // The contact law (the registry, contact_laws.hpp) and the models beside it.
@@ -339,6 +360,7 @@ void DemPart<D>::finish_step(Real dt) {
 }
 
 #define CRATER_DEM_PART(D)                                                         \
+  template void DemPart<D>::add_bed_measures(const PartSettings&);                 \
   template DemPart<D>::DemPart(const PartSettings&, const std::vector<Grain<D>>*,  \
                                std::optional<Real>);                               \
   template parts::StableStep DemPart<D>::stable_step() const;                      \

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "dem/dense_packing.hpp"
 #include "dem/packing.hpp"
 #include "dem/settings.hpp"
 #include "parts/part.hpp"
@@ -43,11 +44,18 @@ std::string packing_key_text(const PartSettings& settings);
 template <int D>
 std::vector<Grain<D>> random_grains(const PartSettings& settings);
 
-/// The part alone under gravity, with its walls (absorbing faces rigid) and the settling
-/// damping, from `grains` (nullptr: the part's own lattice or placed grains), until the grains
-/// have had the time to fall the column's height and their mean kinetic energy is below
-/// settle_kinetic_ratio x m g r. Returns the grains at rest; throws InputError if a grain
-/// fails or they do not settle within settle_max_time_s.
+/// The grains of the part's dense packing (packing.method = "dense", dense_packing.hpp): its
+/// box region filled by geometric deposition around the regions it is carved around. Throws
+/// InputError for a region that is not a box, gravity not along one axis, or grains that do
+/// not fit.
+template <int D>
+std::vector<Grain<D>> dense_grains(const PartSettings& settings, DensePackingReport& report);
+
+/// The part alone under gravity, with its walls (absorbing faces rigid), the regions it is
+/// carved around as fixed bodies, and the settling damping, from `grains` (nullptr: the part's own
+/// lattice or placed grains), until the grains have had the time to fall the column's height and
+/// their mean kinetic energy is below settle_kinetic_ratio x m g r. Returns the grains at rest;
+/// throws InputError if a grain fails or they do not settle within settle_max_time_s.
 template <int D>
 std::vector<Grain<D>> settle_grains(const PartSettings& settings,
                                     const std::vector<Grain<D>>* grains, PackingReport& report);

@@ -52,6 +52,7 @@
 #include "parts/contact_points.hpp"
 #include "parts/outflow.hpp"
 #include "parts/part.hpp"
+#include "parts/region.hpp"
 
 namespace crater::dem::detail {
 
@@ -60,6 +61,45 @@ constexpr std::int64_t kNoContact = std::numeric_limits<std::int64_t>::min();
 // With bonds, the list holds every pair within 2 r_max (1 + kBondReach), so a bond stretched by
 // up to 0.1 r_max stays visible; one stretched further is reported as a fault.
 constexpr Real kBondReach = 0.05;
+
+// A grain of radius r at x against a fixed body (a box, disk or sphere region): the normal
+// points out of the body through the grain's centre (for a centre inside a box, out of its
+// nearest face), the overlap is r less the centre's signed distance to the body's surface.
+template <int D>
+ContactGeometry<D> body_geometry(const parts::RegionConfig& body, const Vec<D>& x, Real r) {
+  if (body.type != parts::RegionType::Box) {
+    const Vec<D> c = parts::to_vec<D>(body.center_m);
+    const Real dist = (x - c).norm();
+    return sphere_wall_geometry<D>(x, r, Vec<D>(c + body.radius_m / dist * (x - c)));
+  }
+  if (!parts::region_contains<D>(body, x)) {
+    Vec<D> foot;
+    for (int d = 0; d < D; ++d)
+      foot[d] = std::clamp(x[d], body.min_m[static_cast<std::size_t>(d)],
+                           body.max_m[static_cast<std::size_t>(d)]);
+    return sphere_wall_geometry<D>(x, r, foot);
+  }
+  int axis = 0;
+  Real depth = std::numeric_limits<Real>::infinity(), side = 1;
+  for (int d = 0; d < D; ++d)
+    for (const Real s : {Real(-1), Real(1)}) {
+      const auto k = static_cast<std::size_t>(d);
+      const Real to_face = s > 0 ? body.max_m[k] - x[d] : x[d] - body.min_m[k];
+      if (to_face < depth) {
+        depth = to_face;
+        axis = d;
+        side = s;
+      }
+    }
+  ContactGeometry<D> g;
+  g.normal = Vec<D>::Zero();
+  g.normal[axis] = side;
+  g.overlap = r + depth;
+  g.radius_eff = r;
+  g.arm1 = -depth;
+  g.arm2 = 0;
+  return g;
+}
 
 // 2D grains are disks per metre of depth (masses, forces and energies per metre, as the SPH and
 // FE parts they touch), while Hertz-Mindlin is a law between spheres. Applied as it is to the
@@ -173,13 +213,18 @@ class DemPart final : public parts::Part<D> {
   std::vector<Grain<D>> grains() const;
   /// Mean kinetic energy per grain, and m g r of the mean grain (the settling scale).
   std::pair<Real, Real> settling_measure() const;
+  /// The grains' unbalanced force over their weight, sum |F_i| / sum m_i |g| (1 for grains
+  /// falling freely, 0 in static equilibrium; F_i after local damping).
+  Real unbalanced_ratio() const;
 
  private:
-  // A rigid face of the domain box as the loops use it.
+  // A rigid face of the domain box as the loops use it, or (body set) a fixed body: the
+  // region of a part this one is carved around, held in place while the grains settle.
   struct WallPlane {
     int axis = 0;
     bool upper = false;  // the face at domain_hi_ (else domain_lo_)
     Real plane = 0;      // its coordinate on the axis [m]
+    const parts::RegionConfig* body = nullptr;
   };
 
   // The pair loop runs in two passes, so that each contact is evaluated once, by its body 1
@@ -296,6 +341,12 @@ class DemPart final : public parts::Part<D> {
     unhealthy_ = std::min(unhealthy_, i);
   }
 
+  // The key of wall w's contacts in the packed history: -1 - its face, or for the b-th fixed
+  // body -1 - (6 + b) (after every face).
+  std::int64_t wall_key(std::size_t w) const {
+    return w < cfg_.walls.size() ? -1 - static_cast<std::int64_t>(cfg_.walls[w])
+                                 : -7 - static_cast<std::int64_t>(w - cfg_.walls.size());
+  }
   WallPlane wall_plane(parts::Face face) const {
     WallPlane w;
     w.axis = static_cast<int>(face) / 2;
@@ -312,6 +363,7 @@ class DemPart final : public parts::Part<D> {
     return inside;
   }
   void reflect_at_walls(Index i, Real& count, Real& lost);  // dem_walls.cpp
+  void add_bed_measures(const PartSettings& settings);      // dem_part.cpp
 
   // The pitch of evaluate_contact: r_1 + r_2 (a wall: r_1 = r_2 = r) with hertz_2d =
   // "row_of_spheres", else 0 (the law as it is).
@@ -416,7 +468,8 @@ class DemPart final : public parts::Part<D> {
   std::vector<std::uint32_t> wall_live_;  // per grain: bit w, a live contact with wall w
   // The faces of cfg_.walls; with cfg_.absorbing_walls (reflect_at_walls); the box beyond whose
   // planes (r_max away) a grain touches no face of cfg_.walls (+-inf where there is none).
-  std::vector<WallPlane> wall_planes_, guard_planes_;
+  std::vector<WallPlane> wall_planes_, guard_planes_;  // wall_planes_: the bodies_ last
+  std::vector<parts::RegionConfig> bodies_;            // fixed bodies (settling only)
   Vec<D> clear_lo_, clear_hi_;
   Vec<D> guard_lo_, guard_hi_;  // inside these bounds a grain is beyond no face (reflect_at_walls)
   // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.

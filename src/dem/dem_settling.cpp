@@ -47,11 +47,21 @@ std::string packing_key_text(const PartSettings& settings) {
                    d.friction_rate_beta, d.friction_reference_strain_rate);
   if (d.hertz_row_of_spheres) s += "|hertz_2d=row_of_spheres";
   const auto& k = settings.packing;
-  s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.random, k.porosity,
-                   k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,
+  s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.method == PackingMethod::Random,
+                   k.porosity, k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,
                    settings.safety_factor);
   for (std::size_t j = 0; j < k.sieve_diameter_m.size(); ++j)
     s += fmt::format("{:a}:{:a},", k.sieve_diameter_m[j], k.sieve_passing[j]);
+  // A dense bed also depends on the bodies it is laid around, on its algorithm's version and
+  // on the settling's force criterion (appended, so the other packings' keys are unchanged).
+  if (k.method == PackingMethod::Dense) {
+    s += fmt::format("|dense=v{},{},{:a}|bodies=", kDensePackingVersion, CRATER_VERSION,
+                     k.settle_unbalanced_ratio);
+    for (const parts::RegionConfig& b : pc.carving)
+      s += fmt::format("{},{},{},{:a};", static_cast<int>(b.type), v3(b.min_m), v3(b.max_m),
+                       b.radius_m) +
+           v3(b.center_m) + ";";
+  }
   return s;
 }
 
@@ -64,20 +74,67 @@ std::vector<Grain<D>> random_grains(const PartSettings& settings) {
   std::vector<Real> radii =
       draw_radii<D>(k, settings.dem.radius_min_m, settings.dem.radius_max_m, solid,
                     settings.dem.seed, std::size_t{50'000'000}, pc.where, key_name);
-  return random_packing<D>(pc.region, std::move(radii), to_vec<D>(pc.domain.gravity_m_s2),
-                           to_vec<D>(pc.domain.min_m), to_vec<D>(pc.domain.max_m),
-                           settings.dem.seed, pc.where, key_name);
+  std::vector<Grain<D>> grains = random_packing<D>(
+      pc.region, std::move(radii), to_vec<D>(pc.domain.gravity_m_s2), to_vec<D>(pc.domain.min_m),
+      to_vec<D>(pc.domain.max_m), settings.dem.seed, pc.where, key_name);
+  // Random addition knows nothing of the parts this one is carved around: the grains reaching
+  // into them are dropped (the part's constructor keeps a packing's grains as they are).
+  std::erase_if(grains, [&](const Grain<D>& q) { return parts::carved<D>(pc.carving, q.x, q.r); });
+  return grains;
 }
 
-// Settle: the part alone under gravity, with its walls and the settling damping, until the
-// grains have had the time to fall the column's height and their mean kinetic energy is
-// below settle_kinetic_ratio x m g r.
+template <int D>
+std::vector<Grain<D>> dense_grains(const PartSettings& settings, DensePackingReport& report) {
+  const parts::PartSetup& pc = settings.part;
+  const std::string key_name = fmt::format("parts[{}].packing.method", pc.name);
+  if (pc.region.type != parts::RegionType::Box)
+    throw InputError(pc.where, key_name,
+                     "a dense packing fills a box region; give the part a box (the bodies it "
+                     "is carved around may be of any shape)");
+  const Vec<D> g = to_vec<D>(pc.domain.gravity_m_s2);
+  int axis = -1;
+  for (int d = 0; d < D; ++d)
+    if (g[d] != 0) axis = axis < 0 ? d : D;
+  if (axis < 0 || axis == D)
+    throw InputError(pc.where, key_name,
+                     "a dense packing is laid from the floor up: it needs gravity along one axis "
+                     "(domain.gravity_m_s2)");
+  DensePackingInput<D> in;
+  for (int d = 0; d < D; ++d) {
+    in.lo[d] = pc.region.min_m[static_cast<std::size_t>(d)];
+    in.hi[d] = pc.region.max_m[static_cast<std::size_t>(d)];
+  }
+  in.up_axis = axis;
+  in.up_sign = g[axis] < 0 ? 1 : -1;
+  in.r_min = settings.dem.radius_min_m;
+  in.r_max = settings.dem.radius_max_m;
+  in.seed = settings.dem.seed;
+  in.keep_clear = pc.carving;
+  try {
+    return dense_packing<D>(in, &report);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(pc.where, key_name, e.what());
+  } catch (const std::length_error&) {
+    throw InputError(pc.where, key_name,
+                     fmt::format("a dense packing of more than {} grains (the region is too "
+                                 "large for the grain size); enlarge the grains or shrink the "
+                                 "region",
+                                 in.max_grains));
+  }
+}
+
+// Settle: the part alone under gravity, with its walls, the bodies it is carved around and the
+// settling damping, until the grains have had the time to fall the column's height and their
+// mean kinetic energy is below settle_kinetic_ratio x m g r. A dense bed is laid in place and
+// only needs its contacts loaded: no fall time, and settled once, besides the kinetic energy,
+// the unbalanced force is below settle_unbalanced_ratio of the weight (static equilibrium).
 template <int D>
 std::vector<Grain<D>> settle_grains(const PartSettings& settings,
                                     const std::vector<Grain<D>>* grains, PackingReport& report) {
   const parts::PartSetup& pc = settings.part;
   const auto& k = settings.packing;
   const std::string key_name = fmt::format("parts[{}].packing", pc.name);
+  const bool deposited = k.method == PackingMethod::Dense;
   detail::DemPart<D> part(settings, grains, k.settle_damping);
   const Vec<D> g = to_vec<D>(pc.domain.gravity_m_s2);
   Real lo = std::numeric_limits<Real>::infinity(), hi = -lo;
@@ -85,7 +142,7 @@ std::vector<Grain<D>> settle_grains(const PartSettings& settings,
     lo = std::min(lo, q.x.dot(g) / g.norm());
     hi = std::max(hi, q.x.dot(g) / g.norm());
   }
-  const Real t_fall = std::sqrt(2 * std::max(hi - lo, 0.0) / g.norm());
+  const Real t_fall = deposited ? 0 : std::sqrt(2 * std::max(hi - lo, 0.0) / g.norm());
   spdlog::info("part '{}': settling {} grains under gravity (at least {:.3g} s)", pc.name,
                part.count(), t_fall);
   Real t = 0;
@@ -104,23 +161,29 @@ std::vector<Grain<D>> settle_grains(const PartSettings& settings,
     ++steps;
     if (steps % 200 != 0 || t < t_fall) continue;
     const auto [ke, scale] = part.settling_measure();
-    if (ke < k.settle_kinetic_ratio * scale) break;
+    const Real unbalanced = deposited ? part.unbalanced_ratio() : 0;
+    if (ke < k.settle_kinetic_ratio * scale && unbalanced <= k.settle_unbalanced_ratio) break;
     if (t > k.settle_max_time_s)
       throw InputError(pc.where, key_name + ".settle_max_time_s",
                        fmt::format("the grains did not settle in {} s: mean kinetic energy {:.3g} "
-                                   "x m g r, settled below {:.3g}; raise settle_max_time_s or "
+                                   "x m g r, settled below {:.3g}{}; raise settle_max_time_s or "
                                    "settle_damping",
-                                   k.settle_max_time_s, ke / scale, k.settle_kinetic_ratio));
+                                   k.settle_max_time_s, ke / scale, k.settle_kinetic_ratio,
+                                   deposited ? fmt::format(" (unbalanced force {:.3g} of the "
+                                                           "weight, settled below {:.3g})",
+                                                           unbalanced, k.settle_unbalanced_ratio)
+                                             : std::string()));
   }
   report.settle_time_s = t;
   report.settle_steps = steps;
   return part.grains();
 }
 
-#define CRATER_DEM_SETTLING(D)                                          \
-  template std::string packing_key_text<D>(const PartSettings&);        \
-  template std::vector<Grain<D>> random_grains<D>(const PartSettings&); \
-  template std::vector<Grain<D>> settle_grains<D>(const PartSettings&,  \
+#define CRATER_DEM_SETTLING(D)                                                              \
+  template std::string packing_key_text<D>(const PartSettings&);                            \
+  template std::vector<Grain<D>> random_grains<D>(const PartSettings&);                     \
+  template std::vector<Grain<D>> dense_grains<D>(const PartSettings&, DensePackingReport&); \
+  template std::vector<Grain<D>> settle_grains<D>(const PartSettings&,                      \
                                                   const std::vector<Grain<D>>*, PackingReport&);
 CRATER_DEM_SETTLING(2)
 CRATER_DEM_SETTLING(3)

@@ -118,6 +118,13 @@ std::pair<Real, Real> DemPart<D>::settling_measure() const {
   return {k, m * gravity_.norm() * r};
 }
 
+template <int D>
+Real DemPart<D>::unbalanced_ratio() const {
+  const Index n = f_.size();
+  const Real f = parallel::deterministic_sum<Real>(n, [&](Index i) { return force_[i].norm(); });
+  return f / (mass_kg() * gravity_.norm());
+}
+
 // outflow = "remove": grains beyond the domain box leave the model at the end of the step,
 // with the velocities of t + dt. What they carried goes to eroded_j, so the balance still
 // closes: their kinetic and rotational energy, and the energy stored in their contacts and
@@ -190,7 +197,7 @@ void DemPart<D>::remove_outflow() {
     bond_partner_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, kNoContact);
     bond_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, ParallelBondState<D>{});
   }
-  const std::size_t wall_slots = static_cast<std::size_t>(kept) * cfg_.walls.size();
+  const std::size_t wall_slots = static_cast<std::size_t>(kept) * wall_planes_.size();
   wall_xi_.assign(wall_slots, Vec<D>::Zero());
   if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
   wall_live_.assign(static_cast<std::size_t>(kept), 0);
@@ -296,6 +303,7 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const; \
   template std::vector<Grain<D>> DemPart<D>::grains() const;               \
   template std::pair<Real, Real> DemPart<D>::settling_measure() const;     \
+  template Real DemPart<D>::unbalanced_ratio() const;                      \
   template void DemPart<D>::remove_outflow();                              \
   template Index DemPart<D>::pair_owner(std::size_t) const;                \
   template void DemPart<D>::save_state(parts::StateWriter&) const;         \

@@ -36,9 +36,16 @@ void DemPart<D>::init_walls() {
       guard_hi_[w.axis] = std::min(guard_hi_[w.axis], w.plane);
     else
       guard_lo_[w.axis] = std::max(guard_lo_[w.axis], w.plane);
-  const std::size_t wall_slots = static_cast<std::size_t>(n) * cfg_.walls.size();
+  // The fixed bodies take wall slots after the faces (they are neither in the guard nor in
+  // the clear box: rigid_wall_contacts tests them for every grain).
+  for (const parts::RegionConfig& b : bodies_) {
+    WallPlane w;
+    w.body = &b;
+    wall_planes_.push_back(w);
+  }
+  const std::size_t wall_slots = static_cast<std::size_t>(n) * wall_planes_.size();
   wall_xi_.assign(wall_slots, Vec<D>::Zero());
-  if (cfg_.walls.size() > 32) throw std::logic_error("dem: more than 32 walls");
+  if (wall_planes_.size() > 32) throw std::logic_error("dem: more than 32 walls and bodies");
   wall_live_.assign(static_cast<std::size_t>(n), 0);
   if (rolling_.friction > 0) wall_roll_.assign(wall_slots, angular_zero<D>());
 }

@@ -311,40 +311,6 @@ class Deposition {
   std::priority_queue<Open, std::vector<Open>, std::greater<Open>> open_;
 };
 
-// The box less the regions kept clear (assumed apart from each other): exact for boxes and for
-// disks wholly inside, by a 512 x 512 count over the disk's square otherwise.
-Real free_area(const DensePackingInput<2>& in) {
-  Real area = (in.hi[0] - in.lo[0]) * (in.hi[1] - in.lo[1]);
-  for (const parts::RegionConfig& k : in.keep_clear) {
-    if (k.type == parts::RegionType::Box) {
-      Real a = 1;
-      for (int d = 0; d < 2; ++d)
-        a *= std::max(Real(0), std::min(in.hi[d], k.max_m[static_cast<std::size_t>(d)]) -
-                                   std::max(in.lo[d], k.min_m[static_cast<std::size_t>(d)]));
-      area -= a;
-      continue;
-    }
-    const V2 c = parts::to_vec<2>(k.center_m);
-    const Real R = k.radius_m;
-    if ((c.array() - R >= in.lo.array()).all() && (c.array() + R <= in.hi.array()).all()) {
-      area -= std::numbers::pi * R * R;
-      continue;
-    }
-    constexpr int kN = 512;
-    const Real h = 2 * R / kN;
-    std::int64_t inside = 0;
-    for (int j = 0; j < kN; ++j)
-      for (int i = 0; i < kN; ++i) {
-        const V2 x = c + V2(-R + (i + 0.5) * h, -R + (j + 0.5) * h);
-        if ((x - c).norm() <= R && (x.array() >= in.lo.array()).all() &&
-            (x.array() <= in.hi.array()).all())
-          ++inside;
-      }
-    area -= static_cast<Real>(inside) * h * h;
-  }
-  return area;
-}
-
 }  // namespace
 
 template <int D>
@@ -365,7 +331,12 @@ std::vector<Grain<D>> dense_packing(const DensePackingInput<D>& in, DensePacking
     std::vector<Grain<2>> grains = Deposition(in).run(rep);
     for (const Grain<2>& g : grains)
       rep.solid_volume += grain_volume<2>(g.r);
-    rep.free_volume = free_area(in);
+    parts::RegionConfig box;
+    for (int d = 0; d < 2; ++d) {
+      box.min_m[static_cast<std::size_t>(d)] = in.lo[d];
+      box.max_m[static_cast<std::size_t>(d)] = in.hi[d];
+    }
+    rep.free_volume = parts::region_volume_of<2>(box) - parts::carved_volume<2>(box, in.keep_clear);
     return grains;
   }
 }

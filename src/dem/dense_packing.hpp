@@ -26,6 +26,9 @@
 
 namespace crater::dem {
 
+/// Changes whenever the algorithm would lay another bed from the same input (cache keys).
+inline constexpr int kDensePackingVersion = 1;
+
 /// What the packing is asked for. `lo`, `hi`: the box the grains fill (each grain wholly
 /// inside); `up_axis`, `up_sign`: which way is up (against gravity; the floor is the face
 /// below); `keep_clear`: regions no grain may overlap (boxes, disks).

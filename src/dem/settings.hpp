@@ -78,8 +78,11 @@ struct Settings {
 };
 
 /// How a DEM part's grains are laid out ([parts.packing]).
+/// How a packed part's grains are laid ([parts.packing] method).
+enum class PackingMethod { Lattice, Random, Dense };
+
 struct PackingSettings {
-  bool random{};        // false: lattice
+  PackingMethod method{};
   Real porosity = 0.4;  // no schema default (random needs it); 0.4 enters lattice packings' key
   std::vector<Real> sieve_diameter_m;  // empty: radii uniform in [radius_min_m, radius_max_m]
   std::vector<Real> sieve_passing;
@@ -87,8 +90,9 @@ struct PackingSettings {
   Real settle_kinetic_ratio{};
   Real settle_max_time_s{};
   Real settle_damping{};
-  std::string cache_dir;  // absolute, or relative to the working directory
-  Real agitation_m_s{};   // random initial velocity, uniform in +-this per component
+  Real settle_unbalanced_ratio{};  // dense: settled when sum |F| / sum m g is below this
+  std::string cache_dir;           // absolute, or relative to the working directory
+  Real agitation_m_s{};            // random initial velocity, uniform in +-this per component
 };
 
 /// Everything a DEM part is built from.

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 #include <vector>
 
 #include "core/error.hpp"
@@ -101,6 +103,68 @@ std::vector<Vec<D>> region_lattice(const RegionConfig& r, Real s) {
     if (d == D) break;
   }
   return pts;
+}
+
+/// Volume of a box, disk or sphere region (area in 2D).
+template <int D>
+Real region_volume_of(const RegionConfig& r) {
+  if (r.type == RegionType::Box) {
+    Real v = 1;
+    for (int d = 0; d < D; ++d)
+      v *= std::max(Real(0),
+                    r.max_m[static_cast<std::size_t>(d)] - r.min_m[static_cast<std::size_t>(d)]);
+    return v;
+  }
+  const Real a = r.radius_m;
+  return D == 2 ? std::numbers::pi * a * a : 4.0 / 3.0 * std::numbers::pi * a * a * a;
+}
+
+/// The part of box region `box` that the `carving` regions take [m^D], the carving regions
+/// assumed apart from each other: exact for boxes, and for disks and spheres wholly inside the
+/// box; otherwise by counting the points of a lattice over the region's bounding square (512^2)
+/// or cube (128^3) that lie in both (relative error about 1e-3).
+template <int D>
+Real carved_volume(const RegionConfig& box, const std::vector<RegionConfig>& carving) {
+  Real carved = 0;
+  for (const RegionConfig& k : carving) {
+    if (k.type == RegionType::Box) {
+      Real v = 1;
+      for (int d = 0; d < D; ++d) {
+        const auto i = static_cast<std::size_t>(d);
+        v *= std::max(Real(0),
+                      std::min(box.max_m[i], k.max_m[i]) - std::max(box.min_m[i], k.min_m[i]));
+      }
+      carved += v;
+      continue;
+    }
+    bool inside = true;
+    for (int d = 0; d < D; ++d) {
+      const auto i = static_cast<std::size_t>(d);
+      inside &=
+          k.center_m[i] - k.radius_m >= box.min_m[i] && k.center_m[i] + k.radius_m <= box.max_m[i];
+    }
+    if (inside) {
+      carved += region_volume_of<D>(k);
+      continue;
+    }
+    constexpr int kN = D == 2 ? 512 : 128;
+    const Real h = 2 * k.radius_m / kN;
+    std::int64_t count = 0, total = 1;
+    for (int d = 0; d < D; ++d)
+      total *= kN;
+    for (std::int64_t q = 0; q < total; ++q) {
+      Vec<D> x;
+      std::int64_t rest = q;
+      for (int d = 0; d < D; ++d) {
+        x[d] = k.center_m[static_cast<std::size_t>(d)] - k.radius_m +
+               (static_cast<Real>(rest % kN) + Real(0.5)) * h;
+        rest /= kN;
+      }
+      if (region_contains<D>(k, x) && region_contains<D>(box, x)) ++count;
+    }
+    carved += static_cast<Real>(count) * std::pow(h, D);
+  }
+  return carved;
 }
 
 }  // namespace crater::parts

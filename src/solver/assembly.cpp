@@ -67,6 +67,19 @@ std::vector<contact::ContactSettings> contact_settings(const io::Config& config)
 
 namespace {
 
+// The grains of a random or dense packing, as laid (before any settling).
+template <int D>
+std::vector<dem::Grain<D>> laid_grains(const dem::PartSettings& settings) {
+  if (settings.packing.method == dem::PackingMethod::Random) return dem::random_grains<D>(settings);
+  dem::DensePackingReport r;
+  std::vector<dem::Grain<D>> grains = dem::dense_grains<D>(settings, r);
+  spdlog::info(
+      "part '{}': dense packing of {} grains, solid fraction {:.4f} of its free {:.4g} "
+      "m^{}",
+      settings.part.name, r.grains, r.solid_volume / r.free_volume, r.free_volume, D);
+  return grains;
+}
+
 // A packed DEM part: its grains from the cache if it holds this packing, else generated (and
 // settled under gravity with the domain's walls, then saved). The run starts from the saved
 // state (positions and radii; grains at rest, no contact history) in both cases, so a run
@@ -77,7 +90,7 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
   const std::string& name = settings.part.name;
   dem::PackingReport report;
   if (!k.settle) {
-    const std::vector<dem::Grain<D>> grains = dem::random_grains<D>(settings);
+    const std::vector<dem::Grain<D>> grains = laid_grains<D>(settings);
     return dem::make_dem_part<D>(settings, &grains, report);
   }
   const std::uint64_t key = fnv1a(dem::packing_key_text<D>(settings));
@@ -89,10 +102,11 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
                  file.string());
     return dem::make_dem_part<D>(settings, &*cached, report);
   }
+  const bool laid = k.method != dem::PackingMethod::Lattice;
   std::vector<dem::Grain<D>> grains;
-  if (k.random) grains = dem::random_grains<D>(settings);
+  if (laid) grains = laid_grains<D>(settings);
   const std::vector<dem::Grain<D>> settled =
-      dem::settle_grains<D>(settings, k.random ? &grains : nullptr, report);
+      dem::settle_grains<D>(settings, laid ? &grains : nullptr, report);
   std::filesystem::create_directories(file.parent_path());
   save_packing<D>(file.string(), key, settled);
   spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
@@ -122,7 +136,7 @@ std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
     }
     if (!pc.is(io::Method::Dem)) continue;
     const dem::PartSettings settings = dem_settings(config, pc);
-    if (settings.packing.random || settings.packing.settle)
+    if (settings.packing.method != dem::PackingMethod::Lattice || settings.packing.settle)
       parts.push_back(packed_dem_part<D>(settings));
     else
       parts.push_back(dem::make_dem_part<D>(settings));

@@ -97,6 +97,28 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
   rows_ = std::max<Index>(
       1, static_cast<Index>(std::ceil((c.domain.max_m[D - 1] - c.domain.min_m[D - 1]) / bin_)));
 
+  Index ncol = 1;
+  for (int d = 0; d + 1 < D; ++d)
+    ncol *= columns_[d];
+  gap_cells_ = static_cast<Index>(std::floor(6 * grain_r_max_ / bin_));
+  hole_.assign(at(ncol), std::vector<char>(at(rows_), 0));
+  Real half_diagonal = bin_ * bin_;
+  for (int d = 0; d + 1 < D; ++d)
+    half_diagonal += width_[d] * width_[d];
+  half_diagonal = Real(0.5) * std::sqrt(half_diagonal);
+  const auto& carve = c.parts[*cfg_.soil].carve;
+  for (std::size_t k = 0; k < at(ncol) && !carve.empty(); ++k)
+    for (Index r = 0; r < rows_; ++r) {
+      Vec<D> x;
+      for (int d = 0; d + 1 < D; ++d)
+        x[d] = column_centre(k, d);
+      x[D - 1] = lo_[D - 1] + (static_cast<Real>(r) + Real(0.5)) * bin_;
+      // A cell reaching into the region (its centre within half its diagonal of it): part of
+      // it is the hole, so it may hold less than half a cell of soil.
+      for (const std::size_t p : carve)
+        if (parts::region_distance<D>(c.parts[p].region, x) < half_diagonal) hole_[k][at(r)] = 1;
+    }
+
   // The bed's packing fraction: grains per cell volume, median over cells with grains in the
   // cells above and below (inside the bed).
   phi_ref_ = 1;
@@ -122,7 +144,7 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
   const auto cols = ground(parts);
   surface0_.resize(cols.size());
   for (std::size_t k = 0; k < cols.size(); ++k)
-    surface0_[k] = surface_height(cols[k]);
+    surface0_[k] = surface_height(cols[k], k);
 }
 
 template <int D>
@@ -167,7 +189,9 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
           centre += xn[at(g.connectivity[at(k)])];
         centre /= static_cast<Real>(end - begin);
         Index col = 0, row = 0;
-        if (locate(centre, col, row))
+        // Only where the plate was laid (cells reaching into the soil's holes): a piece torn
+        // off and thrown up is not the ground.
+        if (locate(centre, col, row) && hole_[at(col)][at(row)])
           cols[at(col)].filled[at(row)] += element_volume<D>(xn, &g.connectivity[at(begin)]);
       }
       begin = end;
@@ -177,17 +201,22 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
 }
 
 template <int D>
-Real Probes<D>::surface_height(const Column& col) const {
+Real Probes<D>::surface_height(const Column& col, std::size_t column) const {
   const Real full = cell_volume_ground();
   const Index n = static_cast<Index>(col.filled.size());
-  for (Index k = n - 1; k >= 0; --k) {
-    if (!(col.filled[at(k)] > 0)) continue;
+  Index top = -1, gap = 0;
+  for (Index k = 0; k < n; ++k) {
     const Real below = k > 0 ? col.filled[at(k - 1)] : full;
-    if (col.filled[at(k)] + below < full / 2) continue;
-    const Real above = k + 1 < n ? col.filled[at(k + 1)] : 0;
-    return lo_[D - 1] + static_cast<Real>(k) * bin_ + (col.filled[at(k)] + above) / (full / bin_);
+    if (col.filled[at(k)] > 0 && col.filled[at(k)] + below >= full / 2) {
+      top = k;
+      gap = 0;
+    } else if (top >= 0 && !hole_[column][at(k)] && ++gap > gap_cells_) {
+      break;  // what stands above is in flight
+    }
   }
-  return kNaN;
+  if (top < 0) return kNaN;
+  const Real above = top + 1 < n ? col.filled[at(top + 1)] : 0;
+  return lo_[D - 1] + static_cast<Real>(top) * bin_ + (col.filled[at(top)] + above) / (full / bin_);
 }
 
 template <int D>
@@ -326,7 +355,7 @@ void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& part
   const std::size_t nc = cols.size();
   std::vector<Real> now(nc), drop(nc, kNaN);
   for (std::size_t k = 0; k < nc; ++k) {
-    now[k] = surface_height(cols[k]);
+    now[k] = surface_height(cols[k], k);
     if (std::isfinite(now[k]) && std::isfinite(surface0_[k])) drop[k] = surface0_[k] - now[k];
   }
   {

@@ -6,14 +6,19 @@
 // Ground surface. The domain's horizontal extent is cut into columns of width ~b (the extent
 // over a whole number of columns), each column into cells of height b. A cell's filled volume is F
 // = (grain volume) / phi_ref + (volume of the plate's live elements), a grain or an element counted
-// in the cell of its centre, phi_ref the bed's packing fraction measured at t = 0 (median over
-// cells inside the bed). From the top down, the first non-empty cell c that with the cell below
-// holds at least half a cell's worth (F_c + F_{c-1} >= b^D / 2) is the column's top; the surface
-// height is the bottom of c plus (F_c + F_{c+1}) / b^(D-1), the height the solid of those two cells
-// would fill at the bed's packing. Loose ejecta above the ground do not half fill a cell pair and
-// are not the ground (dense clumps of ejecta can: the measure is meant for a settled ground). The
-// packing's density varies from cell to cell: the surface of a flat bed comes out within about
-// a grain diameter.
+// in the cell of its centre (an element only in a cell reaching into the soil's holes, where the
+// plate was laid: pieces thrown up are not the ground), phi_ref the bed's packing fraction measured
+// at t = 0 (median over cells inside the bed). From the top down, the first non-empty cell c that
+// with the cell below holds at least half a cell's worth (F_c + F_{c-1} >= b^D / 2) is the column's
+// top; the surface height is the bottom of c plus (F_c + F_{c+1}) / b^(D-1), the height the solid
+// of those two cells would fill at the bed's packing. A cell pair that half fills is "dense". The
+// column's ground is what stands on its floor: from the bottom up, the dense cells until the first
+// gap of more than three grain diameters (6 r_max; at the default b = 8 r_max, any cell that is not
+// dense), where cells inside the regions the soil was laid around (the charge's, the plate's:
+// soil.carve) make no gap (a cell reaching into them is counted with them); c is the last dense
+// cell of it. Material above such a gap is in flight (ejecta, plate pieces) and is not the ground,
+// however dense its clumps. The packing's density varies from cell to cell: the surface of a flat
+// bed comes out within about a grain diameter.
 //   surface_profile.csv: per column, the surface at t = 0 and at the end, and their difference.
 //   crater_depth_m: the largest drop; crater_radius_m: half the width (2D) or the radius of the
 //   equal-area disk (3D) of the connected columns around it that dropped by more than the
@@ -79,7 +84,8 @@ class Probes {
                    const std::vector<Column>& cols, const std::vector<Real>& now,
                    std::vector<Diagnostic>& m) const;
   Real column_centre(std::size_t k, int axis) const;
-  Real surface_height(const Column& col) const;
+  // The ground's surface in column k (NaN: no ground), see the file comment.
+  Real surface_height(const Column& col, std::size_t k) const;
   // The column holding x (its horizontal coordinates); false outside the domain.
   bool column_of(const Vec<D>& x, Index& col) const;
   // f(q) for each column q next to column k along a horizontal axis.
@@ -102,6 +108,10 @@ class Probes {
   Real grain_r_max_ = 0;
   Real phi_ref_ = 1;
   std::vector<Real> surface0_;  // per column; NaN where there is no ground
+  // Per column, per cell: it reaches into a region the soil was laid around (the charge's,
+  // the plate's), where a column's ground may have a gap.
+  std::vector<std::vector<char>> hole_;
+  Index gap_cells_ = 0;  // the longest gap in a column's ground, in cells
   // Plate samples.
   Real peak_at_time_ = -1, peak_time_s_ = -1, peak_max_ = 0;
 };

@@ -329,11 +329,14 @@ std::vector<PartReport> check(const io::Config& c) {
   std::vector<PartReport> reports;
   for (auto& p : parts) {
     p->compute_forces(0);
-    reports.push_back({p->name(), p->method(), p->count(), p->mass_kg(), p->stable_step()});
+    PartReport r{p->name(), p->method(), p->count(), p->mass_kg(), p->stable_step(), {}};
+    for (const Diagnostic& d : p->diagnostics())
+      if (d.name == "solid_fraction" || d.name == "bulk_density_kg_m3") r.bed.push_back(d);
+    reports.push_back(r);
   }
   if (!coupling.empty()) {
     const StableStep s = coupling.stable_step(parts);
-    reports.push_back({"contacts", "contact", static_cast<Index>(c.contacts.size()), 0, s});
+    reports.push_back({"contacts", "contact", static_cast<Index>(c.contacts.size()), 0, s, {}});
   }
   const StepLimit<D> lim = smallest_stable_step(parts, &coupling, Real(1));
   check_fixed_step(c, lim);

@@ -34,6 +34,7 @@ struct PartReport {
   Index count = 0;
   Real mass_kg = 0;
   StableStep stable;
+  std::vector<Diagnostic> bed;  // a DEM part's solid_fraction and bulk_density_kg_m3
 };
 
 /// What happened; also written to summary.json.

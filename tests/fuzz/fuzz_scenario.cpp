@@ -159,7 +159,7 @@ Estimate estimate(const Config& c) {
       if (p.packing().settle) e.buildable = false;  // a simulation, and a cache file on disk
       if (!p.dem().particles.empty()) {
         e.laid += static_cast<double>(p.dem().particles.size());
-      } else if (p.packing().random) {
+      } else if (p.packing().method != crater::dem::PackingMethod::Lattice) {
         // Grains of the smallest radius filling the region's bounding box.
         Real r = p.dem().radius_min_m;
         for (const Real dm : p.packing().sieve_diameter_m)

@@ -20,7 +20,8 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   read_packing(c, t, w, key, p);
   d.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
   d.radius_min_m = opt_num(dt, "radius_min_m").value_or(d.radius_max_m);
-  if (!p.packing().random && d.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
+  if (p.packing().method == dem::PackingMethod::Lattice &&
+      d.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
     error(loc(dt, "radius_max_m", dw), key + ".dem.radius_max_m",
           fmt::format("expected at most spacing_m / 2 = {} m (grains sit on a lattice of "
                       "pitch spacing_m), got {} m",
@@ -122,8 +123,12 @@ void Builder::read_packing(const Config& c, const toml::table& t, const SourceLo
   const auto& pt = table(t, "packing");
   const SourceLocation pw = where_of(pt, w);
   PackingConfig& k = p.packing();
-  k.random = str(pt, "method") == "random";
+  const std::string method = str(pt, "method");
+  k.method = method == "random"  ? dem::PackingMethod::Random
+             : method == "dense" ? dem::PackingMethod::Dense
+                                 : dem::PackingMethod::Lattice;
   k.settle = pt.get("settle")->as_boolean()->get();
+  k.settle_unbalanced_ratio = num(pt, "settle_unbalanced_ratio");
   k.settle_kinetic_ratio = num(pt, "settle_kinetic_ratio");
   k.settle_max_time_s = num(pt, "settle_max_time_s");
   k.settle_damping = num(pt, "settle_damping");
@@ -132,22 +137,24 @@ void Builder::read_packing(const Config& c, const toml::table& t, const SourceLo
   if (cache.is_relative()) cache = fs::path(file_).parent_path() / cache;
   k.cache_dir = cache.lexically_normal().string();
   const std::string kp = key + ".packing";
-  if (k.random) {
+  if (k.method == dem::PackingMethod::Random) {
     if (!pt.get("porosity"))
       error(pw, kp + ".porosity", "missing: method = \"random\" needs a target porosity");
     else
       k.porosity = num(pt, "porosity");
-    if (t.get("particles"))
-      error(loc(t, "particles", w), key + ".particles",
-            "grains placed by hand cannot also be packed at random; remove one of "
-            "[[" +
-                key + ".particles]] and [" + kp + "] method = \"random\"");
   }
+  if (k.method != dem::PackingMethod::Lattice && t.get("particles"))
+    error(loc(t, "particles", w), key + ".particles",
+          fmt::format("grains placed by hand cannot also be packed; remove one of [[{}.particles]] "
+                      "and [{}] method = \"{}\"",
+                      key, kp, method));
+  if (k.method == dem::PackingMethod::Dense) read_dense_packing(c, pt, pw, kp, p);
   k.sieve_diameter_m = reals(pt, "sieve_diameter_m");
   k.sieve_passing = reals(pt, "sieve_passing");
   if (!k.sieve_diameter_m.empty() || !k.sieve_passing.empty()) {
     const SourceLocation sw = loc(pt, "sieve_diameter_m", pw);
-    if (!k.random) error(sw, kp + ".sieve_diameter_m", "a grading curve needs method = \"random\"");
+    if (k.method != dem::PackingMethod::Random)
+      error(sw, kp + ".sieve_diameter_m", "a grading curve needs method = \"random\"");
     if (k.sieve_diameter_m.size() != k.sieve_passing.size() || k.sieve_diameter_m.size() < 2)
       error(sw, kp + ".sieve_diameter_m",
             fmt::format("expected sieve_diameter_m and sieve_passing of the same length, at "
@@ -180,6 +187,27 @@ void Builder::read_packing(const Config& c, const toml::table& t, const SourceLo
       error(loc(pt, "settle", pw), kp + ".settle",
             "settling needs gravity: set [domain] gravity_m_s2");
   }
+}
+
+// What a dense packing needs (dem/dense_packing.hpp): a plane scene, a box to fill, and gravity
+// along one axis (the floor it is laid up from).
+void Builder::read_dense_packing(const Config& c, const toml::table& pt, const SourceLocation& pw,
+                                 const std::string& kp, const PartConfig& p) {
+  const SourceLocation mw = loc(pt, "method", pw);
+  if (c.dimension != 2)
+    error(mw, kp + ".method",
+          "method = \"dense\" lays disks (dimension = 2) so far; use \"random\" in 3D");
+  if (p.region.type != RegionType::Box)
+    error(mw, kp + ".method",
+          "method = \"dense\" fills a box region; give the part a box (the parts it is carved "
+          "around may be of any shape)");
+  int axes = 0;
+  for (int d = 0; d < c.dimension; ++d)
+    axes += c.domain.gravity_m_s2[static_cast<std::size_t>(d)] != 0;
+  if (axes != 1)
+    error(mw, kp + ".method",
+          "method = \"dense\" is laid from the floor up: it needs [domain] gravity_m_s2 along "
+          "one axis");
 }
 
 // Absorbing walls: faces of their own (not also rigid walls, not twice) and the bed's

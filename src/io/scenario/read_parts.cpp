@@ -218,11 +218,6 @@ void Builder::read_carving(Config& c, const toml::array& arr, const SourceLocati
     if (p.is(Method::Fem))
       error(cw, fmt::format("parts[{}].carve", i),
             "only sph and dem parts are carved; an fem part's mesh is its shape");
-    // Only a DEM part settles (an sph or fem part has no packing).
-    if (p.is(Method::Dem) && p.packing().settle)
-      error(cw, fmt::format("parts[{}].carve", i),
-            "a carved part cannot be settled yet (the hole would fill while it settles); set "
-            "packing.settle = false");
     const auto& names = *cn->as_array();
     for (std::size_t j = 0; j < names.size(); ++j) {
       const std::string name = names.get(j)->as_string()->get();

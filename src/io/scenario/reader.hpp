@@ -169,6 +169,8 @@ class Builder {
                 const std::string& key, PartConfig& p);
   void read_packing(const Config& c, const toml::table& t, const SourceLocation& w,
                     const std::string& key, PartConfig& p);
+  void read_dense_packing(const Config& c, const toml::table& pt, const SourceLocation& pw,
+                          const std::string& kp, const PartConfig& p);
   void read_absorbing_walls(const toml::table& dt, const SourceLocation& dw, const std::string& key,
                             int dim, DemConfig& d);
   void read_bonds(const toml::table& bt, const SourceLocation& dw, const std::string& key,

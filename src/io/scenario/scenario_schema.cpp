@@ -421,18 +421,24 @@ TableSchema make_dem() {
 
 TableSchema make_packing() {
   TableSchema t{"parts.packing",
-                "How the grains of a DEM part are laid: on the lattice (default) or at random to "
-                "a porosity, then optionally settled under gravity. A settled packing is saved "
-                "in cache_dir and reused by any later run with the same inputs.",
+                "How the grains of a DEM part are laid: on the lattice (default), at random to "
+                "a porosity, or densely from the floor up, then optionally settled under "
+                "gravity. A settled packing is saved in cache_dir and reused by any later run "
+                "with the same inputs.",
                 {},
                 {},
                 {}};
   t.keys = {
-      with_default(choice("method", {"lattice", "random"},
+      with_default(choice("method", {"lattice", "random", "dense"},
                           "lattice: one grain per lattice site (spacing_m) with radii drawn "
                           "from [radius_min_m, radius_max_m]. random: grains placed at random, "
                           "without overlap, until their volume is (1 - porosity) x the region's "
-                          "(the column is extended against gravity when they do not fit)."),
+                          "(the column is extended against gravity when they do not fit). "
+                          "dense: the box region filled from the floor up, each grain (radii "
+                          "uniform in [radius_min_m, radius_max_m]) at the lowest place where "
+                          "it rests on two others, a wall or a body it is carved around (2D; "
+                          "solid fraction about 0.82 for a 2.5:1 range); settle = true then "
+                          "loads its contacts under gravity."),
                    "\"lattice\""),
       at_most(at_least(real("porosity", "1",
                             "random: target porosity of the region (void volume / region "
@@ -456,6 +462,12 @@ TableSchema make_packing() {
                                  "Settling gives up (input error, exit 2) after this much "
                                  "simulated time.")),
                    "2.0"),
+      with_default(
+          positive(real("settle_unbalanced_ratio", "1",
+                        "dense: settled once also the grains' unbalanced force (the sum of "
+                        "their net force magnitudes over their weight) is below this "
+                        "(static equilibrium under gravity).")),
+          "1e-3"),
       with_default(at_most(at_least(real("settle_damping", "1",
                                          "Cundall local damping during settling (0.7: "
                                          "quasi-static)."),
