@@ -187,6 +187,58 @@ void DemPart<D>::unpack_history() {
   });
 }
 
+template <int D>
+ContactHistory<D> DemPart<D>::contact_history() const {
+  std::vector<std::int64_t> partner;
+  std::vector<Vec<D>> xi;
+  std::vector<AngularVec<D>> roll;
+  if (packed_) {
+    partner = partner_;
+    xi = xi_;
+    roll = roll_;
+  } else {
+    pack_history(partner, xi, roll);
+  }
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  const auto n = static_cast<std::size_t>(f_.size());
+  ContactHistory<D> h;
+  h.slots = kMaxContacts;
+  h.partner.assign(n * slots, kNoContact);
+  h.xi.assign(n * slots, Vec<D>::Zero());
+  if (!roll.empty()) h.roll.assign(n * slots, angular_zero<D>());
+  const std::int64_t first_body = wall_key(cfg_.walls.size());  // the bodies' keys are below
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t to = static_cast<std::size_t>(id_[static_cast<Index>(i)]) * slots;
+    std::size_t k = 0;
+    for (std::size_t s = 0; s < slots; ++s) {
+      const std::int64_t p = partner[i * slots + s];
+      if (p == kNoContact) break;
+      if (p <= first_body) continue;
+      h.partner[to + k] = p;
+      h.xi[to + k] = xi[i * slots + s];
+      if (!roll.empty()) h.roll[to + k] = roll[i * slots + s];
+      ++k;
+    }
+  }
+  return h;
+}
+
+template <int D>
+void DemPart<D>::start_from(const ContactHistory<D>& h) {
+  const auto n = static_cast<std::size_t>(f_.size()) * kMaxContacts;
+  if (h.slots != kMaxContacts || h.partner.size() != n || h.xi.size() != n ||
+      !(h.roll.empty() || h.roll.size() == n))
+    throw std::logic_error("dem: contact histories for another part");
+  partner_ = h.partner;
+  xi_ = h.xi;
+  // Rolling moments only when this part has rolling resistance (else none are kept).
+  if (rolling_.friction > 0)
+    roll_ = h.roll.empty() ? std::vector<AngularVec<D>>(n, angular_zero<D>()) : h.roll;
+  else
+    roll_.clear();
+  packed_ = true;
+}
+
 // Slot of `partner` in grain i's packed history (partner_), or -1.
 template <int D>
 int DemPart<D>::find_slot(Index owner, std::int64_t partner) const {
@@ -216,7 +268,9 @@ void DemPart<D>::permute_slots(std::span<const Index> order) {
                                          std::vector<AngularVec<D>>&) const;               \
   template void DemPart<D>::unpack_history();                                              \
   template int DemPart<D>::find_slot(Index, std::int64_t) const;                           \
-  template void DemPart<D>::permute_slots(std::span<const Index>);
+  template void DemPart<D>::permute_slots(std::span<const Index>);                         \
+  template ContactHistory<D> DemPart<D>::contact_history() const;                          \
+  template void DemPart<D>::start_from(const ContactHistory<D>&);
 CRATER_DEM_HISTORY(2)
 CRATER_DEM_HISTORY(3)
 #undef CRATER_DEM_HISTORY

@@ -377,11 +377,13 @@ CRATER_DEM_PART(3)
 template <int D>
 std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
                                               const std::vector<Grain<D>>* grains,
-                                              const PackingReport& report) {
+                                              const PackingReport& report,
+                                              const ContactHistory<D>* contacts) {
   using detail::DemPart;
   if (!grains) return std::make_unique<DemPart<D>>(settings);
   const parts::PartSetup& part = settings.part;
   auto p = std::make_unique<DemPart<D>>(settings, grains);
+  if (contacts) p->start_from(*contacts);
   // Porosity of the packed grains over the region's cross-section times the bed's height
   // (box regions; along gravity), and how the packing was obtained.
   if (part.region.type == parts::RegionType::Box && !grains->empty()) {
@@ -415,9 +417,11 @@ std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
 
 template std::unique_ptr<parts::Part<2>> make_dem_part<2>(const PartSettings&,
                                                           const std::vector<Grain<2>>*,
-                                                          const PackingReport&);
+                                                          const PackingReport&,
+                                                          const ContactHistory<2>*);
 template std::unique_ptr<parts::Part<3>> make_dem_part<3>(const PartSettings&,
                                                           const std::vector<Grain<3>>*,
-                                                          const PackingReport&);
+                                                          const PackingReport&,
+                                                          const ContactHistory<3>*);
 
 }  // namespace crater::dem

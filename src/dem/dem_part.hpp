@@ -29,10 +29,12 @@ struct PackingReport {
 
 /// Builds the DEM part `settings` describe, from `grains` if given (a packing), else from the
 /// grains placed by hand, else one per lattice site of its region (radii from its seed).
+/// `contacts`, when given, are the grains' contact histories (a settled packing's).
 template <int D>
 std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
                                               const std::vector<Grain<D>>* grains = nullptr,
-                                              const PackingReport& report = {});
+                                              const PackingReport& report = {},
+                                              const ContactHistory<D>* contacts = nullptr);
 
 /// Everything that shapes the part's settled packing, as text (hex floats: exact); a hash of it
 /// keys the packing cache.
@@ -54,10 +56,11 @@ std::vector<Grain<D>> dense_grains(const PartSettings& settings, DensePackingRep
 /// The part alone under gravity, with its walls (absorbing faces rigid), the regions it is
 /// carved around as fixed bodies, and the settling damping, from `grains` (nullptr: the part's own
 /// lattice or placed grains), until the grains have had the time to fall the column's height and
-/// their mean kinetic energy is below settle_kinetic_ratio x m g r. Returns the grains at rest;
-/// throws InputError if a grain fails or they do not settle within settle_max_time_s.
+/// their mean kinetic energy is below settle_kinetic_ratio x m g r. Returns the grains at rest
+/// with their contacts (less those with the fixed bodies); throws InputError if a grain fails
+/// or they do not settle within settle_max_time_s.
 template <int D>
-std::vector<Grain<D>> settle_grains(const PartSettings& settings,
-                                    const std::vector<Grain<D>>* grains, PackingReport& report);
+SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<Grain<D>>* grains,
+                                PackingReport& report);
 
 }  // namespace crater::dem

@@ -211,6 +211,12 @@ class DemPart final : public parts::Part<D> {
   }
   /// The grains in id order (positions and radii).
   std::vector<Grain<D>> grains() const;
+  /// The grains' contact histories in id order, less the contacts with fixed bodies (those
+  /// exist only while settling).
+  ContactHistory<D> contact_history() const;
+  /// Starts from these histories (grains as placed, in id order): contacts that were live
+  /// carry their springs into the first step.
+  void start_from(const ContactHistory<D>& h);
   /// Mean kinetic energy per grain, and m g r of the mean grain (the settling scale).
   std::pair<Real, Real> settling_measure() const;
   /// The grains' unbalanced force over their weight, sum |F_i| / sum m_i |g| (1 for grains

@@ -129,8 +129,8 @@ std::vector<Grain<D>> dense_grains(const PartSettings& settings, DensePackingRep
 // only needs its contacts loaded: no fall time, and settled once, besides the kinetic energy,
 // the unbalanced force is below settle_unbalanced_ratio of the weight (static equilibrium).
 template <int D>
-std::vector<Grain<D>> settle_grains(const PartSettings& settings,
-                                    const std::vector<Grain<D>>* grains, PackingReport& report) {
+SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<Grain<D>>* grains,
+                                PackingReport& report) {
   const parts::PartSetup& pc = settings.part;
   const auto& k = settings.packing;
   const std::string key_name = fmt::format("parts[{}].packing", pc.name);
@@ -176,15 +176,15 @@ std::vector<Grain<D>> settle_grains(const PartSettings& settings,
   }
   report.settle_time_s = t;
   report.settle_steps = steps;
-  return part.grains();
+  return {part.grains(), part.contact_history()};
 }
 
-#define CRATER_DEM_SETTLING(D)                                                              \
-  template std::string packing_key_text<D>(const PartSettings&);                            \
-  template std::vector<Grain<D>> random_grains<D>(const PartSettings&);                     \
-  template std::vector<Grain<D>> dense_grains<D>(const PartSettings&, DensePackingReport&); \
-  template std::vector<Grain<D>> settle_grains<D>(const PartSettings&,                      \
-                                                  const std::vector<Grain<D>>*, PackingReport&);
+#define CRATER_DEM_SETTLING(D)                                                                   \
+  template std::string packing_key_text<D>(const PartSettings&);                                 \
+  template std::vector<Grain<D>> random_grains<D>(const PartSettings&);                          \
+  template std::vector<Grain<D>> dense_grains<D>(const PartSettings&, DensePackingReport&);      \
+  template SettledPacking<D> settle_grains<D>(const PartSettings&, const std::vector<Grain<D>>*, \
+                                              PackingReport&);
 CRATER_DEM_SETTLING(2)
 CRATER_DEM_SETTLING(3)
 #undef CRATER_DEM_SETTLING

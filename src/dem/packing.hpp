@@ -7,11 +7,13 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/types.hpp"
+#include "dem/laws/contact_geometry.hpp"
 #include "dem/settings.hpp"
 #include "parts/region.hpp"
 
@@ -21,6 +23,27 @@ template <int D>
 struct Grain {
   Vec<D> x;
   Real r = 0;
+};
+
+/// The contacts of a packing's grains as a DEM part keeps them between neighbour-list
+/// rebuilds: per grain, in id order, `slots` entries of partner (another grain's id, -1 - face
+/// for a wall; kNoPartner past the last), tangential spring [m] and rolling moment [N m] (empty
+/// without rolling resistance). A settled packing carries them, so that a run starts from the
+/// settled state itself, friction and all.
+template <int D>
+struct ContactHistory {
+  static constexpr std::int64_t kNoPartner = std::numeric_limits<std::int64_t>::min();
+  int slots = 0;
+  std::vector<std::int64_t> partner;
+  std::vector<Vec<D>> xi;
+  std::vector<AngularVec<D>> roll;
+};
+
+/// A settled packing: its grains (in id order) and their contacts.
+template <int D>
+struct SettledPacking {
+  std::vector<Grain<D>> grains;
+  ContactHistory<D> contacts;
 };
 
 /// Volume of a grain: disk area (per metre of depth) in 2D, sphere volume in 3D.

@@ -82,8 +82,8 @@ std::vector<dem::Grain<D>> laid_grains(const dem::PartSettings& settings) {
 
 // A packed DEM part: its grains from the cache if it holds this packing, else generated (and
 // settled under gravity with the domain's walls, then saved). The run starts from the saved
-// state (positions and radii; grains at rest, no contact history) in both cases, so a run
-// that settled and a run that reused give identical results.
+// state (positions and radii, grains at rest, and the contacts' springs) in both cases, so a
+// run that settled and a run that reused give identical results.
 template <int D>
 std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
   const dem::PackingSettings& k = settings.packing;
@@ -98,14 +98,14 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
       std::filesystem::path(k.cache_dir) / fmt::format("{}-{:016x}.pack", name, key);
   if (auto cached = load_packing<D>(file.string(), key)) {
     report.reused = true;
-    spdlog::info("part '{}': settled packing of {} grains reused from {}", name, cached->size(),
-                 file.string());
-    return dem::make_dem_part<D>(settings, &*cached, report);
+    spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
+                 cached->grains.size(), file.string());
+    return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
   }
   const bool laid = k.method != dem::PackingMethod::Lattice;
   std::vector<dem::Grain<D>> grains;
   if (laid) grains = laid_grains<D>(settings);
-  const std::vector<dem::Grain<D>> settled =
+  const dem::SettledPacking<D> settled =
       dem::settle_grains<D>(settings, laid ? &grains : nullptr, report);
   std::filesystem::create_directories(file.parent_path());
   save_packing<D>(file.string(), key, settled);
@@ -113,7 +113,7 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
                report.settle_steps, file.string());
   // Read back what was saved, so this run starts from exactly what a reuse would.
   if (auto back = load_packing<D>(file.string(), key))
-    return dem::make_dem_part<D>(settings, &*back, report);
+    return dem::make_dem_part<D>(settings, &back->grains, report, &back->contacts);
   throw std::runtime_error("could not read back the settled packing " + file.string());
 }
 

@@ -2,8 +2,10 @@
 // as <cache_dir>/<part>-<key>.pack, the key a hash of everything that shapes it
 // (dem::packing_key_text), and reused by every later run with the same key.
 //
-// File: one header line (magic, key, dimension, count, checksum of the payload), then raw
-// little-endian doubles, (x, r) per grain.
+// File: one header line (magic, key, dimension, count, contact slots per grain, whether rolling
+// moments follow, checksum of the payload), then raw little-endian data: (x, r) per grain as
+// doubles, then the contact histories (dem::ContactHistory: partners as int64, tangential
+// springs, rolling moments), so that a run starts from the settled state with its friction.
 #pragma once
 
 #include <cstdint>
@@ -17,11 +19,11 @@ namespace crater::solver {
 
 /// Writes the packing file at `path` (atomically: a reader sees the old file or the new one).
 template <int D>
-void save_packing(const std::string& path, std::uint64_t key, const std::vector<dem::Grain<D>>& g);
+void save_packing(const std::string& path, std::uint64_t key, const dem::SettledPacking<D>& s);
 
-/// The grains of a packing file, or nothing if it is missing, of another key or dimension, or
-/// damaged (a cache miss, never an error).
+/// The grains and contacts of a packing file, or nothing if it is missing, of another key,
+/// dimension or format, or damaged (a cache miss, never an error).
 template <int D>
-std::optional<std::vector<dem::Grain<D>>> load_packing(const std::string& path, std::uint64_t key);
+std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std::uint64_t key);
 
 }  // namespace crater::solver

@@ -12,6 +12,10 @@ then relaxed under gravity with the plate as a fixed body.
   the plate, whose region the bed was laid around), and grains lie above the plate as well as
   below it.
 - The relaxed bed is the cached packing: a second run reuses it (same file, same grains).
+- A bed at rest stays at rest (issue 24): the same box without the plate, relaxed to an
+  unbalanced force of 1e-3 of its weight, then run for 10 ms from the cached packing, which
+  carries the contacts' tangential springs. Every grain's speed in every frame (1 ms apart)
+  stays below 1 mm/s (measured: 0.17 mm/s; without the springs the bed rang at 2-5 mm/s).
 """
 import re
 import sys
@@ -24,6 +28,17 @@ from scenario_blocks import (SAND, STEEL, box, boundary, compose_scenario, conta
                              output, part, write_scenario)
 
 PLATE = ([0.15, -0.16], [0.45, -0.14])
+
+
+def bed_alone(work):
+    return compose_scenario(
+        "dense-bed-at-rest", 2, 1e-2, domain=domain([0.0, -0.3], [0.6, 0.3], [0.0, -9.81]),
+        output=output(1e-3), materials=[SAND],
+        parts=[part("soil", "dem", "sand", 0.02, box([0.0, -0.3], [0.6, 0.0]),
+                    dem={"radius_min_m": 0.004, "radius_max_m": 0.01,
+                         "walls": ["left", "right", "bottom"]},
+                    packing={"method": "dense", "settle": True,
+                             "cache_dir": str(work / "cache")})])
 
 
 def scenario(work):
@@ -83,6 +98,21 @@ class DenseBed(unittest.TestCase):
         pts2, f2, _, _ = read_vtu(out2 / name)
         np.testing.assert_array_equal(pts2, self.pts)
         np.testing.assert_array_equal(f2["radius"], self.f["radius"])
+
+
+class BedAtRestStaysAtRest(unittest.TestCase):
+    def test_grains_stay_below_1_mm_per_s_for_10_ms(self):
+        work = scratch("dense_bed_at_rest")
+        write_scenario(work / "case.toml", bed_alone(work))
+        out = work / "out"
+        crater("run", str(work / "case.toml"), "--out", str(out), "--force", "--quiet")
+        frames = read_pvd(out / "soil.pvd")
+        self.assertEqual(len(frames), 11)
+        fastest = 0.0
+        for _, name in frames:
+            _, f, _, _ = read_vtu(out / name)
+            fastest = max(fastest, float(np.linalg.norm(f["velocity"], axis=1).max()))
+        self.assertLess(fastest, 1e-3)
 
 
 if __name__ == "__main__":
