@@ -16,6 +16,8 @@ then relaxed under gravity with the plate as a fixed body.
   unbalanced force of 1e-3 of its weight, then run for 10 ms from the cached packing, which
   carries the contacts' tangential springs. Every grain's speed in every frame (1 ms apart)
   stays below 1 mm/s (measured: 0.17 mm/s; without the springs the bed rang at 2-5 mm/s).
+- The relaxed bed is the same on 1 and 2 threads: the packing files written by two runs into
+  two cache directories are byte for byte the same.
 """
 import re
 import sys
@@ -113,6 +115,24 @@ class BedAtRestStaysAtRest(unittest.TestCase):
             _, f, _, _ = read_vtu(out / name)
             fastest = max(fastest, float(np.linalg.norm(f["velocity"], axis=1).max()))
         self.assertLess(fastest, 1e-3)
+
+
+class RelaxedBedOnOneAndTwoThreads(unittest.TestCase):
+    def test_packing_files_are_identical(self):
+        work = scratch("dense_bed_threads")
+        write_scenario(work / "case.toml", bed_alone(work))
+        files = []
+        for threads in (1, 2):
+            cache = work / f"cache{threads}"
+            crater("run", str(work / "case.toml"), "--out", str(work / f"out{threads}"),
+                   "--force", "--quiet", "--threads", str(threads),
+                   "--set", f"parts.soil.packing.cache_dir={str(cache)!r}",
+                   "--set", "scenario.end_time_s=1e-6")
+            packs = sorted(cache.glob("*.pack"))
+            self.assertEqual(len(packs), 1)
+            files.append(packs[0])
+        self.assertEqual(files[0].name, files[1].name)
+        self.assertEqual(files[0].read_bytes(), files[1].read_bytes())
 
 
 if __name__ == "__main__":
