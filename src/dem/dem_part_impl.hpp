@@ -70,7 +70,9 @@ ContactGeometry<D> body_geometry(const parts::RegionConfig& body, const Vec<D>& 
   if (body.type != parts::RegionType::Box) {
     const Vec<D> c = parts::to_vec<D>(body.center_m);
     const Real dist = (x - c).norm();
-    return sphere_wall_geometry<D>(x, r, Vec<D>(c + body.radius_m / dist * (x - c)));
+    // A centre on the body's own (never in practice): pushed out along the first axis.
+    const Vec<D> out = dist > 0 ? Vec<D>((x - c) / dist) : Vec<D>(Vec<D>::UnitX());
+    return sphere_wall_geometry<D>(x, r, Vec<D>(c + body.radius_m * out));
   }
   if (!parts::region_contains<D>(body, x)) {
     Vec<D> foot;
