@@ -315,30 +315,30 @@ class Deposition {
 
 template <int D>
 std::vector<Grain<D>> dense_packing(const DensePackingInput<D>& in, DensePackingReport* report) {
-  if constexpr (D != 2) {
-    throw std::invalid_argument("dense packing: 2D (disks) only so far");
-  } else {
-    if (!(in.r_min > 0) || !(in.r_max >= in.r_min))
-      throw std::invalid_argument("dense packing: radii must satisfy 0 < r_min <= r_max");
-    for (int d = 0; d < 2; ++d)
-      if (!(in.hi[d] - in.lo[d] >= 2 * in.r_max))
-        throw std::invalid_argument("dense packing: the box is thinner than a grain");
-    if (in.up_axis < 0 || in.up_axis > 1)
-      throw std::invalid_argument("dense packing: up_axis must be 0 or 1");
-    DensePackingReport local;
-    DensePackingReport& rep = report ? *report : local;
-    rep = DensePackingReport{};
-    std::vector<Grain<2>> grains = Deposition(in).run(rep);
-    for (const Grain<2>& g : grains)
-      rep.solid_volume += grain_volume<2>(g.r);
-    parts::RegionConfig box;
-    for (int d = 0; d < 2; ++d) {
-      box.min_m[static_cast<std::size_t>(d)] = in.lo[d];
-      box.max_m[static_cast<std::size_t>(d)] = in.hi[d];
-    }
-    rep.free_volume = parts::region_volume_of<2>(box) - parts::carved_volume<2>(box, in.keep_clear);
-    return grains;
+  if (!(in.r_min > 0) || !(in.r_max >= in.r_min))
+    throw std::invalid_argument("dense packing: radii must satisfy 0 < r_min <= r_max");
+  for (int d = 0; d < D; ++d)
+    if (!(in.hi[d] - in.lo[d] >= 2 * in.r_max))
+      throw std::invalid_argument("dense packing: the box is thinner than a grain");
+  if (in.up_axis < 0 || in.up_axis >= D)
+    throw std::invalid_argument("dense packing: up_axis must name an axis");
+  DensePackingReport local;
+  DensePackingReport& rep = report ? *report : local;
+  rep = DensePackingReport{};
+  std::vector<Grain<D>> grains;
+  if constexpr (D == 2)
+    grains = Deposition(in).run(rep);
+  else
+    grains = detail::deposit_spheres(in, rep);
+  for (const Grain<D>& g : grains)
+    rep.solid_volume += grain_volume<D>(g.r);
+  parts::RegionConfig box;
+  for (int d = 0; d < D; ++d) {
+    box.min_m[static_cast<std::size_t>(d)] = in.lo[d];
+    box.max_m[static_cast<std::size_t>(d)] = in.hi[d];
   }
+  rep.free_volume = parts::region_volume_of<D>(box) - parts::carved_volume<D>(box, in.keep_clear);
+  return grains;
 }
 
 template std::vector<Grain<2>> dense_packing<2>(const DensePackingInput<2>&, DensePackingReport*);

@@ -52,10 +52,15 @@ struct DensePackingReport {
   std::size_t new_floors = 0;  // grains started on the faces and bodies alone (no grain below)
 };
 
-/// The grains, in the order placed. 2D only (disks); throws std::invalid_argument for 3D, for
-/// r_min <= 0 or r_max < r_min, or for a box thinner than a grain, and std::length_error past
-/// max_grains.
+/// The grains, in the order placed: disks (2D) or spheres (3D, dense_packing_spheres.cpp).
+/// Throws std::invalid_argument for r_min <= 0 or r_max < r_min, or for a box thinner than a
+/// grain, and std::length_error past max_grains.
 template <int D>
 std::vector<Grain<D>> dense_packing(const DensePackingInput<D>& in, DensePackingReport* report);
+
+namespace detail {
+/// The 3D deposition (dense_packing_spheres.cpp).
+std::vector<Grain<3>> deposit_spheres(const DensePackingInput<3>& in, DensePackingReport& report);
+}  // namespace detail
 
 }  // namespace crater::dem

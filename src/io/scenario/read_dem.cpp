@@ -189,14 +189,11 @@ void Builder::read_packing(const Config& c, const toml::table& t, const SourceLo
   }
 }
 
-// What a dense packing needs (dem/dense_packing.hpp): a plane scene, a box to fill, and gravity
-// along one axis (the floor it is laid up from).
+// What a dense packing needs (dem/dense_packing.hpp): a box to fill and gravity along one axis
+// (the floor it is laid up from).
 void Builder::read_dense_packing(const Config& c, const toml::table& pt, const SourceLocation& pw,
                                  const std::string& kp, const PartConfig& p) {
   const SourceLocation mw = loc(pt, "method", pw);
-  if (c.dimension != 2)
-    error(mw, kp + ".method",
-          "method = \"dense\" lays disks (dimension = 2) so far; use \"random\" in 3D");
   if (p.region.type != RegionType::Box)
     error(mw, kp + ".method",
           "method = \"dense\" fills a box region; give the part a box (the parts it is carved "

@@ -436,8 +436,9 @@ TableSchema make_packing() {
                           "(the column is extended against gravity when they do not fit). "
                           "dense: the box region filled from the floor up, each grain (radii "
                           "uniform in [radius_min_m, radius_max_m]) at the lowest place where "
-                          "it rests on two others, a wall or a body it is carved around (2D; "
-                          "solid fraction about 0.82 for a 2.5:1 range); settle = true then "
+                          "it rests on two (3D: three) supports: grains, walls, the bodies it is "
+                          "carved around (solid fraction about 0.82 for disks of a 2.5:1 "
+                          "range, 0.64 for spheres away from the walls); settle = true then "
                           "loads its contacts under gravity."),
                    "\"lattice\""),
       at_most(at_least(real("porosity", "1",

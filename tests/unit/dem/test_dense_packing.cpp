@@ -2,7 +2,8 @@
 // lies in its box and clear of the bodies it must avoid, each rests on two supports when
 // placed, the radii are the generator's draws (so the size distribution is the one asked
 // for), and the solid fraction of a 2.5:1 bed reaches the 0.80 issue 24 asks of a dense
-// bed of disks (advancing-front packings of such mixtures reach 0.82-0.85 [FHO03]).
+// bed of disks (advancing-front packings of such mixtures reach 0.82-0.85 [FHO03]); the same for
+// spheres, with three supports and 0.60 inside.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -161,7 +162,78 @@ TEST(DensePacking, RefusesWhatItCannotDo) {
   EXPECT_THROW(dense_packing<2>(in, nullptr), std::invalid_argument);
   in = bed(0.004, 0.05, 0.001, 0.0025, 1);  // thinner than a grain
   EXPECT_THROW(dense_packing<2>(in, nullptr), std::invalid_argument);
-  EXPECT_THROW(dense_packing<3>(DensePackingInput<3>{}, nullptr), std::invalid_argument);
+}
+
+// Spheres: the same checks by brute force, each grain resting on three supports when placed,
+// and the solid fraction away from the walls and the top (the box is only 12-20 grains across)
+// at least the 0.60 issue 24 asks of a dense bed of spheres (random close packing of spheres is
+// 0.64; sequential deposition reaches about 0.58-0.62).
+DensePackingInput<3> cube(Real width, Real height, std::uint64_t seed) {
+  DensePackingInput<3> in;
+  in.lo = Vec<3>(0, 0, -height);
+  in.hi = Vec<3>(width, width, 0);
+  in.r_min = 0.002;
+  in.r_max = 0.005;
+  in.seed = seed;
+  return in;
+}
+
+int touching_3d(const DensePackingInput<3>& in, const std::vector<Grain<3>>& g, std::size_t i) {
+  const Real r = g[i].r, tol = 1e-6 * r;
+  int n = 0;
+  for (std::size_t j = 0; j < i; ++j)
+    if ((g[i].x - g[j].x).norm() - r - g[j].r < tol) ++n;
+  for (int d = 0; d < 3; ++d) {
+    if (g[i].x[d] - r - in.lo[d] < tol) ++n;
+    if (in.hi[d] - g[i].x[d] - r < tol) ++n;
+  }
+  for (const auto& k : in.keep_clear)
+    if (parts::region_distance<3>(k, g[i].x) - r < tol) ++n;
+  return n;
+}
+
+TEST(DensePacking, SpheresAreValidAndRestOnThree) {
+  DensePackingInput<3> in = cube(0.06, 0.04, 5);
+  in.keep_clear = {disk(0.03, 0.03, 0.012)};  // a ball (RegionType::Disk is a sphere in 3D)
+  in.keep_clear[0].center_m = {0.03, 0.03, -0.02};
+  DensePackingReport rep;
+  const auto g = dense_packing<3>(in, &rep);
+  ASSERT_GT(g.size(), 200u);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const Real r = g[i].r;
+    for (int d = 0; d < 3; ++d) {
+      ASSERT_GE(g[i].x[d] - r, in.lo[d] - kTol * r);
+      ASSERT_LE(g[i].x[d] + r, in.hi[d] + kTol * r);
+    }
+    ASSERT_GE(parts::region_distance<3>(in.keep_clear[0], g[i].x), r * (1 - kTol));
+    for (std::size_t j = 0; j < i; ++j)
+      ASSERT_GE((g[i].x - g[j].x).norm(), (r + g[j].r) * (1 - kTol)) << i << " and " << j;
+    EXPECT_GE(touching_3d(in, g, i), 3) << "grain " << i << " hangs";
+  }
+}
+
+TEST(DensePacking, SpheresReachPointSixAwayFromTheWalls) {
+  const DensePackingInput<3> in = cube(0.06, 0.04, 5);
+  const auto g = dense_packing<3>(in, nullptr);
+  // The fraction inside, by counting a lattice of 40^3 points in the box less 3 r_max at each
+  // wall and the top.
+  std::int64_t solid = 0, total = 0;
+  const Real m = 3 * in.r_max;
+  for (int a = 0; a < 40; ++a)
+    for (int b = 0; b < 40; ++b)
+      for (int c = 0; c < 40; ++c) {
+        const Vec<3> x(m + (0.06 - 2 * m) * (a + 0.5) / 40, m + (0.06 - 2 * m) * (b + 0.5) / 40,
+                       -0.04 + m + (0.04 - 2 * m) * (c + 0.5) / 40);
+        ++total;
+        for (const auto& q : g)
+          if ((q.x - x).norm() <= q.r) {
+            ++solid;
+            break;
+          }
+      }
+  const Real inside = static_cast<Real>(solid) / static_cast<Real>(total);
+  RecordProperty("solid_fraction_inside", std::to_string(inside));
+  EXPECT_GE(inside, 0.60);
 }
 
 }  // namespace
