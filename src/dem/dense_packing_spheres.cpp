@@ -15,7 +15,7 @@
 
 #include <Eigen/Geometry>
 
-#include "dem/dense_packing.hpp"
+#include "dem/deposition.hpp"
 
 namespace crater::dem::detail {
 namespace {
@@ -90,18 +90,7 @@ int sphere_plane_plane(const V3& p, Real a, const V3& n1, Real c1, const V3& n2,
   return 2;
 }
 
-// A support that is not a grain: a plane a centre may lie on (n . x = c + r, n towards where
-// the grain may be; an obstacle's face only where the foot falls on it, inside [lo, hi] on
-// the other axes), or a point or ball a grain may rest against (a corner: radius 0).
-struct Support {
-  bool plane = true;
-  V3 n = V3::Zero();
-  Real c = 0;
-  V3 lo = V3::Constant(-std::numeric_limits<Real>::infinity());
-  V3 hi = V3::Constant(std::numeric_limits<Real>::infinity());
-  V3 centre = V3::Zero();
-  Real radius = 0;
-};
+using Support = detail::Support<3>;
 
 // A locus of centres for a grain of radius r: a sphere (centre, radius) or a plane.
 struct Locus {
@@ -113,125 +102,17 @@ struct Locus {
   const Support* face = nullptr;  // the plane's support (for its extent)
 };
 
-class Deposition3 {
+class Spheres final : public Deposition<3, Spheres, 8> {
  public:
-  explicit Deposition3(const DensePackingInput<3>& in)
-      : in_(in), rng_(in.seed), draw_(in.r_min, in.r_max), eps_(1e-9 * in.r_max) {
-    cell_ = 2 * in.r_max;
-    for (int d = 0; d < 3; ++d)
-      cells_[d] = std::max<std::int64_t>(
-          1, static_cast<std::int64_t>(std::ceil((in.hi[d] - in.lo[d]) / cell_)));
-    head_.assign(static_cast<std::size_t>(cells_[0] * cells_[1] * cells_[2]), -1);
-    add_supports();
-  }
-
-  std::vector<Grain<3>> run(DensePackingReport& report) {
-    std::vector<Real> window;
-    for (int k = 0; k < kWindow; ++k)
-      window.push_back(draw());
-    std::sort(window.begin(), window.end(), std::greater<>());
-    auto take = [&](std::size_t k) {
-      window.erase(window.begin() + static_cast<std::ptrdiff_t>(k));
-      const Real r = draw();
-      window.insert(std::lower_bound(window.begin(), window.end(), r, std::greater<>()), r);
-    };
-    bool placed_since_reopen = true;
-    while (true) {
-      if (open_.empty()) {
-        if (auto [x, k] = first_fit(window, [&](Real r) { return lowest_on_supports(r); }); x) {
-          place(*x, window[k]);
-          take(k);
-          ++report.new_floors;
-          placed_since_reopen = true;
-          continue;
-        }
-        if (!placed_since_reopen || grains_.empty()) break;
-        for (std::size_t i = 0; i < grains_.size(); ++i)
-          open_.push({height(grains_[i].x), static_cast<std::int64_t>(i)});
-        ++report.reopened;
-        placed_since_reopen = false;
-        continue;
-      }
-      const auto a = static_cast<std::size_t>(open_.top().second);
-      if (auto [x, k] = first_fit(window, [&](Real r) { return lowest_next_to(a, r); }); x) {
-        place(*x, window[k]);
-        take(k);
-        placed_since_reopen = true;
-      } else {
-        open_.pop();
-      }
-    }
-    report.grains = grains_.size();
-    return std::move(grains_);
-  }
+  explicit Spheres(const DensePackingInput<3>& in) : Deposition(in), supports_(supports_of(in)) {}
 
  private:
-  static constexpr int kWindow = 8;
-
-  template <class Where>
-  std::pair<std::optional<V3>, std::size_t> first_fit(const std::vector<Real>& window,
-                                                      Where&& where) const {
-    for (std::size_t k = 0; k < window.size(); ++k) {
-      if (k > 0 && window[k] == window[k - 1]) continue;
-      if (auto x = where(window[k])) return {x, k};
-    }
-    return {std::nullopt, 0};
-  }
-
-  Real draw() { return in_.r_min == in_.r_max ? in_.r_min : draw_(rng_); }
-  Real height(const V3& x) const { return in_.up_sign * x[in_.up_axis]; }
-  bool lower(const V3& a, const V3& b) const {
-    const Real ha = height(a), hb = height(b);
-    if (ha != hb) return ha < hb;
-    for (int d = 0; d < 3; ++d)
-      if (d != in_.up_axis && a[d] != b[d]) return a[d] < b[d];
-    return false;
-  }
-
-  void add_supports() {
-    for (int d = 0; d < 3; ++d) {
-      Support lo, hi;
-      lo.n[d] = 1;
-      lo.c = in_.lo[d];
-      hi.n[d] = -1;
-      hi.c = -in_.hi[d];
-      supports_.push_back(lo);
-      supports_.push_back(hi);
-    }
-    for (const parts::RegionConfig& k : in_.keep_clear) {
-      if (k.type != parts::RegionType::Box) {
-        Support s;
-        s.plane = false;
-        s.centre = parts::to_vec<3>(k.center_m);
-        s.radius = k.radius_m;
-        supports_.push_back(s);
-        continue;
-      }
-      const V3 lo = parts::to_vec<3>(k.min_m), hi = parts::to_vec<3>(k.max_m);
-      for (int d = 0; d < 3; ++d)
-        for (const Real sign : {Real(-1), Real(1)}) {
-          Support s;
-          s.n[d] = sign;
-          s.c = sign * (sign < 0 ? lo[d] : hi[d]);
-          s.lo = lo;
-          s.hi = hi;
-          s.lo[d] = -std::numeric_limits<Real>::infinity();
-          s.hi[d] = std::numeric_limits<Real>::infinity();
-          supports_.push_back(s);
-        }
-      for (int m = 0; m < 8; ++m) {
-        Support s;
-        s.plane = false;
-        s.centre = V3(m & 1 ? hi[0] : lo[0], m & 2 ? hi[1] : lo[1], m & 4 ? hi[2] : lo[2]);
-        supports_.push_back(s);
-      }
-    }
-  }
+  friend class Deposition<3, Spheres, 8>;  // calls the two lowest_* below
 
   Locus locus(const Support& s, Real r) const {
     Locus l;
-    l.plane = s.plane;
-    if (s.plane) {
+    l.plane = s.flat;
+    if (s.flat) {
       l.n = s.n;
       l.c = s.c + r;
       l.face = &s;
@@ -265,48 +146,10 @@ class Deposition3 {
     for (int q = 0; q < n; ++q) {
       bool on = true;
       for (const Locus* f : l)
-        if (f->plane && f->face)
-          for (int d = 0; d < 3; ++d)
-            on &= out[q][d] >= f->face->lo[d] - eps_ && out[q][d] <= f->face->hi[d] + eps_;
+        if (f->plane && f->face) on &= f->face->on_face(out[q], eps_);
       if (on) out[kept++] = out[q];
     }
     return kept;
-  }
-
-  bool fits(const V3& x, Real r) const {
-    for (int d = 0; d < 3; ++d)
-      if (x[d] < in_.lo[d] + r - eps_ || x[d] > in_.hi[d] - r + eps_) return false;
-    for (const parts::RegionConfig& k : in_.keep_clear)
-      if (parts::region_distance<3>(k, x) < r - eps_) return false;
-    bool clear = true;
-    for_near(x, r + in_.r_max, [&](std::int64_t j) {
-      const Grain<3>& g = grains_[static_cast<std::size_t>(j)];
-      if ((x - g.x).squaredNorm() < (r + g.r - eps_) * (r + g.r - eps_)) clear = false;
-    });
-    return clear;
-  }
-
-  template <class F>
-  void for_near(const V3& x, Real reach, F&& f) const {
-    std::array<std::int64_t, 3> lo, hi;
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::max<std::int64_t>(
-          0, static_cast<std::int64_t>(std::floor((x[d] - reach - in_.lo[d]) / cell_)));
-      hi[d] = std::min<std::int64_t>(
-          cells_[d] - 1, static_cast<std::int64_t>(std::floor((x[d] + reach - in_.lo[d]) / cell_)));
-    }
-    for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
-      for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-        for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
-          for (std::int64_t g =
-                   head_[static_cast<std::size_t>((k * cells_[1] + j) * cells_[0] + i)];
-               g >= 0; g = next_[static_cast<std::size_t>(g)])
-            f(g);
-  }
-
-  void consider(const Points& pts, int n, Real r, std::optional<V3>& best) const {
-    for (int q = 0; q < n; ++q)
-      if ((!best || lower(pts[q], *best)) && fits(pts[q], r)) best = pts[q];
   }
 
   std::optional<V3> lowest_next_to(std::size_t a, Real r) const {
@@ -355,37 +198,13 @@ class Deposition3 {
     return best;
   }
 
-  void place(const V3& x, Real r) {
-    if (grains_.size() >= in_.max_grains) throw std::length_error("dense packing: too many grains");
-    const auto k = static_cast<std::int64_t>(grains_.size());
-    grains_.push_back({x, r});
-    std::array<std::int64_t, 3> c;
-    for (int d = 0; d < 3; ++d)
-      c[d] = std::clamp<std::int64_t>(
-          static_cast<std::int64_t>(std::floor((x[d] - in_.lo[d]) / cell_)), 0, cells_[d] - 1);
-    const auto cell = static_cast<std::size_t>((c[2] * cells_[1] + c[1]) * cells_[0] + c[0]);
-    next_.push_back(head_[cell]);
-    head_[cell] = k;
-    open_.push({height(x), k});
-  }
-
-  const DensePackingInput<3>& in_;
-  std::mt19937_64 rng_;
-  std::uniform_real_distribution<Real> draw_;
-  Real eps_;
-  Real cell_ = 0;
-  std::array<std::int64_t, 3> cells_{};
-  std::vector<std::int64_t> head_, next_;
-  std::vector<Grain<3>> grains_;
-  std::vector<Support> supports_;
-  using Open = std::pair<Real, std::int64_t>;
-  std::priority_queue<Open, std::vector<Open>, std::greater<Open>> open_;
+  const std::vector<Support> supports_;
 };
 
 }  // namespace
 
 std::vector<Grain<3>> deposit_spheres(const DensePackingInput<3>& in, DensePackingReport& report) {
-  return Deposition3(in).run(report);
+  return Spheres(in).run(report);
 }
 
 }  // namespace crater::dem::detail
