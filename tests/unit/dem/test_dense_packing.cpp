@@ -63,18 +63,19 @@ void expect_valid(const DensePackingInput<2>& in, const std::vector<Grain<2>>& g
 
 // How many supports grain i touches among the grains placed before it, the box's faces and the
 // bodies kept clear (touching: a gap below 1e-6 of its radius).
-int supports_when_placed(const DensePackingInput<2>& in, const std::vector<Grain<2>>& g,
+template <int D>
+int supports_when_placed(const DensePackingInput<D>& in, const std::vector<Grain<D>>& g,
                          std::size_t i) {
   const Real r = g[i].r, tol = 1e-6 * r;
   int n = 0;
   for (std::size_t j = 0; j < i; ++j)
     if ((g[i].x - g[j].x).norm() - r - g[j].r < tol) ++n;
-  for (int d = 0; d < 2; ++d) {
+  for (int d = 0; d < D; ++d) {
     if (g[i].x[d] - r - in.lo[d] < tol) ++n;
     if (in.hi[d] - g[i].x[d] - r < tol) ++n;
   }
   for (const auto& k : in.keep_clear)
-    if (parts::region_distance<2>(k, g[i].x) - r < tol) ++n;
+    if (parts::region_distance<D>(k, g[i].x) - r < tol) ++n;
   return n;
 }
 
@@ -93,7 +94,7 @@ TEST(DensePacking, BedOfTwoAndAHalfToOneIsValidAndDense) {
   RecordProperty("solid_fraction", std::to_string(fraction));
   EXPECT_GE(fraction, 0.80);  // 0.820 on this seed
   for (std::size_t i = 0; i < g.size(); ++i)
-    EXPECT_GE(supports_when_placed(in, g, i), 2) << "grain " << i << " hangs";
+    EXPECT_GE(supports_when_placed<2>(in, g, i), 2) << "grain " << i << " hangs";
 }
 
 TEST(DensePacking, RadiiAreTheDraws) {
@@ -153,7 +154,7 @@ TEST(DensePacking, GrainsKeepClearOfEmbeddedBodies) {
   EXPECT_GT(below, 100);
   EXPECT_GE(rep.solid_volume / rep.free_volume, 0.78);  // walls of the bodies cost a little
   for (std::size_t i = 0; i < g.size(); ++i)
-    EXPECT_GE(supports_when_placed(in, g, i), 2) << "grain " << i << " hangs";
+    EXPECT_GE(supports_when_placed<2>(in, g, i), 2) << "grain " << i << " hangs";
 }
 
 TEST(DensePacking, RefusesWhatItCannotDo) {
@@ -178,20 +179,6 @@ DensePackingInput<3> cube(Real width, Real height, std::uint64_t seed) {
   return in;
 }
 
-int touching_3d(const DensePackingInput<3>& in, const std::vector<Grain<3>>& g, std::size_t i) {
-  const Real r = g[i].r, tol = 1e-6 * r;
-  int n = 0;
-  for (std::size_t j = 0; j < i; ++j)
-    if ((g[i].x - g[j].x).norm() - r - g[j].r < tol) ++n;
-  for (int d = 0; d < 3; ++d) {
-    if (g[i].x[d] - r - in.lo[d] < tol) ++n;
-    if (in.hi[d] - g[i].x[d] - r < tol) ++n;
-  }
-  for (const auto& k : in.keep_clear)
-    if (parts::region_distance<3>(k, g[i].x) - r < tol) ++n;
-  return n;
-}
-
 TEST(DensePacking, SpheresAreValidAndRestOnThree) {
   DensePackingInput<3> in = cube(0.06, 0.04, 5);
   in.keep_clear = {disk(0.03, 0.03, 0.012)};  // a ball (RegionType::Disk is a sphere in 3D)
@@ -208,7 +195,7 @@ TEST(DensePacking, SpheresAreValidAndRestOnThree) {
     ASSERT_GE(parts::region_distance<3>(in.keep_clear[0], g[i].x), r * (1 - kTol));
     for (std::size_t j = 0; j < i; ++j)
       ASSERT_GE((g[i].x - g[j].x).norm(), (r + g[j].r) * (1 - kTol)) << i << " and " << j;
-    EXPECT_GE(touching_3d(in, g, i), 3) << "grain " << i << " hangs";
+    EXPECT_GE(supports_when_placed<3>(in, g, i), 3) << "grain " << i << " hangs";
   }
 }
 
