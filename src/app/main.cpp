@@ -82,6 +82,12 @@ int cmd_check(const std::string& scenario, const std::vector<std::string>& sets,
           "{}: solid fraction {:.4f} of its region less the parts it is carved around, "
           "bulk density {:.1f} kg/m^3\n",
           r.name, r.bed[0].value, r.bed[1].value);
+  for (const auto& r : reports)
+    if (r.unsettled)
+      fmt::print(
+          "{}: packing not in the cache yet; the run settles it first (minutes at a fine "
+          "resolution), then reuses it\n",
+          r.name);
   if (limiting && limiting->stable.absolute)
     fmt::print("global step: {:.4e} s ({}: {}; an accuracy bound, not scaled by the safety factor)",
                limiting->stable.allowed_s(safety), limiting->name, limiting->stable.reason);
@@ -149,7 +155,8 @@ struct CommandLine {
         ->check(CLI::Range(1, 4096));
     run->add_option("--level,-l", level,
                     "Resolution level of the scenario ([levels.<name>]: demo, coarse, medium, "
-                    "fine for the bundled paper scenarios); applied before --set");
+                    "fine for the bundled paper scenarios; several as a,b: applied in that "
+                    "order, e.g. medium,wide); applied before --set");
     run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
     run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
     run->add_flag("--quiet,-q", opt.quiet, "No progress line");
@@ -168,7 +175,8 @@ struct CommandLine {
   void add_others() {
     auto* check = app.add_subcommand("check", "Validate a scenario; print counts, masses, steps");
     check->add_option("scenario", scenario, "Scenario file or bundled scenario name")->required();
-    check->add_option("--level,-l", level, "Resolution level ([levels.<name>] of the scenario)");
+    check->add_option("--level,-l", level,
+                      "Resolution level ([levels.<name>] of the scenario; several as a,b)");
     check->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
 
     app.add_subcommand("list", "List the bundled scenarios");

@@ -94,6 +94,11 @@ InitialGrains<D> initial_grains(const PartSettings& settings, const std::vector<
     radii.resize(kept);
     vel.resize(kept);
   }
+  // Zones set the velocity of the grains whose centres lie in them (later zones win); not
+  // while settling: a settled bed starts from rest, then takes them.
+  for (const parts::Zone& z : pc.zones)
+    for (std::size_t k = 0; k < pts.size() && z.velocity_m_s && !settling; ++k)
+      if (parts::region_contains<D>(z.region, pts[k])) vel[k] = to_vec<D>(*z.velocity_m_s);
   if (settings.packing.agitation_m_s > 0 && !settling) {  // not while settling
     // Random agitation, uniform in +-a per component, drawn in grain order (seeded).
     std::mt19937_64 jitter(settings.dem.seed ^ 0x5deece66dULL);
@@ -176,10 +181,7 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
 // density times that fraction (summary.json, crater check).
 template <int D>
 void DemPart<D>::add_bed_measures(const PartSettings& settings) {
-  const parts::RegionConfig& region = settings.part.region;
-  Real free = parts::region_volume_of<D>(region);
-  if (region.type == parts::RegionType::Box)
-    free -= parts::carved_volume<D>(region, settings.part.carving);
+  const Real free = parts::bed_volume<D>(settings.part);
   if (!(free > 0)) return;
   const Real solid =
       parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return grain_volume<D>(r_[i]); });
@@ -407,7 +409,9 @@ std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
   }
   if (settings.packing.settle) {
     p->add_diagnostic("packing_reused", report.reused ? 1.0 : 0.0);
-    if (!report.reused) {
+    if (report.unsettled) {
+      p->add_diagnostic("packing_unsettled", 1.0);
+    } else if (!report.reused) {
       p->add_diagnostic("settle_time_s", report.settle_time_s);
       p->add_diagnostic("settle_steps", static_cast<Real>(report.settle_steps));
     }

@@ -22,7 +22,8 @@ namespace crater::dem {
 /// How a packed part's grains were obtained (its diagnostics packing_reused, settle_time_s,
 /// settle_steps).
 struct PackingReport {
-  bool reused = false;  // read from the cache
+  bool reused = false;     // read from the cache
+  bool unsettled = false;  // settle asked for, but the part was built as laid (crater check)
   Real settle_time_s = 0;
   long long settle_steps = 0;
 };

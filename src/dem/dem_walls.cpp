@@ -63,7 +63,7 @@ void DemPart<D>::init_absorbing_walls(const PartSettings& settings) {
   }
   const Real grains = static_cast<Real>(std::max<Index>(n, 1));
   const Real rho = cfg_.absorbing_density_kg_m3 > 0 ? cfg_.absorbing_density_kg_m3
-                                                    : mass / region_volume<D>(settings.part.region);
+                                                    : mass / parts::bed_volume<D>(settings.part);
   Real cp = cfg_.absorbing_p_wave_speed_m_s;
   if (!(cp > 0)) {
     // The law's estimate from the mean grain (linear_spring: a chain of it).

@@ -94,7 +94,7 @@ template <int D, class Derived, int Window>
 class Deposition {
  public:
   explicit Deposition(const DensePackingInput<D>& in)
-      : in_(in), rng_(in.seed), draw_(in.r_min, in.r_max), eps_(1e-9 * in.r_max) {
+      : in_(in), eps_(1e-9 * in.r_max), rng_(in.seed), draw_(in.r_min, in.r_max) {
     cell_ = 2 * in.r_max;
     std::int64_t total = 1;
     for (int d = 0; d < D; ++d) {

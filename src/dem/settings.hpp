@@ -90,6 +90,7 @@ struct PackingSettings {
   Real settle_kinetic_ratio{};
   Real settle_max_time_s{};
   Real settle_damping{};
+  Real settle_safety_factor{};     // of the stable step while settling; 0: [time] safety_factor
   Real settle_unbalanced_ratio{};  // dense: settled when sum |F| / sum m g is below this
   std::string cache_dir;           // absolute, or relative to the working directory
   Real agitation_m_s{};            // random initial velocity, uniform in +-this per component
@@ -102,7 +103,7 @@ struct PartSettings {
   PackingSettings packing;
   GranularMaterial grain;
   Real rho0_kg_m3{};     // the grains' density
-  Real safety_factor{};  // of the stable step, while settling ([time] safety_factor)
+  Real safety_factor{};  // of the stable step, while settling (settle_safety_factor, else [time]'s)
 };
 
 }  // namespace crater::dem

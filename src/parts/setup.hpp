@@ -62,4 +62,13 @@ struct PartSetup {
   SourceLocation where;  // of the part in the scenario, for errors found while building it
 };
 
+/// The volume a part's particles fill: its region's, less what the parts it is carved around
+/// take from it (a box region; other regions are not carved by volume here).
+template <int D>
+Real bed_volume(const PartSetup& part) {
+  Real v = region_volume_of<D>(part.region);
+  if (part.region.type == RegionType::Box) v -= carved_volume<D>(part.region, part.carving);
+  return v;
+}
+
 }  // namespace crater::parts

@@ -37,8 +37,13 @@ sph::PartSettings sph_settings(const io::Config& config, const io::PartConfig& p
 
 dem::PartSettings dem_settings(const io::Config& config, const io::PartConfig& part) {
   const io::MaterialConfig& m = config.materials[part.material];
-  return {part_setup(config, part), part.dem(), part.packing(), m.granular, m.rho0_kg_m3,
-          config.time.safety_factor};
+  const Real settle = part.packing().settle_safety_factor;
+  return {part_setup(config, part),
+          part.dem(),
+          part.packing(),
+          m.granular,
+          m.rho0_kg_m3,
+          settle > 0 ? settle : config.time.safety_factor};
 }
 
 fem::PartSettings fem_settings(const io::Config& config, const io::PartConfig& part) {
@@ -85,7 +90,7 @@ std::vector<dem::Grain<D>> laid_grains(const dem::PartSettings& settings) {
 // state (positions and radii, grains at rest, and the contacts' springs) in both cases, so a
 // run that settled and a run that reused give identical results.
 template <int D>
-std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
+std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling) {
   const dem::PackingSettings& k = settings.packing;
   const std::string& name = settings.part.name;
   dem::PackingReport report;
@@ -105,6 +110,11 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
   const bool laid = k.method != dem::PackingMethod::Lattice;
   std::vector<dem::Grain<D>> grains;
   if (laid) grains = laid_grains<D>(settings);
+  if (settling == Settling::CachedOnly) {
+    // The same grains (count, radii: the same solid fraction and stable step) before settling.
+    report.unsettled = true;
+    return dem::make_dem_part<D>(settings, laid ? &grains : nullptr, report);
+  }
   const dem::SettledPacking<D> settled =
       dem::settle_grains<D>(settings, laid ? &grains : nullptr, report);
   std::filesystem::create_directories(file.parent_path());
@@ -120,7 +130,7 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings) {
 }  // namespace
 
 template <int D>
-std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
+std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config, Settling settling) {
   std::vector<std::unique_ptr<Part<D>>> parts;
   for (std::size_t i = 0; i < config.parts.size(); ++i) {
     const io::PartConfig& pc = config.parts[i];
@@ -137,14 +147,14 @@ std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config) {
     if (!pc.is(io::Method::Dem)) continue;
     const dem::PartSettings settings = dem_settings(config, pc);
     if (settings.packing.method != dem::PackingMethod::Lattice || settings.packing.settle)
-      parts.push_back(packed_dem_part<D>(settings));
+      parts.push_back(packed_dem_part<D>(settings, settling));
     else
       parts.push_back(dem::make_dem_part<D>(settings));
   }
   return parts;
 }
 
-template std::vector<std::unique_ptr<Part<2>>> build_parts<2>(const io::Config&);
-template std::vector<std::unique_ptr<Part<3>>> build_parts<3>(const io::Config&);
+template std::vector<std::unique_ptr<Part<2>>> build_parts<2>(const io::Config&, Settling);
+template std::vector<std::unique_ptr<Part<3>>> build_parts<3>(const io::Config&, Settling);
 
 }  // namespace crater::solver

@@ -29,8 +29,14 @@ fem::PartSettings fem_settings(const io::Config& config, const io::PartConfig& p
 /// material (0 for other materials), the stiffness of particle-particle contacts.
 std::vector<contact::ContactSettings> contact_settings(const io::Config& config);
 
+/// Whether a DEM part whose packing is to be settled and is not in the cache is settled now
+/// (a run) or built as laid (crater check: the same grains, so the same solid fraction and
+/// stable step, without the settling's minutes).
+enum class Settling { Now, CachedOnly };
+
 /// The scenario's parts, in its order.
 template <int D>
-std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config);
+std::vector<std::unique_ptr<Part<D>>> build_parts(const io::Config& config,
+                                                  Settling settling = Settling::Now);
 
 }  // namespace crater::solver

@@ -72,6 +72,7 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
   if (!cfg_.soil) return;
   for (int d = 0; d < D; ++d)
     lo_[d] = c.domain.min_m[d];
+  gravity_ = std::abs(c.domain.gravity_m_s2[D - 1]);
   const auto& soil = *parts[*cfg_.soil];
   const auto pf = soil.point_fields();
   const auto* radius = field(pf, "radius");
@@ -167,11 +168,17 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
     return true;
   };
   const auto& soil = *parts[*cfg_.soil];
-  const auto* radius = field(soil.point_fields(), "radius");
+  const auto pf = soil.point_fields();
+  const auto* radius = field(pf, "radius");
+  const auto* contacts = field(pf, "contacts");
+  const auto* velocity = field(pf, "velocity");
   const auto& xs = *soil.geometry().points;
   for (Index i = 0; i < soil.count(); ++i) {
     Index col = 0, row = 0;
     if (!locate(xs[at(i)], col, row)) continue;
+    if (contacts && velocity &&
+        airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
+      continue;
     cols[at(col)].filled[at(row)] += dem::grain_volume<D>(radius->real_data[i]) / phi_ref_;
     cols[at(col)].grains[at(row)].push_back(i);
   }
@@ -198,6 +205,19 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
     }
   }
   return cols;
+}
+
+// A grain in free flight: it touches nothing and moves fast enough to rise more than its own
+// diameter, |v| > sqrt(2 g 2r) (a grain merely resting without a contact, on an exact lattice or
+// between two impacts on the ground, is not). Ejecta thrown up in a dense stream fill the
+// probe's cells without a gap; this keeps them out of the ground.
+template <int D>
+bool Probes<D>::airborne(Real contacts, const Real* v, Real r) const {
+  if (contacts > 0) return false;
+  Real v2 = 0;
+  for (int d = 0; d < D; ++d)
+    v2 += v[d] * v[d];
+  return v2 > 4 * gravity_ * r;
 }
 
 template <int D>

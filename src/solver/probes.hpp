@@ -17,8 +17,10 @@
 // dense), where cells inside the regions the soil was laid around (the charge's, the plate's:
 // soil.carve) make no gap (a cell reaching into them is counted with them); c is the last dense
 // cell of it. Material above such a gap is in flight (ejecta, plate pieces) and is not the ground,
-// however dense its clumps. The packing's density varies from cell to cell: the surface of a flat
-// bed comes out within about a grain diameter.
+// however dense its clumps. Nor is a grain in free flight (no contact, and fast enough to rise
+// more than its own diameter: |v|^2 > 4 g r), however dense the stream it flies in. The packing's
+// density varies from cell to cell: the surface of a flat bed comes out within about a grain
+// diameter.
 //   surface_profile.csv: per column, the surface at t = 0 and at the end, and their difference.
 //   crater_depth_m: the largest drop; crater_radius_m: half the width (2D) or the radius of the
 //   equal-area disk (3D) of the connected columns around it that dropped by more than the
@@ -76,6 +78,7 @@ class Probes {
   };
   // The ground's cells in the current state (columns in row-major order of their indices).
   std::vector<Column> ground(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  bool airborne(Real contacts, const Real* v, Real r) const;
   void plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
                      std::vector<Diagnostic>& m) const;
   void ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
@@ -107,6 +110,7 @@ class Probes {
   Index rows_ = 0;
   Real grain_r_max_ = 0;
   Real phi_ref_ = 1;
+  Real gravity_ = 0;            // |g| along the vertical axis [m/s^2]
   std::vector<Real> surface0_;  // per column; NaN where there is no ground
   // Per column, per cell: it reaches into a region the soil was laid around (the charge's,
   // the plate's), where a column's ground may have a gap.

@@ -324,14 +324,17 @@ RunResult run(const io::Config& c, const RunOptions& opt) {
 
 template <int D>
 std::vector<PartReport> check(const io::Config& c) {
-  auto parts = build_parts<D>(c);
+  auto parts = build_parts<D>(c, Settling::CachedOnly);
   contact::Coupling<D> coupling(contact_settings(c), parts);
   std::vector<PartReport> reports;
   for (auto& p : parts) {
     p->compute_forces(0);
     PartReport r{p->name(), p->method(), p->count(), p->mass_kg(), p->stable_step(), {}};
     for (const Diagnostic& d : p->diagnostics())
-      if (d.name == "solid_fraction" || d.name == "bulk_density_kg_m3") r.bed.push_back(d);
+      if (d.name == "solid_fraction" || d.name == "bulk_density_kg_m3")
+        r.bed.push_back(d);
+      else if (d.name == "packing_unsettled")
+        r.unsettled = true;
     reports.push_back(r);
   }
   if (!coupling.empty()) {

@@ -35,6 +35,7 @@ struct PartReport {
   Real mass_kg = 0;
   StableStep stable;
   std::vector<Diagnostic> bed;  // a DEM part's solid_fraction and bulk_density_kg_m3
+  bool unsettled = false;       // its packing is not in the cache yet: the run settles it first
 };
 
 /// What happened; also written to summary.json.

@@ -55,12 +55,12 @@ class CheckSteps(unittest.TestCase):
         self.assertIn(by.split(";")[0], glob)  # the same contact named in both
 
     def test_part_limits_though_contact_stable_step_is_smaller(self):
-        # At the file's 0.2 the plate rules: 0.2 x its step is below the contacts' bound, though
-        # the contacts' stable step is below the plate's.
+        # At the file's 0.2 the soil rules (its smallest grains, 8 mm): 0.2 x its step is below
+        # the contacts' bound, though the contacts' stable step is below the soil's.
         rows, glob = check_table("paper-20cm")
-        self.assertLess(rows["contacts"][0], rows["plate"][0])
+        self.assertLess(rows["contacts"][0], rows["soil"][0])
         self.assertNotIn("entity -1", rows["contacts"][2])
-        self.assertEqual(self.assert_global_is_smallest(rows, glob), "plate")
+        self.assertEqual(self.assert_global_is_smallest(rows, glob), "soil")
         self.assertIn("0.2 x", glob)
 
     def test_without_contacts(self):

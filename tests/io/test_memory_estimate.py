@@ -63,14 +63,14 @@ class MemoryEstimate(unittest.TestCase):
                                 f"estimate {estimate / 1e6:.1f} MB, peak {peak / 1e6:.1f} MB")
 
     def test_too_big_scenario_is_refused_before_allocating(self):
-        # About 1.9e8 particles, 1.4e8 grains (1.9e8 lattice sites, less the carved charge
-        # and plate) or 1.9e8 elements: just under the load-time limit of 2e8.
+        # About 1.9e8 particles, 1.6e8 grains (the dense bed's 0.82 of the 5.9 m^2 left by the
+        # carved charge and plate, in disks of 0.1 mm) or 1.9e8 elements: just under the
+        # load-time limit of 2e8.
         grains = ("parts.soil.dem.radius_min_m=1e-4", "parts.soil.dem.radius_max_m=1e-4")
         cases = (
             ("demo", ("parts.charge.spacing_m=1.286e-5",), "parts.charge.spacing_m",
              r"1\.9\d*e\+08 particles"),
-            ("paper-20cm", ("parts.soil.spacing_m=2.052e-4", *grains), "parts.soil.spacing_m",
-             r"1\.4\d*e\+08 grains"),
+            ("paper-20cm", grains, "parts.soil.dem.radius_min_m", r"1\.6\d*e\+08 grains"),
             ("paper-20cm", ("parts.plate.spacing_m=6.49e-5",), "parts.plate.spacing_m",
              r"1\.9\d*e\+08 elements"),
         )

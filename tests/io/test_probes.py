@@ -9,6 +9,7 @@ crater depth and settlement agree with surface_profile.csv."""
 # ctest-timeout: 900
 import csv
 import json
+import re
 import sys
 import unittest
 
@@ -21,6 +22,7 @@ FRAME = 6
 # The frame time exactly as the run computes it (interval x frame number), so that the stress
 # sample (the first step reaching stress_time_s) is that frame.
 STRESS_TIME_S = INTERVAL_S * FRAME
+R_MAX = 0.02  # the largest grain radius of paper-20cm's demo bed [m]
 
 
 class Levels(unittest.TestCase):
@@ -43,6 +45,34 @@ class Levels(unittest.TestCase):
         self.assertAlmostEqual(medium["charge"], 8234, delta=100)
         self.assertEqual(medium["plate"], 800 * 40)
         self.assertGreater(medium["soil"], 10 * demo["soil"])
+
+    def test_every_level_reports_a_dense_bed(self):
+        # Issue 24: crater check reports the soil's solid fraction (grain area over the soil's
+        # box less the charge and plate) and bulk density at every level: at least 0.80 (a
+        # dense random packing of disks), the density the grains' 1920 kg/m^3 times it (1 %).
+        for level in ("demo", "coarse", "medium", "fine"):
+            with self.subTest(level=level):
+                _, out = self.counts("--level", level)
+                m = re.search(r"soil: solid fraction ([0-9.]+) .*bulk density ([0-9.]+) kg/m\^3",
+                              out)
+                self.assertIsNotNone(m, out)
+                phi, rho = float(m[1]), float(m[2])
+                self.assertGreaterEqual(phi, 0.80)
+                self.assertLess(abs(rho - 1920 * phi) / (1920 * phi), 0.01)
+
+    def test_levels_combine(self):
+        # --level a,b: a's overrides, then b's. `wide` doubles the domain's width (soil and
+        # plate across it) and depth, at the resolution of the level before it.
+        demo, _ = self.counts()
+        wide, out = self.counts("--level", "demo,wide")
+        self.assertIn("level demo,wide", out)
+        self.assertEqual(wide["plate"], 2 * demo["plate"])
+        self.assertEqual(wide["charge"], demo["charge"])
+        # 8 m x 4 m less the charge and the plate, against 4 m x 2 m less the same: 4.6 x.
+        self.assertAlmostEqual(wide["soil"] / demo["soil"], (32 - 1.29 - 1.6) / 5.913, delta=0.15)
+        p = crater("check", "paper-20cm", "--level", "demo,nope", check=False)
+        self.assertEqual(p.returncode, 2)
+        self.assertIn("no level 'nope'", p.stderr)
 
     def test_unknown_level_exits_2(self):
         p = crater("check", "paper-20cm", "--level", "extreme", check=False)
@@ -118,16 +148,16 @@ class Probes(unittest.TestCase):
             rows = list(csv.DictReader(f))
         self.assertEqual(list(rows[0].keys()), ["x_m", "surface_initial_m", "surface_m",
                                                 "vertical_displacement_m"])
-        # Columns of ~8 r_max (r_max 19 mm) tiling the 4 m width.
-        self.assertEqual(len(rows), round(4.0 / (8 * 0.019)))
+        # Columns of ~8 r_max (r_max 20 mm: the dense bed's 8-20 mm) tiling the 4 m width.
+        self.assertEqual(len(rows), round(4.0 / (8 * R_MAX)))
         y0 = np.array([float(r["surface_initial_m"]) for r in rows])
-        # The bed is laid up to y = 0 (ground surface): to within a grain diameter.
-        self.assertLess(np.abs(y0).max(), 2 * 0.019)
+        # The bed is laid up to y = 0 (ground surface) and settled: to within a grain diameter.
+        self.assertLess(np.abs(y0).max(), 2 * R_MAX)
         dy = np.array([float(r["vertical_displacement_m"]) for r in rows])
         dy = dy[np.isfinite(dy)]
-        # A crater is a drop deeper than the largest grain radius (19 mm); less is no crater.
+        # A crater is a drop deeper than the largest grain radius; less is no crater.
         deepest = -dy.min()
-        self.assertAlmostEqual(self.m["crater_depth_m"], deepest if deepest > 0.019 else 0.0,
+        self.assertAlmostEqual(self.m["crater_depth_m"], deepest if deepest > R_MAX else 0.0,
                                delta=1e-12)
         # Settlement: the largest drop outside the crater (all columns when there is none).
         if self.m["crater_depth_m"] == 0:

@@ -294,19 +294,23 @@ Config load_table(toml::table root, const std::string& file,
   std::string known;
   for (const auto& l : levels)
     known += (known.empty() ? "" : ", ") + l.name;
-  if (!level.empty()) {
+  // "a,b": level a's overrides, then b's (a resolution and a variant: "medium,wide").
+  for (std::size_t from = 0; !level.empty() && from <= level.size();) {
+    const std::size_t comma = std::min(level.find(',', from), level.size());
+    const std::string name = level.substr(from, comma - from);
+    from = comma + 1;
     const auto it =
-        std::find_if(levels.begin(), levels.end(), [&](const Level& l) { return l.name == level; });
+        std::find_if(levels.begin(), levels.end(), [&](const Level& l) { return l.name == name; });
     if (it == levels.end())
       throw InputError({"--level " + level, 0, 0}, "",
                        levels.empty()
                            ? fmt::format("the scenario {} defines no levels", file)
-                           : fmt::format("no level '{}' in {} (levels: {})", level, file, known));
+                           : fmt::format("no level '{}' in {} (levels: {})", name, file, known));
     for (const auto& [set, where] : it->sets) {
       try {
         apply_override(root, set);
       } catch (const InputError& e) {
-        throw InputError(where, fmt::format("levels.{}.set", level), e.what());
+        throw InputError(where, fmt::format("levels.{}.set", name), e.what());
       }
     }
   }

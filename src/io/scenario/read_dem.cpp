@@ -18,6 +18,9 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   const SourceLocation dw = where_of(dt, w);
   DemConfig& d = p.dem();
   read_packing(c, t, w, key, p);
+  zones_velocity_only(t, w, key,
+                      "not used by dem parts (zones set the initial velocity of the grains whose "
+                      "centres are in them)");
   d.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
   d.radius_min_m = opt_num(dt, "radius_min_m").value_or(d.radius_max_m);
   if (p.packing().method == dem::PackingMethod::Lattice &&
@@ -132,6 +135,7 @@ void Builder::read_packing(const Config& c, const toml::table& t, const SourceLo
   k.settle_kinetic_ratio = num(pt, "settle_kinetic_ratio");
   k.settle_max_time_s = num(pt, "settle_max_time_s");
   k.settle_damping = num(pt, "settle_damping");
+  k.settle_safety_factor = opt_num(pt, "settle_safety_factor").value_or(0);
   k.agitation_m_s = num(pt, "agitation_m_s");
   fs::path cache = str(pt, "cache_dir");
   if (cache.is_relative()) cache = fs::path(file_).parent_path() / cache;

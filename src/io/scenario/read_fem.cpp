@@ -34,14 +34,8 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
     if (it_init.get(k))
       error(loc(it_init, k, w), key + ".initial." + k,
             "not used by fem parts (a solid starts unstressed at the material's rho0_kg_m3)");
-  if (const toml::node* zn = t.get("zones"))
-    for (std::size_t j = 0; j < zn->as_array()->size(); ++j) {
-      const auto& zt = *zn->as_array()->get(j)->as_table();
-      for (const char* k : {"spacing_m", "density_kg_m3", "pressure_pa"})
-        if (zt.get(k))
-          error(loc(zt, k, w), fmt::format("{}.zones[{}].{}", key, j, k),
-                "not used by fem parts (zones set the initial velocity of the nodes in them)");
-    }
+  zones_velocity_only(
+      t, w, key, "not used by fem parts (zones set the initial velocity of the nodes in them)");
   if (ft.get("mesh_file")) {
     fs::path mesh = str(ft, "mesh_file");
     if (mesh.is_relative()) mesh = fs::path(file_).parent_path() / mesh;

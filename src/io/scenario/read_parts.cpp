@@ -179,6 +179,16 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
   return p;
 }
 
+void Builder::zones_velocity_only(const toml::table& t, const SourceLocation& w,
+                                  const std::string& key, const char* why) {
+  const toml::node* zn = t.get("zones");
+  for (std::size_t j = 0; zn && j < zn->as_array()->size(); ++j) {
+    const auto& zt = *zn->as_array()->get(j)->as_table();
+    for (const char* k : {"spacing_m", "density_kg_m3", "pressure_pa"})
+      if (zt.get(k)) error(loc(zt, k, w), fmt::format("{}.zones[{}].{}", key, j, k), why);
+  }
+}
+
 // [[parts.zones]]: sub-regions with their own initial state (and lattice).
 void Builder::read_zones(const toml::array& za, const SourceLocation& w, const std::string& key,
                          int dim, PartConfig& p) {

@@ -143,6 +143,9 @@ class Builder {
   void read_parts(Config& c, const SourceLocation& top);
   PartConfig read_part(const Config& c, const toml::table& t, const SourceLocation& w,
                        const std::string& key);
+  // Zones of a part that takes only their velocity (dem, fem): their other keys are errors.
+  void zones_velocity_only(const toml::table& t, const SourceLocation& w, const std::string& key,
+                           const char* why);
   void read_zones(const toml::array& za, const SourceLocation& w, const std::string& key, int dim,
                   PartConfig& p);
   void check_method_material(const Config& c, const toml::table& t, const SourceLocation& w,

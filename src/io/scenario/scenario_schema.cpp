@@ -404,7 +404,8 @@ TableSchema make_dem() {
           "[]"),
       positive(real("absorbing_wall_density_kg_m3", "kg/m^3",
                     "Bulk density rho of the bed behind the absorbing walls. Unset: the part's "
-                    "grain mass over its region's volume.")),
+                    "grain mass over its region's volume less what the parts it is carved around "
+                    "take (the bed's bulk density, as bulk_density_kg_m3 of summary.json).")),
       positive(real("absorbing_wall_p_wave_speed_m_s", "m/s",
                     "P-wave speed c_p of the bed behind the absorbing walls. Unset: with "
                     "linear_spring, the lattice estimate 2r sqrt(k_n/m) of the mean grain (exact "
@@ -475,6 +476,11 @@ TableSchema make_packing() {
                                     0),
                            1),
                    "0.7"),
+      at_most(positive(real("settle_safety_factor", "1",
+                            "Fraction of the grains' stable step used while settling. Unset: "
+                            "[time] safety_factor (which the coupled run may need small for "
+                            "its own reasons; a DEM bed settles stably at 0.8).")),
+              1),
       with_default(at_least(real("agitation_m_s", "m/s",
                                  "Random initial velocity of the grains (after settling), "
                                  "uniform in +-this per component, seeded by [parts.dem] seed; "
@@ -528,8 +534,8 @@ const TableSchema& detonation_schema() {
 
 TableSchema make_zone() {
   TableSchema t{"parts.zones",
-                "Sub-regions of a part with their own initial state (e.g. the two states of a "
-                "shock tube). Entities inside a zone take its values; later zones win.",
+                "Sub-regions of a part with their own initial state; later zones win. FEM nodes "
+                "and DEM grains (by centre, after settling) take only velocity_m_s.",
                 {},
                 {},
                 {}};

@@ -1,0 +1,82 @@
+"""The P-wave speed of a dense settled bed of the paper's sand, from a pulse (issue 24).
+
+A column of the paper-20cm demo bed's grains (radii 8-20 mm, the paper's 2.5:1 spread; sand:
+rho 1920 kg/m^3, G 29 GPa, nu 0.2, friction 0.84; Hertz-Mindlin, 2D disks as rows of spheres)
+1 m wide and 2 m deep, laid dense and settled under gravity between frictionless rigid walls
+(so the vertical stress is the overburden rho_b g z, no silo effect). At t = 0 the grains of the
+top 6 cm move down at 5 mm/s: a compression pulse (stress rho_b c v ~ 1.6 kPa, small beside the
+overburden below 0.2 m) runs down the column. Its front reaches depth z at t(z), the first
+frame in which the grains between z - 5 cm and z + 5 cm move down at half their band's peak
+speed; c_p is the slope of z against t(z) (least squares over 0.3-1.7 m). Run by
+test_bed_p_wave.py; `python3 pwave_case.py SEED...` prints the speeds."""
+import sys
+
+import numpy as np
+
+from crater_test import crater, read_pvd, read_vtu, scratch
+from scenario_blocks import SAND, box, compose_scenario, domain, output, part, write_scenario
+
+WIDTH_M, DEPTH_M = 1.0, 2.0
+PULSE_M, PULSE_SPEED_M_S = 0.06, 0.005
+BAND_M = 0.05
+FIT_M = (0.3, 1.7)
+FRAME_S = 1e-4
+
+
+def scenario(seed, cache, local_damping=0.157, end_time_s=0.016):
+    return compose_scenario(
+        f"p-wave-{seed}", 2, end_time_s,
+        domain=domain([0.0, -DEPTH_M], [WIDTH_M, 1.0], [0.0, -9.81]),
+        time={"safety_factor": 0.5}, output=output(FRAME_S, 1000), materials=[SAND],
+        parts=[part("soil", "dem", "sand", 0.04, box([0.0, -DEPTH_M], [WIDTH_M, 0.0]),
+                    dem={"radius_min_m": 0.008, "radius_max_m": 0.02, "seed": seed,
+                         "hertz_2d": "row_of_spheres", "local_damping": local_damping,
+                         "walls": ["left", "right", "bottom"], "wall_friction": 0.0},
+                    packing={"method": "dense", "settle": True, "cache_dir": str(cache)},
+                    zones=[{"region": box([0.0, -PULSE_M], [WIDTH_M, 0.5]),
+                            "velocity_m_s": [0.0, -PULSE_SPEED_M_S]}])])
+
+
+def arrival_times(out):
+    """Per depth (band centres 0.2-1.8 m below the bed's top): the front's arrival [s]."""
+    frames = [(t, read_vtu(out / f)) for t, f in read_pvd(out / "soil.pvd")]
+    pts0 = frames[0][1][0]
+    top = pts0[:, 1].max()
+    depths = np.arange(0.2, 1.81, 0.1)
+    bands = [np.abs((top - pts0[:, 1]) - z) < BAND_M for z in depths]
+    down = np.array([[-(f[1]["velocity"][b, 1]).mean() for b in bands] for _, f in frames])
+    times = np.array([t for t, _ in frames])
+    arrive = []
+    for j in range(len(depths)):
+        peak = down[:, j].max()
+        k = int(np.argmax(down[:, j] >= 0.5 * peak))
+        # Linear interpolation between the frames around the crossing.
+        if k > 0:
+            a, b = down[k - 1, j], down[k, j]
+            arrive.append(times[k - 1] + (0.5 * peak - a) / (b - a) * (times[k] - times[k - 1]))
+        else:
+            arrive.append(times[k])
+    return depths, np.array(arrive), down.max(axis=0)
+
+
+def p_wave_speed(depths, arrive):
+    keep = (depths >= FIT_M[0] - 1e-9) & (depths <= FIT_M[1] + 1e-9)
+    slope = np.polyfit(arrive[keep], depths[keep], 1)[0]
+    return slope
+
+
+def run_seed(seed, work, **kw):
+    case = write_scenario(work / f"seed{seed}.toml", scenario(seed, work / "cache", **kw))
+    out = work / f"seed{seed}"
+    crater("run", case, "--out", out, "--force", "--quiet")
+    depths, arrive, peaks = arrival_times(out)
+    return p_wave_speed(depths, arrive), depths, arrive, peaks
+
+
+if __name__ == "__main__":
+    work = scratch("p_wave_case")
+    for s in [int(a) for a in sys.argv[1:]] or [1]:
+        c, depths, arrive, peaks = run_seed(s, work)
+        print(f"seed {s}: c_p = {c:.1f} m/s")
+        for z, t, p in zip(depths, arrive, peaks):
+            print(f"  z {z:.2f} m  t {t * 1e3:.3f} ms  peak {p * 1e3:.3f} mm/s")
