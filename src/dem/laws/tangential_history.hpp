@@ -94,9 +94,11 @@ template <int D>
     out.force = scale * spring_force;
     out.sliding = true;
     // The bodies feel the mean of the step's first and last spring force (velocity Verlet):
-    // its work over the step's displacement, less what the spring now holds more.
-    out.dissipated_power =
-        Real(0.5) * spring.stiffness * (carried + out.history).dot(trial - out.history) / dt;
+    // its work over the step's displacement, less what the spring now holds more. No step yet
+    // (the forces of t = 0; a spring carried from settling cut back, e.g. at mu = 0): no power.
+    out.dissipated_power = dt > 0 ? Real(0.5) * spring.stiffness *
+                                        (carried + out.history).dot(trial - out.history) / dt
+                                  : Real(0);
   } else {
     out.history = trial;
     const Vec<D> total = spring_force - spring.damping * tangential_velocity;
