@@ -46,7 +46,8 @@ PSI_WINDOW = (0.0025, 0.02)
 SEEDS = (1, 2, 3)
 
 
-def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN, dem=None):
+def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN, dem=None,
+             ramp_s=RAMP_S):
     """The biaxial test of one packing (seed); `dem` adds [parts.dem] keys."""
     end = T_CONS_S + axial_strain / strain_rate
     motion = []
@@ -58,7 +59,7 @@ def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN
     motion += [{"face": "top", "position_m": H_M, "stress_pa": SIGMA3_PA, "max_speed_m_s": 0.05,
                 "end_s": T_CONS_S},
                {"face": "top", "velocity_m_s": -strain_rate * H_M, "start_s": T_CONS_S,
-                "ramp_s": RAMP_S},
+                "ramp_s": ramp_s},
                {"face": "bottom", "velocity_m_s": 0.0}]  # fixed: reports its load
     keys = {"radius_min_m": 0.004, "radius_max_m": 0.01, "hertz_2d": "row_of_spheres",
             "seed": seed, "wall_friction": 0.0, "walls": ["left", "right", "bottom", "top"],
@@ -112,6 +113,6 @@ def angles(r):
     win = (e1 >= PSI_WINDOW[0]) & (e1 <= PSI_WINDOW[1])
     slope = np.polyfit(r["gamma"][win], r["ev"][win], 1)[0]
     return {"phi_peak": float(means[k]), "e1_peak": float(centres[k]),
-            "phi_residual": float(phi[res].mean()),
+            "phi_residual": float(phi[res].mean()) if res.any() else float("nan"),
             "psi": float(np.degrees(np.arcsin(np.clip(-slope, -1, 1)))),
             "ev_end": float(r["ev"][-1]), "bins": (np.array(centres), means)}
