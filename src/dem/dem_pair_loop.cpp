@@ -38,6 +38,7 @@ void DemPart<D>::compute_forces(Real t) {
         parallel::for_each(n, [&](Index i) { grain_pass<Law>(i, dt, laws); });
       },
       laws_);
+  measure_walls();
   // Bonds of this step become last step's (contact histories are updated in place).
   bond_partner_.swap(bond_partner_new_);
   bond_.swap(bond_new_);
@@ -386,10 +387,11 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
       continue;
     }
     const RelativeVelocity<D> rel =
-        relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{});
-    const ContactForce<D> cf =
-        evaluate_contact<D, Law>(at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0)), g, rel,
-                                 m_[i], row_pitch(r_[i], r_[i]), wall_xi_[at], dt);
+        relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{wall.velocity});
+    const typename Law::Params law = at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0));
+    const PreparedContact<D> prep =
+        prepare_contact<D, Law>(law, g, m_[i], row_pitch(r_[i], r_[i]), wall_xi_[at]);
+    const ContactForce<D> cf = finish_contact<D, Law>(law, g, rel, prep, dt);
     RollingTorque<D> rt;
     if (rolling)
       rt = rolling_resistance<D>(rolling_, g, rel,
@@ -402,6 +404,7 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
     sum.torque += cf.torque_on_1 + rt.torque_on_1;
     wall_xi_[at] = cf.shear_history;
     if (rolling) wall_roll_[at] = rt.history;
+    if (!wall_load_.empty()) wall_load_[at] = wall_load(wall, cf, prep);  // measure_walls
     live |= 1u << w;
     count_contact(i, tally);
     sum.elastic += cf.elastic_energy + rt.elastic_energy;

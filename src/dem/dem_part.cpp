@@ -169,7 +169,7 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
   // While settling, the parts this one is carved around (a charge, a plate) are fixed bodies
   // the grains rest on; in the run those parts' own contacts take over.
   if (local_damping) bodies_ = settings.part.carving;
-  init_walls();
+  init_walls(local_damping.has_value());
   // A settling part (local damping overridden) carries no bonds: they are made at t = 0 of
   // the run, between the settled grains.
   if (cfg_.bonds.enabled && !local_damping) make_bonds();
@@ -313,9 +313,10 @@ void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
 }
 
 template <int D>
-void DemPart<D>::advance(Real /*t*/, Real dt) {
+void DemPart<D>::advance(Real t, Real dt) {
   const Real half = 0.5 * dt;
   contact_.moved(dt);
+  move_walls(t, dt);  // the planes of t + dt, before the grains meet them
   // One pass: kick, drift, the wall guard (reflect), the power of gravity at the new
   // velocities (before any reflection) and the largest squared displacement since the list
   // was built, which update_neighbors then needs not measure again.

@@ -4,8 +4,8 @@
 //                      of other parts), the stable step, make_dem_part
 //   dem_pair_loop.cpp  the force stage: pair_pass, grain_pass and the contact laws they inline
 //                      (with the rigid and absorbing walls' forces on each grain)
-//   dem_walls.cpp      the wall planes, the absorbing walls' impedance and static reactions,
-//                      the wall guard (reflect_at_walls)
+//   dem_walls.cpp      the wall planes, the moving walls (speed or servo stress), the absorbing
+//                      walls' impedance and static reactions, the wall guard (reflect_at_walls)
 //   dem_bonds.cpp      parallel bonds made at t = 0
 //   dem_history.cpp    neighbour lists, contact histories packed and unpacked across rebuilds,
 //                      the grains' slots permuted with them
@@ -205,6 +205,8 @@ class DemPart final : public parts::Part<D> {
   }
   std::vector<fields::FieldView> point_fields() const override { return f_.views(fields::kOutput); }
   std::vector<parts::Diagnostic> diagnostics() const override;
+  std::vector<std::string> history_columns() const override;  // dem_walls.cpp
+  std::vector<Real> history_values() const override;
   void save_state(parts::StateWriter& w) const override;
   void load_state(parts::StateReader& r) override;
 
@@ -233,7 +235,34 @@ class DemPart final : public parts::Part<D> {
     bool upper = false;  // the face at domain_hi_ (else domain_lo_)
     Real plane = 0;      // its coordinate on the axis [m]
     const parts::RegionConfig* body = nullptr;
+    Vec<D> velocity = Vec<D>::Zero();  // of a moving wall (cfg_.wall_motion), over the last step
   };
+  // A moving wall (a face of cfg_.wall_motion): its slot in wall_planes_ and guard_planes_
+  // (that of its face in cfg_.walls) and what the servo carries from step to step.
+  struct MovingWall {
+    std::size_t slot = 0;
+    Real plane = 0;          // its coordinate [m] (checkpoints)
+    Real velocity_out = 0;   // along the outward normal, over the last step [m/s]
+    Real moved_out = 0;      // the last step's displacement, outward, until its work is booked [m]
+    Real force_n = 0;        // normal force on the grains (compression > 0) at the last force
+                             // stage [N] (2D: per metre of depth)
+    Real elastic_n = 0;      // the part of force_n in the contacts' springs [N]
+    Real stiffness_n_m = 0;  // the summed normal stiffness dF_n^el/d(delta) of its contacts
+  };
+  // A grain's contact with a wall in this force stage (moving walls only): its normal force on
+  // the grain along the face's inward normal, and its stiffness.
+  struct WallLoad {
+    Real force = 0, elastic = 0, stiffness = 0;  // F_n, F_n^el [N], dF_n^el/d(delta) [N/m]
+  };
+  // A contact's load on a plane wall, as finish_contact scales the forces (per metre with rows
+  // of spheres).
+  static WallLoad wall_load(const WallPlane& wall, const ContactForce<D>& cf,
+                            const PreparedContact<D>& prep) {
+    const Real f = cf.force_on_1[wall.axis];
+    const Real spring = prep.part.spring.elastic_force;
+    return {wall.upper ? -f : f, prep.pitch > 0 ? spring / prep.pitch : spring,
+            cf.normal_stiffness};
+  }
 
   // The pair loop runs in two passes, so that each contact is evaluated once, by its body 1
   // (the grain of lower id), with no two threads adding to one grain:
@@ -328,7 +357,17 @@ class DemPart final : public parts::Part<D> {
   void init_laws(const PartSettings& settings);
   void place_grains(const std::vector<Vec<D>>& pts, const std::vector<Real>& radii,
                     const std::vector<Vec<D>>& vel);
-  void init_walls();
+  void init_walls(bool settling);
+  // The clear and guard boxes from the current planes (init_walls, move_walls).
+  void place_walls();
+  // Moving walls (dem_walls.cpp): advance moves them over the step (velocity or servo, from the
+  // last force stage's loads), compute_forces sums their loads and books their work.
+  void move_walls(Real t, Real dt);
+  void measure_walls();
+  void set_wall_planes();  // from moving_ (move_walls, load_state)
+  // The current area of a face normal to `axis` (2D: its length x 1 m): the extent between the
+  // walls of each other axis, or the domain's where there is none.
+  Real wall_area(int axis) const;
   void init_absorbing_walls(const PartSettings& settings);
   void make_bonds();  // dem_bonds.cpp
 
@@ -478,6 +517,8 @@ class DemPart final : public parts::Part<D> {
   // planes (r_max away) a grain touches no face of cfg_.walls (+-inf where there is none).
   std::vector<WallPlane> wall_planes_, guard_planes_;  // wall_planes_: the bodies_ last
   std::vector<parts::RegionConfig> bodies_;            // fixed bodies (settling only)
+  std::vector<MovingWall> moving_;                     // empty while settling
+  std::vector<WallLoad> wall_load_;  // per grain and wall (as wall_xi_), with moving walls
   Vec<D> clear_lo_, clear_hi_;
   Vec<D> guard_lo_, guard_hi_;  // inside these bounds a grain is beyond no face (reflect_at_walls)
   // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.

@@ -46,6 +46,9 @@ std::string packing_key_text(const PartSettings& settings) {
                    d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,
                    d.friction_rate_beta, d.friction_reference_strain_rate);
   if (d.hertz_row_of_spheres) s += "|hertz_2d=row_of_spheres";
+  // Moving walls settle the bed where they start (listed only when one is placed).
+  for (const WallMotion& m : d.wall_motion)
+    if (m.position_m) s += fmt::format("|wall_at={},{:a}", static_cast<int>(m.face), *m.position_m);
   const auto& k = settings.packing;
   s += fmt::format("|packing={},{:a},{:a},{:a},{:a},{:a}|sieve=", k.method == PackingMethod::Random,
                    k.porosity, k.settle_kinetic_ratio, k.settle_max_time_s, k.settle_damping,

@@ -201,6 +201,7 @@ void DemPart<D>::remove_outflow() {
   wall_xi_.assign(wall_slots, Vec<D>::Zero());
   if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
   wall_live_.assign(static_cast<std::size_t>(kept), 0);
+  if (!wall_load_.empty()) wall_load_.assign(wall_slots, WallLoad{});
   skin_.invalidate();
 }
 
@@ -262,6 +263,8 @@ void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s) {
   a.value(s.wall_reflections_);
   a.block(s.skin_);
   a.block(s.outflow_);
+  // Moving walls (only then: the other parts' checkpoints are unchanged).
+  if (!s.moving_.empty()) a.vector(s.moving_);
 }
 
 template <int D>
@@ -293,7 +296,10 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   r.vector(xi_);
   r.vector(roll_);
   packed_ = true;
+  const std::size_t moving = moving_.size();
   archive_bonds_and_ledgers(r, *this);
+  if (moving_.size() != moving) r.fail("it holds another number of moving walls");
+  set_wall_planes();
   if (skin_.radius() > 0) build_lists();
 }
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,24 @@ struct BondSettings {
   Real gap_fraction{};           // bond pairs whose gap <= this x the smaller radius
 };
 
+/// How a moving rigid wall is driven ([[parts.dem.wall_motion]]).
+enum class WallDrive { Velocity, Stress };
+
+/// A rigid wall that moves along its axis (docs/theory.md §3, moving walls): at a given normal
+/// velocity, or by the servo that holds the mean normal stress it exerts on the grains.
+struct WallMotion {
+  parts::Face face{};
+  std::optional<Real> position_m;  // the plane's coordinate at t = 0; unset: the domain's face
+  WallDrive drive{};
+  Real velocity_m_s{};   // Velocity: along the face's outward normal (> 0: the box grows)
+  Real ramp_s{};         // Velocity: reached linearly over this time after start_s
+  Real stress_pa{};      // Stress: the target compressive stress sigma* [Pa]
+  Real servo_gain{};     // Stress: alpha, the fraction of the force error closed per step
+  Real max_speed_m_s{};  // Stress: cap on the wall's speed
+  Real start_s{};        // the wall moves from start_s ...
+  Real end_s{};          // ... to end_s (the reader sets +inf when unset)
+};
+
 /// Numerics and walls of a DEM part ([parts.dem]).
 struct Settings {
   ContactLawKind contact{};
@@ -67,6 +86,7 @@ struct Settings {
   std::vector<parts::Face> walls;
   Real wall_friction{};
   Real wall_restitution{};
+  std::vector<WallMotion> wall_motion;  // walls of `walls` that move, at most one per face
   // Absorbing (viscous, Lysmer-Kuhlemeyer) walls: faces holding the grains' static reaction
   // of t = 0 plus dashpots of the bed's impedance (docs/theory.md §3).
   std::vector<parts::Face> absorbing_walls;

@@ -170,6 +170,10 @@ class Part {
 
   /// Counters worth reporting (e.g. safeguards that acted); empty by default.
   virtual std::vector<Diagnostic> diagnostics() const { return {}; }
+  /// history.csv columns of the part's own (e.g. a moving wall's position and force), after
+  /// the contacts' and probes' columns, and their values at the current state.
+  virtual std::vector<std::string> history_columns() const { return {}; }
+  virtual std::vector<Real> history_values() const { return {}; }
 };
 
 }  // namespace crater::parts

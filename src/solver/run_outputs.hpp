@@ -144,9 +144,9 @@ class Outputs {
   std::vector<io::PvdCollection> pvd_;
 };
 
-// history.csv's columns after the energies: the contacts' forces, then (runs of several parts)
-// each part's own total energy, energy_<part>_j, so that a drift can be traced to a part. The
-// parts' totals add up to total_j.
+// history.csv's columns after the energies: the contacts' forces, the probes', the parts' own
+// (moving walls), then (runs of several parts) each part's own total energy, energy_<part>_j,
+// so that a drift can be traced to a part. The parts' totals add up to total_j.
 template <int D>
 std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<D>>>& parts,
                                          const contact::Coupling<D>& coupling,
@@ -154,6 +154,9 @@ std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<
   std::vector<std::string> columns = coupling.history_columns();
   for (auto& col : probes.history_columns())
     columns.push_back(std::move(col));
+  for (const auto& p : parts)
+    for (auto& col : p->history_columns())
+      columns.push_back(std::move(col));
   if (parts.size() > 1)
     for (const auto& p : parts)
       columns.push_back("energy_" + p->name() + "_j");
@@ -166,6 +169,9 @@ std::vector<Real> history_values(const std::vector<Energies>& per,
   std::vector<Real> values = coupling.history_values();
   for (Real v : probes.history_values(parts))
     values.push_back(v);
+  for (const auto& p : parts)
+    for (Real v : p->history_values())
+      values.push_back(v);
   if (per.size() > 1)
     for (const Energies& e : per)
       values.push_back(total_energy(e));

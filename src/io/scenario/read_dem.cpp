@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "io/scenario/reader.hpp"
 
@@ -70,6 +71,8 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   d.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
   read_absorbing_walls(dt, dw, key, dim, d);
   read_bonds(table(dt, "bonds"), dw, key, d.bonds);
+  if (const toml::node* mn = dt.get("wall_motion"))
+    read_wall_motion(c, *mn->as_array(), dw, key, d);
   if (const toml::node* pn = t.get("particles")) read_particles(c, *pn->as_array(), w, key, p);
 }
 
@@ -96,6 +99,72 @@ void Builder::read_bonds(const toml::table& bt, const SourceLocation& dw, const 
     need("tensile_strength_pa", b.tensile_strength_pa);
     need("shear_strength_pa", b.shear_strength_pa);
     b.shear_stiffness_pa_m = opt_num(bt, "shear_stiffness_pa_m").value_or(b.normal_stiffness_pa_m);
+  }
+}
+
+// [[parts.dem.wall_motion]]: which of the part's rigid walls move, and how (velocity or servo
+// stress, one of the two); a face's entries in windows apart; the starting position inside the
+// domain.
+void Builder::read_wall_motion(const Config& c, const toml::array& ma, const SourceLocation& dw,
+                               const std::string& key, DemConfig& d) {
+  for (std::size_t j = 0; j < ma.size(); ++j) {
+    const auto& mt = *ma.get(j)->as_table();
+    const SourceLocation mw = where_of(mt, dw);
+    const std::string mk = fmt::format("{}.dem.wall_motion[{}]", key, j);
+    dem::WallMotion m;
+    const std::string face = str(mt, "face");
+    const int fi = face_index(face);
+    m.face = static_cast<Face>(fi);
+    if (fi / 2 >= c.dimension) {
+      error(loc(mt, "face", mw), mk + ".face",
+            fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+      continue;
+    }
+    if (std::find(d.walls.begin(), d.walls.end(), m.face) == d.walls.end()) {
+      error(loc(mt, "face", mw), mk + ".face",
+            fmt::format("\"{}\" is not one of {}.dem.walls: only a rigid wall of the part can "
+                        "move",
+                        face, key));
+      continue;
+    }
+    const auto velocity = opt_num(mt, "velocity_m_s");
+    const auto stress = opt_num(mt, "stress_pa");
+    if (velocity.has_value() == stress.has_value())
+      error(mw, mk + (velocity ? ".stress_pa" : ".velocity_m_s"),
+            velocity ? "give velocity_m_s or stress_pa, not both"
+                     : "missing: give velocity_m_s (a constant speed) or stress_pa (a servo "
+                       "target)");
+    m.drive = stress ? dem::WallDrive::Stress : dem::WallDrive::Velocity;
+    m.velocity_m_s = velocity.value_or(0);
+    m.ramp_s = num(mt, "ramp_s");
+    m.stress_pa = stress.value_or(0);
+    m.servo_gain = num(mt, "servo_gain");
+    m.max_speed_m_s = num(mt, "max_speed_m_s");
+    m.start_s = num(mt, "start_s");
+    m.end_s = opt_num(mt, "end_s").value_or(std::numeric_limits<Real>::infinity());
+    if (!(m.end_s > m.start_s))
+      error(loc(mt, "end_s", mw), mk + ".end_s",
+            fmt::format("expected after start_s = {} s, got {} s", m.start_s, m.end_s));
+    // Entries of one face take turns: their windows do not overlap; one gives its position.
+    for (const dem::WallMotion& o : d.wall_motion) {
+      if (o.face != m.face) continue;
+      if (m.start_s < o.end_s && o.start_s < m.end_s)
+        error(loc(mt, "start_s", mw), mk + ".start_s",
+              fmt::format("the wall \"{}\" already moves from {} s to {} s (an earlier entry); "
+                          "a face's entries need windows [start_s, end_s) apart",
+                          face, o.start_s, o.end_s));
+      if (o.position_m && mt.get("position_m"))
+        error(loc(mt, "position_m", mw), mk + ".position_m",
+              fmt::format("an earlier entry of \"{}\" gives its position already", face));
+    }
+    m.position_m = opt_num(mt, "position_m");
+    const auto axis = static_cast<std::size_t>(fi / 2);
+    if (m.position_m &&
+        !(*m.position_m >= c.domain.min_m[axis] && *m.position_m <= c.domain.max_m[axis]))
+      error(loc(mt, "position_m", mw), mk + ".position_m",
+            fmt::format("expected inside the domain, [{}, {}] m, got {} m", c.domain.min_m[axis],
+                        c.domain.max_m[axis], *m.position_m));
+    d.wall_motion.push_back(m);
   }
 }
 

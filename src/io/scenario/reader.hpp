@@ -178,6 +178,8 @@ class Builder {
                             int dim, DemConfig& d);
   void read_bonds(const toml::table& bt, const SourceLocation& dw, const std::string& key,
                   DemBondConfig& b);
+  void read_wall_motion(const Config& c, const toml::array& ma, const SourceLocation& dw,
+                        const std::string& key, DemConfig& d);
   void read_particles(const Config& c, const toml::array& pa, const SourceLocation& w,
                       const std::string& key, PartConfig& p);
 

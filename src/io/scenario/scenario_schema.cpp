@@ -309,6 +309,69 @@ const TableSchema& bond_schema() {
   return s;
 }
 
+TableSchema make_wall_motion() {
+  TableSchema t{"parts.dem.wall_motion",
+                "A rigid wall of the part (one of its walls) that moves along its axis: at a "
+                "constant normal velocity, or servo-controlled to hold the mean normal stress it "
+                "exerts on the grains (biaxial and triaxial tests; docs/theory.md, DEM, moving "
+                "walls). Its position, velocity, force and stress are history.csv columns "
+                "<part>_wall_<face>_position_m, _velocity_m_s, _force_n and _stress_pa (a wall "
+                "with velocity_m_s = 0 reports the load on a fixed wall). It stands still "
+                "outside its entries' windows, stops at the domain's face, and stands at "
+                "position_m while the packing settles.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(choice("face", {"left", "right", "bottom", "top", "back", "front"},
+                      "The wall that moves: one of the part's walls. A face may have several "
+                      "entries whose windows [start_s, end_s) do not overlap (a servo, then a "
+                      "constant speed).")),
+      real("position_m", "m",
+           "The wall's coordinate on its axis at t = 0 (and while the packing settles), inside "
+           "the domain; in one entry of the face. Unset: the domain's face."),
+      real("velocity_m_s", "m/s",
+           "Constant normal velocity of the wall, along the face's outward normal: positive "
+           "moves it away from the grains (the box grows), negative into them (compression). "
+           "Give velocity_m_s or stress_pa."),
+      with_default(at_least(real("ramp_s", "s",
+                                 "velocity_m_s: the speed is reached linearly over this time "
+                                 "after start_s, so that a fast wall does not strike the "
+                                 "grains (a jump of v sends a stress wave of about rho c_p v). "
+                                 "0: at once."),
+                            0),
+                   "0"),
+      positive(real("stress_pa", "Pa",
+                    "Servo target sigma*: the wall moves so that its normal force over its "
+                    "current area (2D: per metre of depth, over its length; the length and the "
+                    "area span the walls of the other axes where there are some, else the "
+                    "domain) stays at sigma* (compression): its outward speed is servo_gain "
+                    "(F_el - sigma* A) / (K dt), F_el and K the summed elastic normal force and "
+                    "stiffness of its contacts (their dashpots left out), at most "
+                    "max_speed_m_s; with no contact it moves in at max_speed_m_s.")),
+      with_default(at_most(positive(real("servo_gain", "1",
+                                         "stress_pa: the fraction alpha of the force error the "
+                                         "wall closes in one step, assuming the grains stand "
+                                         "still (PFC's servo with alpha = 0.5; YADE's "
+                                         "TriaxialStressController closes 1 - wallDamping = "
+                                         "0.75); below 1 for stability.")),
+                           1),
+                   "0.5"),
+      with_default(positive(real("max_speed_m_s", "m/s",
+                                 "stress_pa: the wall's largest speed, so that it approaches "
+                                 "and follows the grains quasi-statically.")),
+                   "0.1"),
+      with_default(at_least(real("start_s", "s", "The wall moves from this time on."), 0), "0"),
+      positive(real("end_s", "s", "The wall stops at this time. Unset: never.")),
+  };
+  return t;
+}
+
+const TableSchema& wall_motion_schema() {
+  static const TableSchema s = make_wall_motion();
+  return s;
+}
+
 TableSchema make_dem() {
   TableSchema t{"parts.dem", "DEM numerics of the part (paper section II-A).", {}, {}, {}};
   t.keys = {
@@ -416,6 +479,8 @@ TableSchema make_dem() {
                     "sqrt((1 - 2 nu)/(2 - 2 nu)), nu the material's Poisson ratio.")),
       sub("bonds", KeyType::Table, bond_schema(),
           "Parallel bonds between the grains touching at t = 0."),
+      sub("wall_motion", KeyType::TableArray, wall_motion_schema(),
+          "Rigid walls that move (constant velocity or servo-controlled stress)."),
   };
   return t;
 }
