@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <variant>
 
 #include "dem/dem_part_impl.hpp"
@@ -31,6 +32,13 @@ void DemPart<D>::compute_forces(Real t) {
   overflow_ = n;
   bond_lost_ = n;
   unhealthy_ = n;
+  // A frame's stress reads every pair's force from the pair cache, which one thread otherwise
+  // leaves unwritten (scatter_: the same forces, bit for bit).
+  const bool scatter = scatter_;
+  if (stress_step_) {
+    scatter_ = false;
+    parallel::for_each(n, [&](Index i) { stress_[i] = SymTensor::Zero(); });
+  }
   std::visit(
       [&]<class Law>(const LawPair<Law>& laws) {
         parallel::for_each_block(
@@ -38,6 +46,9 @@ void DemPart<D>::compute_forces(Real t) {
         parallel::for_each(n, [&](Index i) { grain_pass<Law>(i, dt, laws); });
       },
       laws_);
+  scatter_ = scatter;
+  if (stress_step_) grain_stresses();
+  stress_current_ = std::exchange(stress_step_, false);
   // Bonds of this step become last step's (contact histories are updated in place).
   bond_partner_.swap(bond_partner_new_);
   bond_.swap(bond_new_);
@@ -399,6 +410,7 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
                                                  RollingBody{inertia_[i], m_[i], r_[i]})},
                                  wall_roll_[at], dt);
     sum.force += cf.force_on_1;
+    if (stress_step_) stress_[i] += contact_moment<D>(Vec<D>(-g.arm1 * g.normal), cf.force_on_1);
     sum.torque += cf.torque_on_1 + rt.torque_on_1;
     wall_xi_[at] = cf.shear_history;
     if (rolling) wall_roll_[at] = rt.history;
@@ -423,6 +435,7 @@ inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& f
     const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
         absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][w.axis]);
     force += aw.force;
+    if (stress_step_) stress_[i] += contact_moment<D>(Vec<D>(-g.arm1 * g.normal), aw.force);
     absorbed += aw.dissipated_power;
     static_power += aw.static_power;
   }
