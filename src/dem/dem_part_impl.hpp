@@ -307,6 +307,7 @@ class DemPart final : public parts::Part<D> {
     AngularVec<D>& torque;
     Real& elastic;
     Real& dissipated;
+    SymTensor* moment;  // the walls' stress moments, a frame's stage only (else null)
   };
 
   // pair_pass runs in chunks of the grain's owned pairs: a branch-free scan first keeps the
@@ -416,14 +417,15 @@ class DemPart final : public parts::Part<D> {
   [[gnu::always_inline]] inline void pair_law(Index i, std::size_t k, const Candidate<Law>& cand,
                                               Real dt, const LawPair<Law>& laws, PairTally& tally);
   inline void clear_pair(std::size_t k, std::uint8_t& flags);
-  template <class Law>
+  template <class Law, bool Stress>
   inline void grain_pass(Index i, Real dt, const LawPair<Law>& laws);
   [[gnu::always_inline]] inline int gather_shares(Index i, const PairTally& tally, Vec<D>& force,
                                                   AngularVec<D>& torque);
   template <class Law>
   [[gnu::always_inline]] inline void rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
                                                          PairTally& tally, GrainSum sum);
-  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, Vec<D>& force);
+  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, Vec<D>& force,
+                                                                           SymTensor* moment);
   [[gnu::always_inline]] inline void close_bond_slots(Index i, const PairTally& tally);
   inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
 
@@ -468,10 +470,10 @@ class DemPart final : public parts::Part<D> {
   Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
   AbsorbingWallParams absorbing_;
   // The grains' Love-Weber stress (laws/grain_stress.hpp), of frames only: computed in a force
-  // stage that expect_frame() announced (stress_step_ while it runs; the rigid and absorbing
-  // walls' moments are summed in grain_pass, the pairs' by grain_stresses), and written while
-  // it is of the last force stage (stress_current_). Solid fraction of its V_i: 1 when the
-  // part's has none.
+  // stage that expect_frame() announced (stress_step_; the rigid and absorbing walls' moments
+  // are summed in its own instance of grain_pass (Stress), the pairs' by
+  // grain_stresses), and written while it is of the last force stage (stress_current_). Solid
+  // fraction of its V_i: 1 when the part's has none.
   static constexpr const char* kStressField = "stress_pa";
   std::vector<SymTensor>& stress_;
   bool stress_step_ = false, stress_current_ = false;
