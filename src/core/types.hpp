@@ -22,6 +22,10 @@ using Vec = Eigen::Matrix<Real, D, 1>;
 template <int D>
 using IVec = Eigen::Matrix<std::int64_t, D, 1>;
 
+/// A symmetric tensor (a stress) as its six components in VTK's order xx, yy, zz, xy, yz, xz, the
+/// order ParaView reads a 6-component array in; a 2D (plane) tensor leaves zz, yz and xz zero.
+using SymTensor = Eigen::Matrix<Real, 6, 1>;
+
 /// A moment or angular velocity: the z component in 2D (a scalar), a vector in 3D.
 template <int D>
 using AxialVec = std::conditional_t<D == 2, Real, Eigen::Matrix<Real, 3, 1>>;

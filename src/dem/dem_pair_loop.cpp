@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <variant>
 
 #include "dem/dem_part_impl.hpp"
@@ -31,14 +32,26 @@ void DemPart<D>::compute_forces(Real t) {
   overflow_ = n;
   bond_lost_ = n;
   unhealthy_ = n;
+  // A frame's stress reads every pair's force from the pair cache, which one thread otherwise
+  // leaves unwritten (scatter_: the same forces, bit for bit).
+  const bool scatter = scatter_;
+  if (stress_step_) scatter_ = false;
   std::visit(
       [&]<class Law>(const LawPair<Law>& laws) {
         parallel::for_each_block(
             n, kPairBlock, [&](Index first, Index last) { pair_pass<Law>(first, last, dt, laws); });
-        parallel::for_each(n, [&](Index i) { grain_pass<Law>(i, dt, laws); });
+        // A frame's stage sums the walls' stress moments in an instance of grain_pass of its
+        // own: the other steps' has no trace of them.
+        if (stress_step_)
+          parallel::for_each(n, [&](Index i) { grain_pass<Law, true>(i, dt, laws); });
+        else
+          parallel::for_each(n, [&](Index i) { grain_pass<Law, false>(i, dt, laws); });
       },
       laws_);
   measure_walls();
+  scatter_ = scatter;
+  if (stress_step_) grain_stresses();
+  stress_current_ = std::exchange(stress_step_, false);
   // Bonds of this step become last step's (contact histories are updated in place).
   bond_partner_.swap(bond_partner_new_);
   bond_.swap(bond_new_);
@@ -262,16 +275,22 @@ inline void DemPart<D>::clear_pair(std::size_t k, std::uint8_t& flags) {
 }
 
 template <int D>
-template <class Law>
+template <class Law, bool Stress>
 inline void DemPart<D>::grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
+  SymTensor* moment = nullptr;  // the walls' stress moments (Stress: a frame's stage)
+  if constexpr (Stress) {
+    moment = &stress_[i];
+    *moment = SymTensor::Zero();
+  }
   PairTally tally = tally_[static_cast<std::size_t>(i)];
   Vec<D> force;
   AngularVec<D> torque;
   const int bonds = gather_shares(i, tally, force, torque);
   Real elastic = tally.elastic, dissipated = tally.dissipated;
-  rigid_wall_contacts<Law>(i, dt, laws, tally, GrainSum{force, torque, elastic, dissipated});
+  rigid_wall_contacts<Law>(i, dt, laws, tally,
+                           GrainSum{force, torque, elastic, dissipated, moment});
   // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
-  const auto [absorbed, static_power] = absorbing_wall_loads(i, force);
+  const auto [absorbed, static_power] = absorbing_wall_loads(i, force, moment);
   if (!bond_partner_new_.empty()) close_bond_slots(i, tally);
 
   Real local_power = 0;
@@ -401,6 +420,7 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
                                                  RollingBody{inertia_[i], m_[i], r_[i]})},
                                  wall_roll_[at], dt);
     sum.force += cf.force_on_1;
+    if (sum.moment) *sum.moment += contact_moment<D>(Vec<D>(-g.arm1 * g.normal), cf.force_on_1);
     sum.torque += cf.torque_on_1 + rt.torque_on_1;
     wall_xi_[at] = cf.shear_history;
     if (rolling) wall_roll_[at] = rt.history;
@@ -415,7 +435,8 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
 // grain_pass: the absorbing walls' forces on grain i (absorbing_wall.hpp); returns the power
 // their dashpots absorb and that of the held static reactions [W].
 template <int D>
-inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& force) {
+inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& force,
+                                                              SymTensor* moment) {
   Real absorbed = 0, static_power = 0;
   for (const parts::Face face : cfg_.absorbing_walls) {
     const WallPlane w = wall_plane(face);
@@ -426,6 +447,7 @@ inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& f
     const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
         absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][w.axis]);
     force += aw.force;
+    if (moment) *moment += contact_moment<D>(Vec<D>(-g.arm1 * g.normal), aw.force);
     absorbed += aw.dissipated_power;
     static_power += aw.static_power;
   }

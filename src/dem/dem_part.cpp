@@ -154,7 +154,8 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
       contact_force_(f_.add_vector("coupling_force", "N", kRestart)),
       contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)),
       surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)),
-      surface_overlap_(f_.add_scalar("coupling_surface_overlap", "m", kRestart)) {
+      surface_overlap_(f_.add_scalar("coupling_surface_overlap", "m", kRestart)),
+      stress_(f_.add_tensor(kStressField, "Pa", kOutput)) {
   init_laws(settings);
   if (local_damping) {
     cfg_.local_damping = *local_damping;
@@ -185,7 +186,8 @@ void DemPart<D>::add_bed_measures(const PartSettings& settings) {
   if (!(free > 0)) return;
   const Real solid =
       parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return grain_volume<D>(r_[i]); });
-  add_diagnostic("solid_fraction", solid / free);
+  solid_fraction_ = solid / free;
+  add_diagnostic("solid_fraction", solid_fraction_);
   add_diagnostic("bulk_density_kg_m3", settings.rho0_kg_m3 * solid / free);
 }
 

@@ -10,6 +10,7 @@
 //   dem_history.cpp    neighbour lists, contact histories packed and unpacked across rebuilds,
 //                      the grains' slots permuted with them
 //   dem_state.cpp      checkpoints, outflow removal, energies, diagnostics, fault checks
+//   dem_stress.cpp     the output fields, the grains' stress of a frame (grain_stresses)
 //   dem_settling.cpp   settle_grains, packing_key_text, random_grains
 // The contact law comes from the registry (contact_laws.hpp); nothing here names a law.
 //
@@ -41,6 +42,7 @@
 #include "dem/laws/absorbing_wall.hpp"
 #include "dem/laws/contact_force.hpp"
 #include "dem/laws/contact_geometry.hpp"
+#include "dem/laws/grain_stress.hpp"
 #include "dem/laws/parallel_bond.hpp"
 #include "dem/laws/rate_dependent_friction.hpp"
 #include "dem/laws/rolling_resistance.hpp"
@@ -181,6 +183,7 @@ class DemPart final : public parts::Part<D> {
   }
   parts::StableStep stable_step() const override;
   void compute_forces(Real t) override;  // dem_pair_loop.cpp
+  void expect_frame() override { stress_step_ = true; }
   std::optional<parts::Fault> check() const override;
   std::optional<parts::ContactPoints<D>> contact_points() const override {
     parts::ContactPoints<D> p;
@@ -203,7 +206,7 @@ class DemPart final : public parts::Part<D> {
     g.points = &x_;
     return g;
   }
-  std::vector<fields::FieldView> point_fields() const override { return f_.views(fields::kOutput); }
+  std::vector<fields::FieldView> point_fields() const override;  // dem_stress.cpp
   std::vector<parts::Diagnostic> diagnostics() const override;
   std::vector<std::string> history_columns() const override;  // dem_walls.cpp
   std::vector<Real> history_values() const override;
@@ -333,6 +336,7 @@ class DemPart final : public parts::Part<D> {
     AngularVec<D>& torque;
     Real& elastic;
     Real& dissipated;
+    SymTensor* moment;  // the walls' stress moments, a frame's stage only (else null)
   };
 
   // pair_pass runs in chunks of the grain's owned pairs: a branch-free scan first keeps the
@@ -411,6 +415,7 @@ class DemPart final : public parts::Part<D> {
   }
   void reflect_at_walls(Index i, Real& count, Real& lost);  // dem_walls.cpp
   void add_bed_measures(const PartSettings& settings);      // dem_part.cpp
+  void grain_stresses();                                    // dem_stress.cpp
 
   // The pitch of evaluate_contact: r_1 + r_2 (a wall: r_1 = r_2 = r) with hertz_2d =
   // "row_of_spheres", else 0 (the law as it is).
@@ -451,14 +456,15 @@ class DemPart final : public parts::Part<D> {
   [[gnu::always_inline]] inline void pair_law(Index i, std::size_t k, const Candidate<Law>& cand,
                                               Real dt, const LawPair<Law>& laws, PairTally& tally);
   inline void clear_pair(std::size_t k, std::uint8_t& flags);
-  template <class Law>
+  template <class Law, bool Stress>
   inline void grain_pass(Index i, Real dt, const LawPair<Law>& laws);
   [[gnu::always_inline]] inline int gather_shares(Index i, const PairTally& tally, Vec<D>& force,
                                                   AngularVec<D>& torque);
   template <class Law>
   [[gnu::always_inline]] inline void rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
                                                          PairTally& tally, GrainSum sum);
-  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, Vec<D>& force);
+  [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, Vec<D>& force,
+                                                                           SymTensor* moment);
   [[gnu::always_inline]] inline void close_bond_slots(Index i, const PairTally& tally);
   inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
 
@@ -502,6 +508,15 @@ class DemPart final : public parts::Part<D> {
   parts::ContactWork contact_;          // work of those forces on the grains
   Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
   AbsorbingWallParams absorbing_;
+  // The grains' Love-Weber stress (laws/grain_stress.hpp), of frames only: computed in a force
+  // stage that expect_frame() announced (stress_step_; the rigid and absorbing walls' moments
+  // are summed in its own instance of grain_pass (Stress), the pairs' by
+  // grain_stresses), and written while it is of the last force stage (stress_current_). Solid
+  // fraction of its V_i: 1 when the part's has none.
+  static constexpr const char* kStressField = "stress_pa";
+  std::vector<SymTensor>& stress_;
+  bool stress_step_ = false, stress_current_ = false;
+  Real solid_fraction_ = 1;
 
   // Contact history packed at rebuilds: kMaxContacts slots per grain (partner id, tangential
   // spring, rolling moment; pack_history), authoritative while packed_.

@@ -37,7 +37,7 @@ struct FieldInfo {
 /// Read-only view of one registered field, for writers.
 struct FieldView {
   const FieldInfo* info;
-  int components;  // 1 for scalars, D for vectors
+  int components;  // 1 for scalars, D for vectors, 6 for tensors (SymTensor)
   bool is_integer;
   const Real* real_data;             // when !is_integer
   const std::int64_t* integer_data;  // when is_integer
@@ -47,7 +47,8 @@ struct FieldView {
 template <int D>
 class FieldSet {
  public:
-  using Column = std::variant<std::vector<Real>, std::vector<Vec<D>>, std::vector<std::int64_t>>;
+  using Column = std::variant<std::vector<Real>, std::vector<Vec<D>>, std::vector<std::int64_t>,
+                              std::vector<SymTensor>>;
 
   Index size() const { return size_; }
 
@@ -59,6 +60,12 @@ class FieldSet {
     return std::get<std::vector<Vec<D>>>(
         add(std::move(name), std::move(unit), roles,
             std::vector<Vec<D>>(static_cast<std::size_t>(size_), Vec<D>::Zero())));
+  }
+  /// A symmetric tensor per entity (core/types.hpp: six components, VTK's order, in 2D too).
+  std::vector<SymTensor>& add_tensor(std::string name, std::string unit, unsigned roles) {
+    return std::get<std::vector<SymTensor>>(
+        add(std::move(name), std::move(unit), roles,
+            std::vector<SymTensor>(static_cast<std::size_t>(size_), SymTensor::Zero())));
   }
   std::vector<std::int64_t>& add_integer(std::string name, std::string unit, unsigned roles) {
     return std::get<std::vector<std::int64_t>>(
@@ -154,6 +161,9 @@ class FieldSet {
       } else if (auto* v = std::get_if<std::vector<Vec<D>>>(&c.data)) {
         fv.components = D;
         fv.real_data = v->empty() ? nullptr : v->front().data();
+      } else if (auto* t = std::get_if<std::vector<SymTensor>>(&c.data)) {
+        fv.components = static_cast<int>(SymTensor::RowsAtCompileTime);
+        fv.real_data = t->empty() ? nullptr : t->front().data();
       } else {
         fv.is_integer = true;
         fv.integer_data = std::get<std::vector<std::int64_t>>(c.data).data();
@@ -171,8 +181,8 @@ class FieldSet {
 
   template <class T>
   static T zero() {
-    if constexpr (std::is_same_v<T, Vec<D>>)
-      return Vec<D>::Zero();
+    if constexpr (std::is_same_v<T, Vec<D>> || std::is_same_v<T, SymTensor>)
+      return T::Zero();
     else
       return T{};
   }

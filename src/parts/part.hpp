@@ -126,6 +126,10 @@ class Part {
   virtual StableStep stable_step() const = 0;
   /// Stage "force": internal forces and rates for the current state at time t.
   virtual void compute_forces(Real t_s) = 0;
+  /// The state of the next compute_forces() is one a frame writes: a part with output fields
+  /// that only the force stage can derive, and that no step needs (the DEM grains' stress),
+  /// computes them in that stage alone.
+  virtual void expect_frame() {}
   /// Looks for non-finite or non-physical values after the force stage; the state itself
   /// is still the last good one then.
   virtual std::optional<Fault> check() const = 0;

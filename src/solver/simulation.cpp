@@ -136,8 +136,10 @@ class Run {
 
   // A new run: the initial state's forces, the checks that need them, the run directory.
   void start() {
-    for (auto& p : parts_)
+    for (auto& p : parts_) {
+      p->expect_frame();         // frame 0 (record_start)
       p->compute_forces(st_.t);  // rates and sound speeds of the initial state
+    }
     coupling_.apply(parts_, 0);
     const StepLimit<D> lim = smallest_stable_step(parts_, &coupling_, Real(1));
     check_fixed_step(c_, lim);
@@ -175,6 +177,9 @@ class Run {
       while (st_.t < c_.end_time_s - t_eps &&
              (c_.time.max_steps == 0 || r_.steps < c_.time.max_steps)) {
         const auto [dt, at_frame] = next_step(t_eps);
+        if (at_frame)
+          for (auto& p : parts_)
+            p->expect_frame();
         advance_stage(parts_, st_.t, dt);
         st_.t = at_frame ? st_.next_frame_t : st_.t + dt;
         ++r_.steps;

@@ -12,10 +12,11 @@ then relaxed under gravity with the plate as a fixed body.
   the plate, whose region the bed was laid around), and grains lie above the plate as well as
   below it.
 - The relaxed bed is the cached packing: a second run reuses it (same file, same grains).
-- A bed at rest stays at rest (issue 24): the same box without the plate, relaxed to an
-  unbalanced force of 1e-3 of its weight, then run for 10 ms from the cached packing, which
-  carries the contacts' tangential springs. Every grain's speed in every frame (1 ms apart)
-  stays below 1 mm/s (measured: 0.17 mm/s; without the springs the bed rang at 2-5 mm/s).
+- A bed at rest stays at rest (issue 24): the same box without the plate (dense_bed_case.py),
+  relaxed to an unbalanced force of 1e-3 of its weight, then run for 10 ms from the cached
+  packing, which carries the contacts' tangential springs. Every grain's speed in every frame
+  (1 ms apart) stays below 1 mm/s (measured: 0.17 mm/s; without the springs the bed rang at
+  2-5 mm/s). Its stress: test_bed_stress.py.
 - The relaxed bed is the same on 1 and 2 threads: the packing files written by two runs into
   two cache directories are byte for byte the same.
 """
@@ -26,21 +27,11 @@ import unittest
 import numpy as np
 
 from crater_test import crater, read_pvd, read_vtu, scratch
+from dense_bed_case import bed_alone
 from scenario_blocks import (SAND, STEEL, box, boundary, compose_scenario, contact, domain,
                              output, part, write_scenario)
 
 PLATE = ([0.15, -0.16], [0.45, -0.14])
-
-
-def bed_alone(work):
-    return compose_scenario(
-        "dense-bed-at-rest", 2, 1e-2, domain=domain([0.0, -0.3], [0.6, 0.3], [0.0, -9.81]),
-        output=output(1e-3), materials=[SAND],
-        parts=[part("soil", "dem", "sand", 0.02, box([0.0, -0.3], [0.6, 0.0]),
-                    dem={"radius_min_m": 0.004, "radius_max_m": 0.01,
-                         "walls": ["left", "right", "bottom"]},
-                    packing={"method": "dense", "settle": True,
-                             "cache_dir": str(work / "cache")})])
 
 
 def scenario(work):
