@@ -439,15 +439,17 @@ inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& f
                                                               SymTensor* moment) {
   Real absorbed = 0, static_power = 0;
   for (const parts::Face face : cfg_.absorbing_walls) {
+    // The face's plane and normal into the bed (not the grain's: one whose centre has crossed
+    // the face is leaving, remove_outflow, and meets it no more).
     const WallPlane w = wall_plane(face);
-    Vec<D> foot = x_[i];
-    foot[w.axis] = w.plane;
-    const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
-    if (!g.touching()) continue;
+    const Real gap = w.upper ? w.plane - x_[i][w.axis] : x_[i][w.axis] - w.plane;
+    if (!(gap > 0 && gap < r_[i])) continue;
+    Vec<D> normal = Vec<D>::Zero();
+    normal[w.axis] = w.upper ? -1 : 1;
     const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
-        absorbing_, absorbing_wall_area<D>(r_[i]), g.normal, v_[i], static_reaction_[i][w.axis]);
+        absorbing_, absorbing_wall_area<D>(r_[i]), normal, v_[i], static_reaction_[i][w.axis]);
     force += aw.force;
-    if (moment) *moment += contact_moment<D>(Vec<D>(-g.arm1 * g.normal), aw.force);
+    if (moment) *moment += contact_moment<D>(Vec<D>(-gap * normal), aw.force);
     absorbed += aw.dissipated_power;
     static_power += aw.static_power;
   }

@@ -131,8 +131,10 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
       gravity_(to_vec<D>(settings.part.domain.gravity_m_s2)),
       domain_lo_(to_vec<D>(settings.part.domain.min_m)),
       domain_hi_(to_vec<D>(settings.part.domain.max_m)),
-      // A settling part keeps every grain: one that leaves fails the settling.
-      outflow_remove_(settings.part.domain.outflow == parts::Outflow::Remove && !local_damping),
+      // A settling part keeps every grain: one that leaves fails the settling (and its
+      // absorbing faces are rigid).
+      leave_domain_(settings.part.domain.outflow == parts::Outflow::Remove && !local_damping),
+      outflow_remove_(leave_domain_ || (!settings.dem.absorbing_walls.empty() && !local_damping)),
       id_(f_.add_integer("id", "1", kStateRoles)),
       x_(f_.add_vector("position", "m", kRestart | kHalo)),
       v_(f_.add_vector("velocity", "m/s", kStateRoles)),
@@ -390,7 +392,7 @@ std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
   auto p = std::make_unique<DemPart<D>>(settings, grains);
   if (contacts) p->start_from(*contacts);
   // Porosity of the packed grains over the region's cross-section times the bed's height
-  // (box regions; along gravity), and how the packing was obtained.
+  // (box regions; along gravity) less the carved bodies, and how the packing was obtained.
   if (part.region.type == parts::RegionType::Box && !grains->empty()) {
     const Vec<D> g = parts::to_vec<D>(part.domain.gravity_m_s2);
     int up = 0;
@@ -407,7 +409,9 @@ std::unique_ptr<parts::Part<D>> make_dem_part(const PartSettings& settings,
       if (d != up)
         area *= part.region.max_m[static_cast<std::size_t>(d)] -
                 part.region.min_m[static_cast<std::size_t>(d)];
-    p->add_diagnostic("packing_porosity", 1 - solid / (area * (top - bottom)));
+    // The bodies the bed is carved around are not pore space (as parts::bed_volume).
+    const Real carved = parts::carved_volume<D>(part.region, part.carving);
+    p->add_diagnostic("packing_porosity", 1 - solid / (area * (top - bottom) - carved));
     p->add_diagnostic("packing_bed_height_m", top - bottom);
   }
   if (settings.packing.settle) {

@@ -380,9 +380,19 @@ class DemPart final : public parts::Part<D> {
       if (!(x_[i][d] >= domain_lo_[d] && x_[i][d] <= domain_hi_[d])) return false;
     return true;
   }
+  // Beyond an absorbing face (its centre has crossed it): the grain leaves the model.
+  bool through_absorbing_wall(Index i) const {
+    for (const parts::Face face : cfg_.absorbing_walls) {
+      const WallPlane w = wall_plane(face);
+      if (w.upper ? x_[i][w.axis] > w.plane : x_[i][w.axis] < w.plane) return true;
+    }
+    return false;
+  }
+  // Stays in the model at the end of the step (remove_outflow).
+  bool stays(Index i) const { return leave_domain_ ? in_domain(i) : !through_absorbing_wall(i); }
   bool healthy(Index i) const {
     return force_[i].allFinite() && angular_finite<D>(torque_[i]) &&
-           (outflow_remove_ ? x_[i].allFinite() : in_domain(i));
+           (leave_domain_ ? x_[i].allFinite() : in_domain(i) || through_absorbing_wall(i));
   }
   // check()'s test of grain i, made where its force is summed (grain_pass, and again when the
   // contacts with other parts add theirs): the first failing grain is kept.
@@ -471,7 +481,8 @@ class DemPart final : public parts::Part<D> {
   std::string name_;
   Settings cfg_;
   Vec<D> gravity_, domain_lo_, domain_hi_;
-  bool outflow_remove_ = false;  // domain.outflow = "remove" (remove_outflow)
+  bool leave_domain_ = false;    // domain.outflow = "remove": grains outside it are removed
+  bool outflow_remove_ = false;  // grains may be removed (leave_domain_ or absorbing walls)
   Real rho_ = 0;
   GranularMaterial grain_;
   ContactLaws laws_;

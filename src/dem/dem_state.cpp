@@ -52,7 +52,7 @@ std::optional<parts::Fault> DemPart<D>::check() const {
   const Index bad = unhealthy_;  // note_health
   if (bad >= n) return std::nullopt;
   const Index i = bad;
-  if (!outflow_remove_ && !in_domain(i))
+  if (!leave_domain_ && !in_domain(i) && !through_absorbing_wall(i))
     return parts::Fault{id_[i], fmt::format("grain left the domain at x = ({}) m; enlarge "
                                             "[domain], add walls or set domain.outflow = "
                                             "\"remove\"",
@@ -135,7 +135,7 @@ Real DemPart<D>::unbalanced_ratio() const {
 template <int D>
 void DemPart<D>::remove_outflow() {
   const Index n = f_.size();
-  const Index leaving = outflow_.mark(n, [&](Index i) { return in_domain(i); });
+  const Index leaving = outflow_.mark(n, [&](Index i) { return stays(i); });
   if (leaving == 0) return;
   const parts::Removed left = parallel::deterministic_sum<parts::Removed>(n, [&](Index i) {
     if (!outflow_.kept(i))
@@ -182,7 +182,11 @@ void DemPart<D>::remove_outflow() {
     elastic_[i] -= lost;
     return parts::Removed{0, lost};
   });
-  outflow_.book(name_, "grains", time_s_, leaving, left);
+  outflow_.book(name_, "grains", time_s_, leaving, left,
+                leave_domain_ ? (cfg_.absorbing_walls.empty()
+                                     ? "domain.outflow = \"remove\""
+                                     : "domain.outflow = \"remove\"; absorbing walls transmit")
+                              : "absorbing walls transmit");
 
   std::vector<std::int64_t> gone;  // ids of the leaving grains, sorted
   for (Index i = 0; i < n; ++i)

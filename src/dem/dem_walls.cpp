@@ -37,9 +37,9 @@ void DemPart<D>::init_walls(bool settling) {
   }
   for (MovingWall& mw : moving_)
     mw.plane = wall_planes_[mw.slot].plane;
+  // The absorbing faces are not guarded: a grain whose centre crosses one leaves the model
+  // (remove_outflow), as through a transmitting boundary.
   guard_planes_ = wall_planes_;
-  for (const parts::Face face : cfg_.absorbing_walls)
-    guard_planes_.push_back(wall_plane(face));
   place_walls();
   // The fixed bodies take wall slots after the faces (they are neither in the guard nor in
   // the clear box: rigid_wall_contacts tests them for every grain).
@@ -57,7 +57,7 @@ void DemPart<D>::init_walls(bool settling) {
 }
 
 // The clear box (the faces of cfg_.walls, +-inf where there is none) and the guard box (inside
-// every face, absorbing ones too) from the planes as they stand.
+// every rigid face) from the planes as they stand.
 template <int D>
 void DemPart<D>::place_walls() {
   clear_lo_ = Vec<D>::Constant(-std::numeric_limits<Real>::infinity());

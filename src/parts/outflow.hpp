@@ -61,14 +61,15 @@ class OutflowRemoval {
   std::span<const std::uint8_t> survivors() const { return keep_; }
 
   /// Books `count` leaving entities and what they carried; the part's first removal is logged
-  /// (`entities`: "particles", "grains"; t_s: the time of the step).
+  /// (`entities`: "particles", "grains"; t_s: the time of the step; `why`: the setting that
+  /// removes them).
   void book(const std::string& part, std::string_view entities, Real t_s, Index count,
-            const Removed& removed) {
+            const Removed& removed, std::string_view why = "domain.outflow = \"remove\"") {
     if (count_ == 0)
       spdlog::info(
           "part '{}': {} leave the domain from t = {:.6g} s on and are removed "
-          "(domain.outflow = \"remove\"; left_domain_* in summary.json)",
-          part, entities, t_s);
+          "({}; left_domain_* in summary.json)",
+          part, entities, t_s, why);
     count_ += count;
     mass_kg_ += removed.mass_kg;
     energy_j_ += removed.energy_j;

@@ -376,6 +376,10 @@ void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& part
   std::vector<Real> now(nc), drop(nc, kNaN);
   for (std::size_t k = 0; k < nc; ++k) {
     now[k] = surface_height(cols[k], k);
+    // A column that had ground and has none left (the blast emptied it, or it left through
+    // the model's faces) is a hole down to the domain's bottom, not "no data": it belongs to
+    // the crater.
+    if (!std::isfinite(now[k]) && std::isfinite(surface0_[k])) now[k] = lo_[D - 1];
     if (std::isfinite(now[k]) && std::isfinite(surface0_[k])) drop[k] = surface0_[k] - now[k];
   }
   {

@@ -10,9 +10,11 @@ import unittest
 
 from crater_test import assert_bit_identical_runs, run_scenario, scratch
 
-METRICS = ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa", "surface_settlement_max_m",
-           "surface_settlement_max_x_m", "crater_depth_m", "crater_radius_m",
-           "plate_eroded_elements", "plate_perforated", "delamination_gap_max_m"]
+# surface_settlement_max_m and _x_m are written when a column is left outside the crater and
+# its neighbours (docs/theory.md section 6): at the demo level the blast empties the bed.
+METRICS = ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa", "crater_depth_m",
+           "crater_radius_m", "plate_eroded_elements", "plate_perforated",
+           "delamination_gap_max_m"]
 
 
 class PaperScenarios(unittest.TestCase):

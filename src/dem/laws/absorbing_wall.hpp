@@ -23,6 +23,10 @@
 // by the dashpot and creeps into it at F / \eta_n (for a 5 mm sand grain under its own weight,
 // about 0.2 mm/s).
 //
+// The face transmits: the part applies this force while the grain's centre is inside the face
+// and less than r from it, and removes a grain whose centre crosses the face (its energy booked
+// as outflow), instead of putting it back against the bed (docs/theory.md §3).
+//
 // Energy: F_0 (v . n) is work done on the bed from outside (like gravity); the rest,
 // -(f_n - F_0)(v . n) + \eta_t |v_t|^2 >= 0, is dissipated by the dashpots.
 //

@@ -462,8 +462,9 @@ TableSchema make_dem() {
               "of t = 0 (the wall's elastic normal force at its initial overlap, so a bed settled "
               "on it keeps resting on it) plus dashpots rho c_p A on its normal and rho c_s A on "
               "its tangential velocity, A = 2r (2D, per metre of depth) or (2r)^2 (3D); the wall "
-              "pushes, never pulls. While the packing settles they are rigid walls. A face is "
-              "in walls or here, not both."),
+              "pushes, never pulls. The faces transmit: a grain whose centre crosses one leaves "
+              "the model, its energy booked as outflow (left_domain_* in summary.json). While "
+              "the packing settles they are rigid walls. A face is in walls or here, not both."),
           "[]"),
       positive(real("absorbing_wall_density_kg_m3", "kg/m^3",
                     "Bulk density rho of the bed behind the absorbing walls. Unset: the part's "
