@@ -47,8 +47,10 @@ SEEDS = (1, 2, 3)
 
 
 def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN, dem=None,
-             ramp_s=RAMP_S):
-    """The biaxial test of one packing (seed); `dem` adds [parts.dem] keys."""
+             ramp_s=RAMP_S, material=SAND, settle=True):
+    """The biaxial test of one packing (seed); `dem` adds [parts.dem] keys, `material` replaces
+    the sand block (e.g. another contact friction), settle = False leaves the dense method's
+    bed unsettled (the same grains whatever the contact law: consolidation loads it)."""
     end = T_CONS_S + axial_strain / strain_rate
     motion = []
     for face, x in (("left", 0.0), ("right", W_M)):
@@ -68,9 +70,9 @@ def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN
         "biaxial", 2, end,
         description="Plane-strain biaxial test of the paper's sand (tests/verification/dem_biaxial)",
         domain=domain([-0.1 * W_M, 0.0], [1.1 * W_M, 1.05 * H_M], [0.0, -9.81]),
-        output=output(end / 2, 50), materials=[SAND],
+        output=output(end / 2, 50), materials=[material],
         parts=[part("soil", "dem", "sand", 0.02, box([0.0, 0.0], [W_M, H_M]), dem=keys,
-                    packing={"method": "dense", "settle": True, "cache_dir": str(cache_dir)})])
+                    packing={"method": "dense", "settle": settle, "cache_dir": str(cache_dir)})])
 
 
 def reduce(history_csv, t_cons=T_CONS_S):
