@@ -39,6 +39,8 @@ def figure(runs, found):
     ax1.axvspan(100 * RESIDUAL[0], 100 * RESIDUAL[1], color="0.9", zorder=0)
     ax1.axhspan(35, 45, color="tab:green", alpha=0.12, zorder=0,
                 label="dense dry sand, 35–45° (Bolton 1986)")
+    ax1.axhspan(30, 40, facecolor="none", edgecolor="tab:red", hatch="//", lw=0, alpha=0.4,
+                zorder=0, label="3D DEM, dense frictional spheres, 30–40° (test's band)")
     ax1.set_ylabel("mobilised friction angle φ [°]")
     ax1.set_ylim(0, 50)
     ax1.legend(fontsize=7, loc="lower right")

@@ -33,8 +33,8 @@ this note must go.
 The three seeds' angles with their mean and standard deviation are printed and written to
 CRATER_TEST_TMP/triaxial/angles.json; the figure (plot_triaxial.py) goes to
 CRATER_TEST_TMP/figures/dem_triaxial.png, and to docs/figures/ with CRATER_WRITE_FIGURES=1.
-Wall time: 13.8 minutes for the three seeds on one core beside other jobs (load average 4-8 on two
-cores): per seed, settling 1,108 spheres (300,000 steps, cached in the scratch directory, so
+Wall time: 9.9 and 13.8 minutes for the three seeds (two runs on one core beside other jobs, two
+cores, load average 4-8): per seed, settling 1,108 spheres (300,000 steps, cached in the scratch directory, so
 every fresh test pays it) and 550,000 steps of the test.
 """
 import json
