@@ -9,7 +9,7 @@ Asserted, per seed (1, 2, 3):
   0.64 (measured 0.634-0.640); the whole sample, its looser layers along the six walls
   included, is reported beside it (0.584-0.588);
 - the servo: after consolidation (mean of the last 20 rows) each side wall, their mean and the
-  platen hold sigma_3 = 100 kPa within 1 % (measured within 0.2 %); over the shearing the four
+  platen hold sigma_3 = 100 kPa within 1 % (measured within 0.21 %); over the shearing the four
   walls' mean within 3 % and each wall within 5 % (measured +0.5 %: the proportional servo's
   lag, docs/theory.md);
 - the residual (mean over eps_1 = 7-10 %) is below the peak and in RESIDUAL_BAND, the critical

@@ -31,8 +31,9 @@ T_CONS the reference):
   the Mohr-Coulomb plastic potential at the triaxial-compression corner (Vermeer & de Borst
   1984, Heron 29(3); Schanz & Vermeer 1996, Geotechnique 46(1); as recalled), d eps_v/d eps_1
   the slope of a straight line fitted to eps_v against eps_1 over PSI_WINDOW (eps_1 = 1-4 %:
-  from the end of the first contraction through the peak, where it dilates fastest). Bolton (1986)'s triaxial index is that slope itself,
-  (-d eps_v/d eps_1)_max = 0.3 I_R, also reported ("dilation_rate").
+  from the end of the first contraction through the peak, where it dilates fastest).
+  Bolton (1986)'s triaxial index is that slope itself, (-d eps_v/d eps_1)_max = 0.3 I_R,
+  also reported ("dilation_rate").
 Peak: the largest mean of phi over bins of BIN of eps_1; residual: the mean over RESIDUAL of
 eps_1.
 """
