@@ -38,6 +38,7 @@ struct ExplicitMesh {
   std::vector<Real> hourglass_energy_j;      // work of the hourglass forces [J]
   std::vector<HourglassState<D>> hourglass;  // stiffness-form generalised forces
   std::vector<std::uint8_t> eroded;          // 1 once the element has failed
+  std::vector<Real> added_mass_kg;           // mass scaling: added to the element so far [kg]
 
   // ---- node -> (element, local node) adjacency, CSR in element order (set by initialise).
   // Entry = element * kElementNodes + local node. Forces are gathered per node in this fixed

@@ -31,15 +31,26 @@ struct ElementResults {
   std::vector<Real> internal_energy_j;
   std::vector<Real> hourglass_energy_j;
   std::vector<Real> stable_dt_s;
+  std::vector<Real> added_mass_kg;  // mass scaling in this evaluation
   std::vector<std::uint8_t> eroded_now;
   std::vector<std::uint8_t> inverted;
   explicit ElementResults(Index n)
       : internal_energy_j(at(n), 0),
         hourglass_energy_j(at(n), 0),
         stable_dt_s(at(n), std::numeric_limits<Real>::infinity()),
+        added_mass_kg(at(n), 0),
         eroded_now(at(n), 0),
         inverted(at(n), 0) {}
 };
+
+/// The factor mass scaling has stretched element ue's step by so far: sqrt(m_e' / m_e).
+template <int D>
+Real scaled_step_factor(const ExplicitMesh<D>& mesh, const SolidMaterial& material,
+                        std::size_t ue) {
+  const Real added = mesh.added_mass_kg[ue];
+  if (added == 0) return 1;
+  return std::sqrt(1 + added / (material.density_kg_m3 * mesh.reference_volume[ue]));
+}
 
 /// The element loop for one strength law (resolved at compile time: no dispatch per element).
 template <int D, class Law>
@@ -112,7 +123,8 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
       // rather than hold the whole model's step down (bulk viscosity of this step included).
       const bool too_small_a_step =
           material.erosion_min_step_s > 0 &&
-          stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace()) <
+          stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace()) *
+                  scaled_step_factor(mesh, material, ue) <
               material.erosion_min_step_s;
       if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
           mesh.plastic_strain[ue] >= material.erosion_plastic_strain || too_small_a_step) {
@@ -145,8 +157,20 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
     out.hourglass_energy_j[ue] = dt * hg.power_w;
     mesh.internal_energy_j[ue] += work;
     mesh.hourglass_energy_j[ue] += dt * hg.power_w;
-    out.stable_dt_s[ue] =
+    const Real own_step =
         stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace());
+    Real step = own_step * scaled_step_factor(mesh, material, ue);
+    const Real floor = material.mass_scaling_min_step_s;
+    if (floor > 0 && step < floor) {
+      // The step grows as the square root of the element's mass: the mass that holds it at the
+      // floor is m_e (floor / step_e)^2 (bulk viscosity taken at this evaluation's rate).
+      const Real ratio = floor / own_step;
+      const Real needed = rho0 * mesh.reference_volume[ue] * (ratio * ratio - 1);
+      out.added_mass_kg[ue] = needed - mesh.added_mass_kg[ue];
+      mesh.added_mass_kg[ue] = needed;
+      step = floor;
+    }
+    out.stable_dt_s[ue] = step;
   });
 }
 
@@ -173,6 +197,7 @@ void initialise(ExplicitMesh<D>& mesh, const SolidMaterial& material) {
   mesh.hourglass_energy_j.assign(at(ne), 0);
   mesh.hourglass.assign(at(ne), HourglassState<D>::Zero());
   mesh.eroded.assign(at(ne), 0);
+  mesh.added_mass_kg.assign(at(ne), 0);
   mesh.element_force.assign(at(ne), NodeArray<D>{});
 
   std::vector<Index> count(at(nn) + 1, 0);
@@ -221,13 +246,45 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
     mesh.internal_force[at(node)] = f;
   });
 
+  // One pass for the sums (each summed in the same fixed order as alone: the same bits).
+  struct Sums {
+    Real internal = 0, hourglass = 0, added = 0;
+    Index eroded = 0;
+    Sums& operator+=(const Sums& o) {
+      internal += o.internal;
+      hourglass += o.hourglass;
+      added += o.added;
+      eroded += o.eroded;
+      return *this;
+    }
+  };
+  const Sums sums = parallel::deterministic_sum<Sums>(ne, [&](Index e) {
+    return Sums{results.internal_energy_j[at(e)], results.hourglass_energy_j[at(e)],
+                results.added_mass_kg[at(e)], static_cast<Index>(results.eroded_now[at(e)])};
+  });
   ForceReport report;
-  report.internal_energy_increment_j = parallel::deterministic_sum<Real>(
-      ne, [&](Index e) { return results.internal_energy_j[at(e)]; });
-  report.hourglass_energy_increment_j = parallel::deterministic_sum<Real>(
-      ne, [&](Index e) { return results.hourglass_energy_j[at(e)]; });
-  report.newly_eroded = parallel::deterministic_sum<Index>(
-      ne, [&](Index e) { return static_cast<Index>(results.eroded_now[at(e)]); });
+  report.internal_energy_increment_j = sums.internal;
+  report.hourglass_energy_increment_j = sums.hourglass;
+  report.newly_eroded = sums.eroded;
+  if (sums.added > 0) {
+    // The nodes take the added mass (a share per element node) and keep their momentum.
+    report.mass_added_kg = sums.added;
+    report.mass_scaling_dissipated_j =
+        parallel::deterministic_sum<Real>(mesh.node_count(), [&](Index node) {
+          Real added = 0;
+          for (Index k = mesh.node_entry_offsets[at(node)];
+               k < mesh.node_entry_offsets[at(node) + 1]; ++k)
+            added += results.added_mass_kg[at(mesh.node_entries[at(k)] / kNodes)];
+          if (added == 0) return Real(0);
+          added /= Real(kNodes);
+          Real& m = mesh.mass[at(node)];
+          Vec<D>& v = mesh.velocity[at(node)];
+          const Real before = Real(0.5) * m * v.squaredNorm();
+          v *= m / (m + added);
+          m += added;
+          return before - Real(0.5) * m * v.squaredNorm();
+        });
+  }
   report.stable_dt_s = std::numeric_limits<Real>::infinity();
   for (Index e = 0; e < ne; ++e) {
     if (results.stable_dt_s[at(e)] < report.stable_dt_s) {
@@ -236,6 +293,9 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
     }
     if (results.inverted[at(e)] && report.inverted_element < 0) {
       report.inverted_element = e;
+    }
+    if (results.added_mass_kg[at(e)] > 0 && report.first_mass_scaled_element < 0) {
+      report.first_mass_scaled_element = e;
     }
   }
   return report;

@@ -39,6 +39,10 @@ struct SolidMaterial {
   // An element whose own stable step falls below this erodes (LS-DYNA's ERODE = 1 with
   // *CONTROL_TERMINATION's DTMIN); 0: never. Set by the part from erosion_step_ratio.
   Real erosion_min_step_s = 0;
+  // Selective mass scaling (LS-DYNA's DT2MS < 0): an element whose stable step falls below this
+  // gains the mass that holds its step at it, shared equally by its nodes (momentum kept); 0:
+  // never. Set by the part from mass_scaling_step_ratio.
+  Real mass_scaling_min_step_s = 0;
 };
 
 /// What one force evaluation reports (sums in a fixed order: bit-identical for any thread count).
@@ -49,6 +53,12 @@ struct ForceReport {
   Index limiting_element = -1;  // element giving stable_dt_s
   Index newly_eroded = 0;       // elements that failed during this evaluation
   Index inverted_element = -1;  // an element with V <= 0 (numerical failure), or -1
+  // Mass scaling in this evaluation: mass added to the nodes [kg], the kinetic energy the nodes
+  // gave up by keeping their momentum [J] (an inelastic pick-up of mass at rest), and the first
+  // element (lowest number) that gained mass, or -1.
+  Real mass_added_kg = 0;
+  Real mass_scaling_dissipated_j = 0;
+  Index first_mass_scaled_element = -1;
 };
 
 /// Sizes the element state, computes reference volumes, lumped masses m_I = \sum_e \rho_0 V_e / n
@@ -62,7 +72,7 @@ template <int D>
 ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& material, Real dt);
 
 /// Stable step of the block in its current configuration without bulk viscosity:
-/// min_e L_e / c_d [s] (c_d at each element's current density).
+/// min_e L_e / c_d [s] (c_d at each element's current density; mass scaling not counted).
 template <int D>
 Real stable_time_step(const ExplicitMesh<D>& mesh, const SolidMaterial& material);
 

@@ -74,6 +74,12 @@ class FemPart final : public parts::Part<D> {
     if (settings.fem.erosion_step_ratio > 0)
       material_.erosion_min_step_s =
           settings.fem.erosion_step_ratio * stable_time_step(mesh_, material_);
+    // So does the mass-scaling floor.
+    if (settings.fem.mass_scaling_step_ratio > 0) {
+      material_.mass_scaling_min_step_s =
+          settings.fem.mass_scaling_step_ratio * stable_time_step(mesh_, material_);
+      mass_scaling_limit_ = settings.fem.mass_scaling_limit;
+    }
     const Index nn = mesh_.node_count();
     for (int k = 0; k < D; ++k)
       gravity_[k] = pc.domain.gravity_m_s2[at(k)];
@@ -125,13 +131,21 @@ class FemPart final : public parts::Part<D> {
     parts::StableStep s;
     s.dt_s = last_.stable_dt_s;
     s.entity_id = last_.limiting_element;
-    s.reason = "element size / dilatational wave speed (with bulk viscosity)";
+    s.reason = material_.mass_scaling_min_step_s > 0
+                   ? "element size / dilatational wave speed (with bulk viscosity, mass-scaled)"
+                   : "element size / dilatational wave speed (with bulk viscosity)";
     return s;
   }
 
   void compute_forces(Real t_s) override {
     if (!stale_) return;
     last_ = compute_internal_forces(mesh_, material_, dt_pending_);
+    if (last_.mass_added_kg > 0) {
+      added_mass_ += last_.mass_added_kg;
+      mass_scaling_dissipated_ += last_.mass_scaling_dissipated_j;
+      dissipated_ += last_.mass_scaling_dissipated_j;
+      if (mass_scaled_first_ < 0) mass_scaled_first_ = last_.first_mass_scaled_element;
+    }
     if (last_.newly_eroded > 0) account_erosion();
     if (!loads_.empty()) pressure_forces(t_s);
     const Real dt = dt_pending_;
@@ -182,6 +196,15 @@ class FemPart final : public parts::Part<D> {
   }
 
   std::optional<parts::Fault> check() const override {
+    if (material_.mass_scaling_min_step_s > 0 && added_mass_ > mass_scaling_limit_ * initial_mass_)
+      return parts::Fault{
+          last_.first_mass_scaled_element >= 0 ? last_.first_mass_scaled_element
+                                               : mass_scaled_first_,
+          fmt::format("mass scaling has added {:.4g} kg, {:.3g} % of the part's initial mass, "
+                      "past fem.mass_scaling_limit = {:.3g}; raise the limit, lower "
+                      "fem.mass_scaling_step_ratio, or let crushed elements erode "
+                      "(fem.erosion_step_ratio)",
+                      added_mass_, 100 * added_mass_ / initial_mass_, mass_scaling_limit_)};
     if (last_.inverted_element >= 0)
       return parts::Fault{last_.inverted_element,
                           "element inverted (volume <= 0): the mesh is tangled; lower "
@@ -361,6 +384,7 @@ class FemPart final : public parts::Part<D> {
     w.vector(mesh_.hourglass);
     w.vector(mesh_.element_force);  // an element failing next books their work (explicit_solid)
     w.vector(mesh_.eroded);
+    w.vector(mesh_.added_mass_kg);
     w.vector(acceleration_);
     w.vector(external_force_);
     w.vector(dashpot_force_);
@@ -377,6 +401,9 @@ class FemPart final : public parts::Part<D> {
     w.value(eroded_energy_);
     w.value(eroded_mass_);
     w.value(eroded_count_);
+    w.value(added_mass_);
+    w.value(mass_scaling_dissipated_);
+    w.value(mass_scaled_first_);
   }
 
   void load_state(parts::StateReader& r) override {
@@ -401,6 +428,7 @@ class FemPart final : public parts::Part<D> {
     sized(mesh_.hourglass, ne, "hourglass forces");
     sized(mesh_.element_force, ne, "element forces");
     sized(mesh_.eroded, ne, "erosion flags");
+    sized(mesh_.added_mass_kg, ne, "added masses");
     sized(acceleration_, nn, "accelerations");
     sized(external_force_, nn, "external forces");
     sized(dashpot_force_, nn, "dashpot forces");
@@ -417,18 +445,33 @@ class FemPart final : public parts::Part<D> {
     r.value(eroded_energy_);
     r.value(eroded_mass_);
     r.value(eroded_count_);
+    r.value(added_mass_);
+    r.value(mass_scaling_dissipated_);
+    r.value(mass_scaled_first_);
     if (eroded_count_ > 0) rebuild_surface();
   }
 
   std::vector<parts::Diagnostic> diagnostics() const override {
-    return {{"elements", static_cast<Real>(mesh_.element_count())},
-            {"nodes", static_cast<Real>(mesh_.node_count())},
-            {"eroded_elements", static_cast<Real>(eroded_count_)},
-            {"eroded_mass_kg", eroded_mass_},
-            {"initial_mass_kg", initial_mass_},
-            {"max_plastic_strain", parallel::max_over(mesh_.element_count(), 0, [&](Index e) {
-               return mesh_.plastic_strain[at(e)];
-             })}};
+    std::vector<parts::Diagnostic> d = {
+        {"elements", static_cast<Real>(mesh_.element_count())},
+        {"nodes", static_cast<Real>(mesh_.node_count())},
+        {"eroded_elements", static_cast<Real>(eroded_count_)},
+        {"eroded_mass_kg", eroded_mass_},
+        {"initial_mass_kg", initial_mass_},
+        {"max_plastic_strain", parallel::max_over(mesh_.element_count(), 0, [&](Index e) {
+           return mesh_.plastic_strain[at(e)];
+         })}};
+    if (material_.mass_scaling_min_step_s > 0) {
+      d.push_back({"mass_scaling_min_step_s", material_.mass_scaling_min_step_s});
+      d.push_back({"added_mass_kg", added_mass_});
+      d.push_back({"added_mass_fraction", added_mass_ / initial_mass_});
+      d.push_back({"mass_scaled_elements", static_cast<Real>(parallel::deterministic_sum<Index>(
+                                               mesh_.element_count(), [&](Index e) {
+                                                 return mesh_.added_mass_kg[at(e)] > 0 ? 1 : 0;
+                                               }))});
+      d.push_back({"mass_scaling_dissipated_j", mass_scaling_dissipated_});
+    }
+    return d;
   }
 
  private:
@@ -512,7 +555,8 @@ class FemPart final : public parts::Part<D> {
       element_accounted_[ue] = 1;
       ++eroded_count_;
       eroded_energy_ += mesh_.internal_energy_j[ue] + mesh_.hourglass_energy_j[ue];
-      const Real share = material_.density_kg_m3 * mesh_.reference_volume[ue] / kNodes;
+      const Real share =
+          (material_.density_kg_m3 * mesh_.reference_volume[ue] + mesh_.added_mass_kg[ue]) / kNodes;
       for (Index n : mesh_.elements[ue]) {
         const std::size_t un = at(n);
         const Real removed = --live_elements_of_node_[un] == 0 ? mesh_.mass[un] : share;
@@ -693,6 +737,12 @@ class FemPart final : public parts::Part<D> {
   Real eroded_energy_ = 0;
   Real eroded_mass_ = 0;
   Index eroded_count_ = 0;
+  // Mass scaling: the limit (fraction of initial_mass_), the mass added so far [kg], the kinetic
+  // energy the nodes gave up taking it [J] (also in dissipated_), the first element scaled.
+  Real mass_scaling_limit_ = 0;
+  Real added_mass_ = 0;
+  Real mass_scaling_dissipated_ = 0;
+  Index mass_scaled_first_ = -1;
 
   // Output scratch.
   mutable std::vector<Vec<D>> displacement_;

@@ -63,6 +63,11 @@ struct Settings {
   std::optional<Real> erosion_plastic_strain;  // erode elements at this plastic strain
   bool erode_inverted{};                       // inverted elements erode (else: exit 3)
   Real erosion_step_ratio{};  // erode elements whose step < this x the part's initial step
+  // Selective mass scaling: elements whose step < this x the part's initial step gain mass to
+  // keep it (0: off); the run stops (exit 3) when the added mass passes mass_scaling_limit x
+  // the part's initial mass.
+  Real mass_scaling_step_ratio{};
+  Real mass_scaling_limit{};
   std::vector<BoundarySettings> boundaries;
   std::vector<LoadSettings> loads;
   std::string mesh_file;   // Gmsh .msh 4.1; empty: structured mesh of the region box

@@ -276,6 +276,16 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
   j.field("steps_per_s",
           r.wall_s > 0 ? static_cast<double>(r.steps - r.first_step) / r.wall_s : 0.0);
   if (r.first_step > 0) j.field("resumed_at_step", static_cast<double>(r.first_step));
+  // Where loop_time_s went: each part's stages, the contacts, probes, outputs, the rest.
+  const RunResult::TimeByPart& tp = r.time_by_part;
+  j.key("time_by_part_s").begin_object();
+  j.key("parts").begin_object();
+  for (const auto& [name, s] : tp.parts_s)
+    j.field(name, s);
+  j.end_object();
+  j.field("contacts", tp.contacts_s).field("probes", tp.probes_s);
+  j.field("output", tp.output_s).field("other", tp.other_s);
+  j.end_object();
   write_command(j, in.command);
   j.end_object();
   j.end_object();

@@ -180,16 +180,18 @@ class Run {
         if (at_frame)
           for (auto& p : parts_)
             p->expect_frame();
-        advance_stage(parts_, st_.t, dt);
+        advance_stage(parts_, st_.t, dt, &clock_);
         st_.t = at_frame ? st_.next_frame_t : st_.t + dt;
         ++r_.steps;
         st_.steps = r_.steps;
-        finish_step_stages(parts_, coupling_, st_.t, dt);
-        probes_.after_step(parts_, st_.t);
+        finish_step_stages(parts_, coupling_, st_.t, dt, &clock_);
+        StageClock::time(probes_s_, [&] { probes_.after_step(parts_, st_.t); });
         const bool last = st_.t >= c_.end_time_s - t_eps;
-        record_step(dt, at_frame, last);
-        progress.update(r_.steps, st_.t, dt);
-        checkpoint_or_stop(last);
+        StageClock::time(output_s_, [&] {
+          record_step(dt, at_frame, last);
+          progress.update(r_.steps, st_.t, dt);
+          checkpoint_or_stop(last);
+        });
       }
     } catch (const NumericalError& ne) {
       // The state now in memory is the last one whose forces were finite.
@@ -306,6 +308,18 @@ class Run {
     r_.time_s = st_.t;
     r_.wall_s = elapsed();
     r_.loop_s = r_.wall_s - loop_start_s_;
+    RunResult::TimeByPart& tp = r_.time_by_part;
+    tp.parts_s.clear();
+    double accounted = clock_.contacts_s + probes_s_ + output_s_;
+    for (std::size_t k = 0; k < parts_.size(); ++k) {
+      const double s = k < clock_.part_s.size() ? clock_.part_s[k] : 0.0;
+      tp.parts_s.emplace_back(parts_[k]->name(), s);
+      accounted += s;
+    }
+    tp.contacts_s = clock_.contacts_s;
+    tp.probes_s = probes_s_;
+    tp.output_s = output_s_;
+    tp.other_s = std::max(0.0, r_.loop_s - accounted);
   }
 
   const io::Config& c_;
@@ -320,6 +334,9 @@ class Run {
   RunResult r_;
   double loop_start_s_ = 0;
   double last_checkpoint_s_ = 0;
+  StageClock clock_;     // the parts' stages and the contacts, for run.time_by_part_s
+  double probes_s_ = 0;  // the probes after each step
+  double output_s_ = 0;  // history rows, frames, progress, checkpoints
 };
 
 template <int D>

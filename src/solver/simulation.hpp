@@ -46,6 +46,12 @@ struct RunResult {
   double wall_s = 0;
   double loop_s = 0;  // the time loop alone: wall_s without the setup and the final output
   int threads = 1;
+  // loop_s split by where it went: each part's stages (scenario order), the contacts between
+  // parts, the probes, the outputs (history, frames, progress, checkpoints), the rest.
+  struct TimeByPart {
+    std::vector<std::pair<std::string, double>> parts_s;
+    double contacts_s = 0, probes_s = 0, output_s = 0, other_s = 0;
+  } time_by_part;
 };
 
 /// Builds the parts, checks the time step, and reports counts, masses and stable steps.

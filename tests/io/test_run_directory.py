@@ -50,6 +50,21 @@ class RunDirectory(unittest.TestCase):
             shutil.rmtree(d)
         return d
 
+    def test_summary_splits_the_loop_time_by_part(self):
+        # run.time_by_part_s: every part of the scenario by name, the contacts, probes, output
+        # and the rest; none negative, and together they are the loop's wall time.
+        s = json.loads((self.full / "summary.json").read_text())
+        tp = s["run"]["time_by_part_s"]
+        self.assertEqual(list(tp["parts"]), [p["name"] for p in s["parts"]])
+        spent = list(tp["parts"].values()) + [tp[k] for k in ("contacts", "probes", "output",
+                                                             "other")]
+        self.assertTrue(all(x >= 0 for x in spent), tp)
+        self.assertGreater(sum(tp["parts"].values()), 0)
+        loop = s["run"]["loop_time_s"]
+        self.assertLessEqual(sum(spent) - tp["other"], loop * (1 + 1e-9))
+        if tp["other"] > 0:
+            self.assertAlmostEqual(sum(spent), loop, delta=1e-9 * loop)
+
     # --- 1 ---------------------------------------------------------------------------------
     def test_force_keeps_the_users_files_and_clears_the_old_run(self):
         out = self.fresh("force")

@@ -7,6 +7,7 @@ DEM block breaking on a floor in 2D, SPH particles and DEM grains leaving the do
 (outflow = "remove") in 2D, an FEM plate eroding in 2D, the 3D Taylor bar (FEM, Johnson-Cook
 with heating, read from a Gmsh file) and the paper's coupled scene (paper-20cm, demo level:
 the dense bed, settled by the first run when the cache lacks it, then 0.5 ms on each count)."""
+import json
 import sys
 import unittest
 
@@ -55,6 +56,22 @@ class ThreadDeterminism(unittest.TestCase):
             write_case(work), work,
             sets=["scenario.end_time_s=1.5e-5", "output.interval_s=5e-6"])
         self.assertIn("rod.pvd", files)
+
+    def test_fem_taylor_bar_mass_scaled(self):
+        # Selective mass scaling: the impact face's elements gain mass from about 18 us on
+        # (tests/verification/fem_taylor/test_taylor_mass_scaling.py); nodes gather it per node.
+        sys.path.insert(0, str(SOURCE_DIR / "tests/verification/fem_taylor"))
+        from test_taylor_bar import write_case
+
+        work = scratch("det_fem_taylor_ms")
+        files = assert_bit_identical_runs(
+            write_case(work), work,
+            sets=["scenario.end_time_s=3e-5", "output.interval_s=1e-5",
+                  "parts.rod.fem.mass_scaling_step_ratio=0.8"])
+        self.assertIn("rod.pvd", files)
+        with open(work / "threads1" / "summary.json") as f:
+            added = json.load(f)["parts"][0]["diagnostics"]["added_mass_kg"]
+        self.assertGreater(added, 0)  # the case does scale
 
     def test_paper_20cm_demo(self):
         # The paper's coupled scene (SPH charge, eroding JC plate, DEM soil, three contacts)

@@ -28,6 +28,8 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
   f.erosion_plastic_strain = opt_num(ft, "erosion_plastic_strain");
   f.erode_inverted = ft.get("erode_inverted")->as_boolean()->get();
   f.erosion_step_ratio = num(ft, "erosion_step_ratio");
+  f.mass_scaling_step_ratio = num(ft, "mass_scaling_step_ratio");
+  f.mass_scaling_limit = num(ft, "mass_scaling_limit");
   // A solid starts unstressed at its reference density; only velocities can be set.
   const auto& it_init = table(t, "initial");
   for (const char* k : {"density_kg_m3", "pressure_pa"})

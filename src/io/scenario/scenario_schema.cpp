@@ -726,6 +726,22 @@ TableSchema make_fem() {
                            0),
                   1),
           "0"),
+      with_default(
+          at_most(at_least(real("mass_scaling_step_ratio", "1",
+                                "Selective mass scaling (as LS-DYNA's DT2MS < 0): an element "
+                                "whose stable step falls below this fraction of the part's "
+                                "initial stable step gains the mass that keeps its step there, "
+                                "shared by its nodes; their momentum is kept. An alternative to "
+                                "erosion_step_ratio. 0: off."),
+                           0),
+                  1),
+          "0"),
+      with_default(at_most(positive(real("mass_scaling_limit", "1",
+                                         "The most mass that mass scaling may add, as a "
+                                         "fraction of the part's initial mass; past it the run "
+                                         "stops (exit 3) naming the element.")),
+                           1),
+                   "0.01"),
       text("mesh_file",
            "A Gmsh mesh (.msh format 4.1, ASCII), relative to the scenario file: 4-node "
            "quadrangles (2D) or 8-node hexahedra (3D). Unset: a structured mesh of the part's "
