@@ -135,6 +135,7 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
       // absorbing faces are rigid).
       leave_domain_(settings.part.domain.outflow == parts::Outflow::Remove && !local_damping),
       outflow_remove_(leave_domain_ || (!settings.dem.absorbing_walls.empty() && !local_damping)),
+      outflow_batch_steps_(static_cast<Index>(settings.part.domain.outflow_batch_steps)),
       id_(f_.add_integer("id", "1", kStateRoles)),
       x_(f_.add_vector("position", "m", kRestart | kHalo)),
       v_(f_.add_vector("velocity", "m/s", kStateRoles)),

@@ -183,7 +183,10 @@ class DemPart final : public parts::Part<D> {
   }
   parts::StableStep stable_step() const override;
   void compute_forces(Real t) override;  // dem_pair_loop.cpp
-  void expect_frame() override { stress_step_ = true; }
+  void expect_frame() override {
+    stress_step_ = true;
+    frame_step_ = true;
+  }
   std::optional<parts::Fault> check() const override;
   std::optional<parts::ContactPoints<D>> contact_points() const override {
     parts::ContactPoints<D> p;
@@ -483,6 +486,13 @@ class DemPart final : public parts::Part<D> {
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool leave_domain_ = false;    // domain.outflow = "remove": grains outside it are removed
   bool outflow_remove_ = false;  // grains may be removed (leave_domain_ or absorbing walls)
+  // Grains that leave are removed in batches (each removal rebuilds the neighbour lists; with
+  // transmitting faces a grain leaves almost every step of a blast): outflow_batch_steps_ steps
+  // after the first of a batch left (domain.outflow_batch_steps), or at a frame step.
+  // outflow_wait_: steps the current batch has waited; frame_step_: expect_frame() was called.
+  Index outflow_batch_steps_ = 1;
+  Index outflow_wait_ = 0;
+  bool frame_step_ = false;
   Real rho_ = 0;
   GranularMaterial grain_;
   ContactLaws laws_;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -150,6 +151,7 @@ SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<
                part.count(), t_fall);
   Real t = 0;
   long long steps = 0;
+  auto next_report = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   part.compute_forces(t);
   while (true) {
     const Real dt = settings.safety_factor * part.stable_step().dt_s;
@@ -162,9 +164,23 @@ SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<
                                    fault->entity_id, fault->what));
     part.finish_step(dt);
     ++steps;
-    if (steps % 200 != 0 || t < t_fall) continue;
+    if (steps % 200 != 0) continue;
+    // A large bed settles for many minutes: say where it stands every half minute.
+    const bool tell = std::chrono::steady_clock::now() >= next_report;
+    if (t < t_fall && !tell) continue;
     const auto [ke, scale] = part.settling_measure();
     const Real unbalanced = deposited ? part.unbalanced_ratio() : 0;
+    if (tell) {
+      spdlog::info(
+          "part '{}': settling, t = {:.4g} s after {} steps: kinetic energy {:.3g} x m g r "
+          "(settled below {:.3g}){}",
+          pc.name, t, steps, ke / scale, k.settle_kinetic_ratio,
+          deposited ? fmt::format(", unbalanced force {:.3g} of the weight (below {:.3g})",
+                                  unbalanced, k.settle_unbalanced_ratio)
+                    : std::string());
+      next_report = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    }
+    if (t < t_fall) continue;
     if (ke < k.settle_kinetic_ratio * scale && unbalanced <= k.settle_unbalanced_ratio) break;
     if (t > k.settle_max_time_s)
       throw InputError(pc.where, key_name + ".settle_max_time_s",

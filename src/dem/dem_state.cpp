@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <span>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "dem/dem_part_impl.hpp"
@@ -125,8 +126,10 @@ Real DemPart<D>::unbalanced_ratio() const {
   return f / (mass_kg() * gravity_.norm());
 }
 
-// outflow = "remove": grains beyond the domain box leave the model at the end of the step,
-// with the velocities of t + dt. What they carried goes to eroded_j, so the balance still
+// outflow = "remove" (and transmitting absorbing faces): grains beyond the domain box leave the
+// model at the end of a step, with the velocities of t + dt, in batches: outflow_batch_steps_
+// steps after the first grain of the batch went out, or at a frame (those that went out since,
+// and are still out, leave with it). What they carried goes to eroded_j, so the balance still
 // closes: their kinetic and rotational energy, and the energy stored in their contacts and
 // bonds (elastic_ of the grains they end with), which would otherwise vanish from contact_j.
 // The rest keep their order (compaction in index order) and their contact and bond histories
@@ -135,8 +138,16 @@ Real DemPart<D>::unbalanced_ratio() const {
 template <int D>
 void DemPart<D>::remove_outflow() {
   const Index n = f_.size();
+  const bool frame = std::exchange(frame_step_, false);
   const Index leaving = outflow_.mark(n, [&](Index i) { return stays(i); });
-  if (leaving == 0) return;
+  if (leaving == 0) {
+    outflow_wait_ = 0;
+    return;
+  }
+  // Until the batch is due, the leaving grains move on beyond the face (nothing acts on them
+  // there but their contacts and gravity), booked as the part's; frames show none of them.
+  if (++outflow_wait_ < outflow_batch_steps_ && !frame) return;
+  outflow_wait_ = 0;
   const parts::Removed left = parallel::deterministic_sum<parts::Removed>(n, [&](Index i) {
     if (!outflow_.kept(i))
       return parts::Removed{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() +
@@ -267,6 +278,7 @@ void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s) {
   a.value(s.wall_reflections_);
   a.block(s.skin_);
   a.block(s.outflow_);
+  a.value(s.outflow_wait_);
   // Moving walls (only then: the other parts' checkpoints are unchanged).
   if (!s.moving_.empty()) a.vector(s.moving_);
 }

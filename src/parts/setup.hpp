@@ -5,6 +5,7 @@
 // together, so no method sees the scenario as a whole.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +28,9 @@ struct Domain {
   Vec3 max_m{};
   Vec3 gravity_m_s2{};
   Outflow outflow = Outflow::Stop;
+  // DEM grains that leave are removed in batches, this many steps after the first went out
+  // (and at frames); 1: at the end of the step they left in.
+  std::int64_t outflow_batch_steps = 32;
 };
 
 struct InitialState {

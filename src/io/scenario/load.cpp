@@ -185,6 +185,7 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.domain.max_m = vec3(dt, "max_m");
   c.domain.gravity_m_s2 = vec3(dt, "gravity_m_s2");
   c.domain.outflow = str(dt, "outflow") == "remove" ? Outflow::Remove : Outflow::Stop;
+  c.domain.outflow_batch_steps = dt.get("outflow_batch_steps")->as_integer()->get();
   for (int d = 0; d < dim; ++d)
     if (!(c.domain.max_m[d] > c.domain.min_m[d])) {
       domain_ok_ = false;

@@ -124,9 +124,10 @@ TableSchema make_domain() {
           choice("outflow", {"stop", "remove"},
                  "What happens to an SPH or DEM particle whose centre leaves the box. "
                  "\"stop\": the run stops (exit 3), naming the particle. \"remove\": the "
-                 "particle is deleted at the end of the step it left in (its velocity that "
-                 "of the step's end), as hydrocodes deactivate material that leaves the mesh "
-                 "(detonation products venting through a crater). What it carried is booked "
+                 "particle is deleted at the end of the step it left in (DEM grains: in "
+                 "batches, see outflow_batch_steps; its velocity that of the step's end), as "
+                 "hydrocodes deactivate material that leaves the mesh (detonation products "
+                 "venting through a crater). What it carried is booked "
                  "in its part: its kinetic energy (plus internal m e for SPH, rotational for "
                  "DEM, and the energy stored in the DEM contacts and bonds it had) goes to "
                  "`eroded_j` of history.csv and summary.json, so the energy balance still "
@@ -137,6 +138,18 @@ TableSchema make_domain() {
                  "stay bit-identical. A non-finite position is still a numerical failure. "
                  "FEM parts are not affected (they are not held to the box)."),
           "\"stop\""),
+      with_default(
+          at_least(whole("outflow_batch_steps",
+                         "DEM grains that leave (outflow = \"remove\", or through transmitting "
+                         "absorbing walls) are removed together, this many steps after the "
+                         "first of a batch went out, and at every output frame: each removal "
+                         "rebuilds the grains' neighbour lists, and in a blast a grain leaves "
+                         "almost every step. Until then a grain that went out moves on beyond "
+                         "the face under its contacts and gravity (32 steps of a paper scene "
+                         "move it less than a tenth of its radius). 1: at the end of the step "
+                         "it left in."),
+                   1),
+          "32"),
   };
   return t;
 }

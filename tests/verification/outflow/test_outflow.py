@@ -17,7 +17,9 @@ Cases (2D):
 1. SPH: an ideal-gas disk (gamma 1.4, rho 1 kg/m^3, p = 1e5 Pa, r = 5 cm, dx = 5 mm, 316
    particles) thrown upward at 300 m/s in the box [-0.1, 0.1]^2 m, expanding into vacuum; to
    t = 0.4 ms, by when about 85 % of the particles have left, through every face.
-2. DEM, Hertz-Mindlin and linear springs under gravity: a cloud of 96 agitated sand grains
+2. DEM (grains removed at the end of the step they left in, `outflow_batch_steps = 1`; and in
+   the default batches of 32 steps, with the same booking checks), Hertz-Mindlin and linear
+   springs under gravity: a cloud of 96 agitated sand grains
    (r = 1.5-2 mm) thrown upward at 15 m/s, colliding as it flies, about a quarter of it leaving
    through the top by t = 10 ms; and two pairs of grains pressed together (linear springs,
    overlap 0.3 mm, 0.045 J per metre stored in each contact, 1/40 of the pair's kinetic energy)
@@ -84,13 +86,14 @@ def history(out):
 
 
 class Outflow(unittest.TestCase):
-    def run_three(self, tag, text):
-        """The case with removal, in the large box (reference) and with outflow = "stop"."""
+    def run_three(self, tag, text, more=()):
+        """The case with removal, in the large box (reference) and with outflow = "stop"
+        (and the further (name, --set arguments) runs in `more`)."""
         d = scratch(f"outflow_{tag}")
         case = d / "case.toml"
         case.write_text(text)
         out = {}
-        for name, extra in (("remove", []), ("reference", BIG)):
+        for name, extra in (("remove", []), ("reference", BIG), *more):
             out[name] = d / name
             crater("run", case, "--out", out[name], "--force", "--quiet", *extra)
         stop = crater("run", case, "--out", d / "stop", "--force", "--quiet", "--set",
@@ -155,7 +158,12 @@ class Outflow(unittest.TestCase):
         self.assertIn('outflow = "remove"', stop.stderr)
 
     def test_dem_grains(self):
-        out, s, stop = self.run_three("dem", DEM_CASE)
+        # Removal at the end of the step a grain left in (outflow_batch_steps = 1), and in the
+        # default batches of 32 steps.
+        out, s, stop = self.run_three(
+            "dem", DEM_CASE.replace('outflow = "remove"',
+                                    'outflow = "remove"\noutflow_batch_steps = 1'),
+            more=[("batched", ["--set", "domain.outflow_batch_steps=32"])])
         rm, ref = s["remove"], s["reference"]
         err, err_ref = rm["energy"]["balance_error"], ref["energy"]["balance_error"]
         h, h_ref = history(out["remove"]), history(out["reference"])
@@ -177,6 +185,17 @@ class Outflow(unittest.TestCase):
         self.assertLessEqual(drift, 1e-4)
         self.assertEqual(stop.returncode, 3, stop.stderr)
         self.assertIn("grain left the domain", stop.stderr)
+        # Batched: the same booking (frames show no grain beyond the box), the balance as good,
+        # every grain of the pairs gone; the cloud's leavers go up to 31 steps later.
+        b = s["batched"]
+        b_parts = {p["name"]: p for p in b["parts"]}
+        err_b = b["energy"]["balance_error"]
+        print(f"batched: cloud {b_parts['cloud']['diagnostics']['left_domain_count']:.0f} left; "
+              f"balance_error {err_b:+.3e}", file=sys.stderr)
+        self.check_booking(b, ref, out["batched"])
+        self.assertEqual(b_parts["pairs"]["count"], 0)
+        self.assertGreaterEqual(b_parts["cloud"]["diagnostics"]["left_domain_count"], 10)
+        self.assertLessEqual(abs(err_b), 1.25 * abs(err_ref))
 
 
 if __name__ == "__main__":
