@@ -29,8 +29,8 @@ struct Domain {
   Vec3 gravity_m_s2{};
   Outflow outflow = Outflow::Stop;
   // DEM grains that leave are removed in batches, this many steps after the first went out
-  // (and at frames); 1: at the end of the step they left in.
-  std::int64_t outflow_batch_steps = 32;
+  // (and at frames); 1 (the default): at the end of the step they left in.
+  std::int64_t outflow_batch_steps = 1;
 };
 
 struct InitialState {

@@ -17,8 +17,8 @@ Cases (2D):
 1. SPH: an ideal-gas disk (gamma 1.4, rho 1 kg/m^3, p = 1e5 Pa, r = 5 cm, dx = 5 mm, 316
    particles) thrown upward at 300 m/s in the box [-0.1, 0.1]^2 m, expanding into vacuum; to
    t = 0.4 ms, by when about 85 % of the particles have left, through every face.
-2. DEM (grains removed at the end of the step they left in, `outflow_batch_steps = 1`; and in
-   the default batches of 32 steps, with the same booking checks), Hertz-Mindlin and linear
+2. DEM (grains removed at the end of the step they left in, `outflow_batch_steps = 1`, the
+   default; and in the paper scenes' batches of 32 steps, with the same booking checks), Hertz-Mindlin and linear
    springs under gravity: a cloud of 96 agitated sand grains
    (r = 1.5-2 mm) thrown upward at 15 m/s, colliding as it flies, about a quarter of it leaving
    through the top by t = 10 ms; and two pairs of grains pressed together (linear springs,
@@ -158,8 +158,8 @@ class Outflow(unittest.TestCase):
         self.assertIn('outflow = "remove"', stop.stderr)
 
     def test_dem_grains(self):
-        # Removal at the end of the step a grain left in (outflow_batch_steps = 1), and in the
-        # default batches of 32 steps.
+        # Removal at the end of the step a grain left in (outflow_batch_steps = 1, the default,
+        # stated), and in the paper scenes' batches of 32 steps.
         out, s, stop = self.run_three(
             "dem", DEM_CASE.replace('outflow = "remove"',
                                     'outflow = "remove"\noutflow_batch_steps = 1'),
