@@ -22,10 +22,31 @@ Coupling<D>::Coupling(const std::vector<ContactSettings>& contacts, const PartLi
 template <int D>
 parts::StableStep Coupling<D>::stable_step(const PartList<D>& parts) const {
   StepSearch search;
-  for (const auto& p : pairings_)
-    p->limit_step(parts, search);
+  for (const PairLimits& l : limits(parts))
+    for (const StepSearch* s : {&l.pair, &l.points, &l.other})
+      search.consider(s->best.dt_s, s->best.entity_id, [&] { return s->best.reason; });
   search.best.absolute = true;  // omega dt <= 1/2 is an accuracy bound (penalty.hpp)
   return search.best;
+}
+
+template <int D>
+std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
+  std::vector<PairLimits> out(pairings_.size());
+  for (std::size_t c = 0; c < pairings_.size(); ++c)
+    pairings_[c]->limit_step(parts, out[c]);
+  return out;
+}
+
+template <int D>
+void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const {
+  Index n = 0;
+  if (const auto pts = parts[k]->contact_points())
+    n = static_cast<Index>(pts->position->size());
+  else if (const auto surf = parts[k]->contact_surface())
+    n = static_cast<Index>(surf->node_position->size());
+  out.force[k].assign(at(n), Vec<D>::Zero());
+  if (const auto pts = parts[k]->contact_points(); pts && pts->angular_velocity)
+    out.torque[k].assign(at(n), axial_zero<D>());
 }
 
 template <int D>
@@ -35,20 +56,25 @@ void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
   ContactForces<D> out;
   out.force.resize(parts.size());
   out.torque.resize(parts.size());
-  for (std::size_t k : involved_) {
-    Index n = 0;
-    if (const auto pts = parts[k]->contact_points())
-      n = static_cast<Index>(pts->position->size());
-    else if (const auto surf = parts[k]->contact_surface())
-      n = static_cast<Index>(surf->node_position->size());
-    out.force[k].assign(at(n), Vec<D>::Zero());
-    if (const auto pts = parts[k]->contact_points(); pts && pts->angular_velocity)
-      out.torque[k].assign(at(n), axial_zero<D>());
-  }
+  for (std::size_t k : involved_)
+    size_for(parts, k, out);
   for (auto& p : pairings_)
     p->apply(parts, dt_s, out);
   for (std::size_t k : involved_)
     parts[k]->add_contact_forces(out.force[k], out.torque[k]);
+}
+
+template <int D>
+void Coupling<D>::evaluate(const PartList<D>& parts, const std::vector<std::size_t>& which,
+                           const std::vector<Real>& dt_s, std::vector<ContactForces<D>>& out) {
+  out.resize(pairings_.size());
+  for (std::size_t c : which) {
+    out[c].force.resize(parts.size());
+    out[c].torque.resize(parts.size());
+    for (std::size_t k : sides(c))
+      size_for(parts, k, out[c]);
+    pairings_[c]->apply(parts, dt_s[c], out[c]);
+  }
 }
 
 template <int D>

@@ -57,7 +57,10 @@
 // omega = sqrt(sum / m) of the body limits too (a face node left with a quarter of an
 // element's mass where its neighbour eroded may carry three grains). The sums come from the
 // last apply(), or from a search of the current state when there is none (the first step after
-// a resume, `crater check`, particles removed): the same numbers either way.
+// a resume, `crater check`, particles removed): the same numbers either way. Each side's limit
+// (its own bodies) and the pair's (the reduced mass) are kept apart (PairLimits), with each
+// side's lightest body on the stiffest spring alone: multi-rate stepping (solver/multi_rate.hpp)
+// holds each part to its side's limits and the finer part to the pair's.
 //
 // The code: one class per pairing, each in its own file over the parts' state views
 // (parts::ContactPoints, parts::ContactSurface) behind pairing.hpp's interface:
@@ -69,6 +72,7 @@
 // (settings.hpp) from the scenario; contact/ includes nothing of io/, the methods or solver/.
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -94,6 +98,20 @@ class Coupling {
   /// dt_s is the step just taken (0 for the initial state).
   void apply(const PartList<D>& parts, Real dt_s);
 
+  /// The contacts in scenario order: how many, the parts of contact c (its first part, then
+  /// its second), and each one's step limits apart (pairing.hpp's PairLimits).
+  std::size_t size() const { return pairings_.size(); }
+  std::array<std::size_t, 2> sides(std::size_t c) const {
+    return {pairings_[c]->points(), pairings_[c]->other()};
+  }
+  std::vector<PairLimits> limits(const PartList<D>& parts) const;
+
+  /// Multi-rate stepping (solver/multi_rate.hpp): the forces of the contacts `which`
+  /// (ascending) at the current state, contact c last evaluated dt_s[c] ago, each into its own
+  /// out[c] (per part, sized for its two parts only); nothing is handed to the parts.
+  void evaluate(const PartList<D>& parts, const std::vector<std::size_t>& which,
+                const std::vector<Real>& dt_s, std::vector<ContactForces<D>>& out);
+
   /// Per contact: pairs in contact, deepest overlap and total normal force at the last apply().
   std::vector<parts::Diagnostic> diagnostics() const;
 
@@ -105,6 +123,9 @@ class Coupling {
  private:
   std::vector<std::unique_ptr<Pairing<D>>> pairings_;
   std::vector<std::size_t> involved_;  // parts in any contact, ascending
+
+  /// Sizes out's zeroed forces (and torques, for rotating particles) for part k's bodies.
+  void size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const;
 };
 
 }  // namespace crater::contact

@@ -25,6 +25,19 @@ void Pairing<D>::restart(std::size_t n_points, std::size_t n_other) {
 }
 
 template <int D>
+void Pairing<D>::limit_sides(PairLimits& limits, Real k_max, Real m_points, Real m_other) const {
+  auto offer = [&](StepSearch& side, Real m, const char* what) {
+    if (!(m > 0) || !(m < std::numeric_limits<Real>::infinity())) return;
+    side.consider(spring_step(k_max, m, settings_.damping_ratio), -1, [&] {
+      return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m on its lightest {}",
+                         name_, k_max, what);
+    });
+  };
+  offer(limits.points, m_points, "body");
+  offer(limits.other, m_other, "body of the other side");
+}
+
+template <int D>
 void Pairing<D>::limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,
                                          const std::vector<Real>& mass, const char* what) const {
   const Index n = static_cast<Index>(std::min(load.size(), mass.size()));

@@ -39,6 +39,14 @@ struct StepSearch {
   }
 };
 
+/// A contact's step limits, apart: `pair` bounds the step at which the contact is evaluated
+/// (its stiffest spring between its lightest bodies), `points` and `other` the step of each
+/// side's part (its bodies pressed by several springs, each with its own mass). One step for
+/// all parts obeys the three; under multi-rate stepping each side keeps to its own.
+struct PairLimits {
+  StepSearch pair, points, other;
+};
+
 /// Forces (and torques on rotating particles) of the contacts per part, per particle or per
 /// node of a surface; empty for parts in no contact.
 template <int D>
@@ -86,8 +94,8 @@ class Pairing {
   std::size_t other() const { return other_; }
   const std::string& name() const { return name_; }
 
-  /// Offers this contact's step limits to `search`.
-  virtual void limit_step(const PartList<D>& parts, StepSearch& search) const = 0;
+  /// This contact's step limits.
+  virtual void limit_step(const PartList<D>& parts, PairLimits& limits) const = 0;
   /// Adds this contact's forces of the current state to `out` (dt_s: the step just taken).
   virtual void apply(const PartList<D>& parts, Real dt_s, ContactForces<D>& out) = 0;
 
@@ -101,6 +109,10 @@ class Pairing {
   /// Zeroes the diagnostics and sizes the spring sums for n_points and n_other bodies; the
   /// caller then adds to both.
   void restart(std::size_t n_points, std::size_t n_other);
+  /// Offers each side the step of its lightest body on the contact's stiffest spring alone,
+  /// the other side held (a body about to touch: its side's limit before the spring sums
+  /// below know of it). Never below the pair's limit (the reduced mass is the smaller).
+  void limit_sides(PairLimits& limits, Real k_max, Real m_points, Real m_other) const;
   /// Offers the step limit of every body of one side pressed by several springs at once:
   /// dt = spring_step(sum k, m) of each, the first body that sets the smallest.
   void limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,

@@ -14,7 +14,7 @@
 namespace crater::contact {
 
 template <int D>
-void ParticleParticle<D>::limit_step(const PartList<D>& parts, StepSearch& search) const {
+void ParticleParticle<D>::limit_step(const PartList<D>& parts, PairLimits& limits) const {
   const auto pts = parts[this->points_]->contact_points();
   if (!pts || pts->mass->empty()) return;
   const Real m_min = lightest_particle(*pts);
@@ -23,16 +23,17 @@ void ParticleParticle<D>::limit_step(const PartList<D>& parts, StepSearch& searc
   const Real r_max = *std::max_element(grains->radius->begin(), grains->radius->end());
   const Real k_max = this->settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? r_max : Real(1));
   const Real m_grain = lightest_particle(*grains);
-  search.consider(spring_step(k_max, std::min(m_min, m_grain), this->settings_.damping_ratio), -1,
-                  [&] {
-                    return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m",
-                                       this->name_, k_max);
-                  });
+  limits.pair.consider(spring_step(k_max, std::min(m_min, m_grain), this->settings_.damping_ratio),
+                       -1, [&] {
+                         return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m",
+                                            this->name_, k_max);
+                       });
+  this->limit_sides(limits, k_max, m_min, m_grain);
   // Bodies pressed by several springs at once (found afresh when particles were removed
   // since the last apply(): the cached sums are per particle index).
   if (this->load_stale(pts->mass->size(), grains->mass->size())) measure_load(parts);
-  this->limit_by_summed_springs(search, this->load_.points, *pts->mass, "particle");
-  this->limit_by_summed_springs(search, this->load_.other, *grains->mass,
+  this->limit_by_summed_springs(limits.points, this->load_.points, *pts->mass, "particle");
+  this->limit_by_summed_springs(limits.other, this->load_.other, *grains->mass,
                                 "particle of the other part");
 }
 

@@ -17,7 +17,7 @@ class ParticleParticle final : public Pairing<D> {
       : Pairing<D>(settings, points, other, parts),
         grain_modulus_pa_(settings.grain_modulus_pa[other == settings.parts[0] ? 0 : 1]) {}
 
-  void limit_step(const PartList<D>& parts, StepSearch& search) const override;
+  void limit_step(const PartList<D>& parts, PairLimits& limits) const override;
   void apply(const PartList<D>& parts, Real dt_s, ContactForces<D>& out) override;
 
   /// A pair of overlapping particles, a of `points` and b of `other`.

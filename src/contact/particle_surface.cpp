@@ -95,7 +95,7 @@ std::vector<Push<D>> pushes(const ContactSettings& settings, const std::vector<F
 }  // namespace
 
 template <int D>
-void ParticleSurface<D>::limit_step(const PartList<D>& parts, StepSearch& search) const {
+void ParticleSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits) const {
   const auto pts = parts[this->points_]->contact_points();
   if (!pts || pts->mass->empty()) return;
   const Real m_min = lightest_particle(*pts);
@@ -105,16 +105,17 @@ void ParticleSurface<D>::limit_step(const PartList<D>& parts, StepSearch& search
                      *std::max_element(surf->face_stiffness->begin(), surf->face_stiffness->end());
   // The spring joins the particle to a face node, which may be the lighter of the two.
   const Real node_min = lightest_face_node(*surf);
-  search.consider(spring_step(k_max, reduced_mass(m_min, node_min), this->settings_.damping_ratio),
-                  -1, [&] {
-                    return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m",
-                                       this->name_, k_max);
-                  });
+  limits.pair.consider(
+      spring_step(k_max, reduced_mass(m_min, node_min), this->settings_.damping_ratio), -1, [&] {
+        return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m", this->name_,
+                           k_max);
+      });
+  this->limit_sides(limits, k_max, m_min, node_min);
   // Bodies pressed by several springs at once (found afresh when particles were removed
   // since the last apply(): the cached sums are per particle index).
   if (this->load_stale(pts->mass->size(), surf->node_mass->size())) measure_load(parts);
-  this->limit_by_summed_springs(search, this->load_.points, *pts->mass, "particle");
-  this->limit_by_summed_springs(search, this->load_.other, *surf->node_mass, "surface node");
+  this->limit_by_summed_springs(limits.points, this->load_.points, *pts->mass, "particle");
+  this->limit_by_summed_springs(limits.other, this->load_.other, *surf->node_mass, "surface node");
 }
 
 template <int D>

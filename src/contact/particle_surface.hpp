@@ -16,7 +16,7 @@ class ParticleSurface final : public Pairing<D> {
   /// `points` offers contact_points(), `other` contact_surface().
   using Pairing<D>::Pairing;
 
-  void limit_step(const PartList<D>& parts, StepSearch& search) const override;
+  void limit_step(const PartList<D>& parts, PairLimits& limits) const override;
   void apply(const PartList<D>& parts, Real dt_s, ContactForces<D>& out) override;
 
  private:

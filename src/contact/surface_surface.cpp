@@ -72,7 +72,7 @@ ContactSums<D> node_surface(const ContactSettings& settings, const Side<D>& a, c
 }  // namespace
 
 template <int D>
-void SurfaceSurface<D>::limit_step(const PartList<D>& parts, StepSearch& search) const {
+void SurfaceSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits) const {
   const auto sa = parts[this->points_]->contact_surface();
   const auto sb = parts[this->other_]->contact_surface();
   if (!sa || !sb || sa->face_stiffness->empty() || sb->face_stiffness->empty()) return;
@@ -80,16 +80,18 @@ void SurfaceSurface<D>::limit_step(const PartList<D>& parts, StepSearch& search)
       this->settings_.penalty_scale *
       std::min(*std::max_element(sa->face_stiffness->begin(), sa->face_stiffness->end()),
                *std::max_element(sb->face_stiffness->begin(), sb->face_stiffness->end()));
-  search.consider(spring_step(k_max, reduced_mass(lightest_face_node(*sa), lightest_face_node(*sb)),
-                              this->settings_.damping_ratio),
-                  -1, [&] {
-                    return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m",
-                                       this->name_, k_max);
-                  });
+  const Real ma = lightest_face_node(*sa), mb = lightest_face_node(*sb);
+  limits.pair.consider(spring_step(k_max, reduced_mass(ma, mb), this->settings_.damping_ratio), -1,
+                       [&] {
+                         return fmt::format("contact '{}': penalty spring of stiffness {:.3g} N/m",
+                                            this->name_, k_max);
+                       });
+  this->limit_sides(limits, k_max, ma, mb);
   if (this->load_stale(sa->node_mass->size(), sb->node_mass->size())) measure_load(parts);
   for (int side = 0; side < 2; ++side) {
     const std::vector<Real>& load = side == 0 ? this->load_.points : this->load_.other;
     const std::vector<Real>& mass = side == 0 ? *sa->node_mass : *sb->node_mass;
+    StepSearch& search = side == 0 ? limits.points : limits.other;
     for (std::size_t i = 0; i < load.size() && i < mass.size(); ++i) {
       if (!(load[i] > 0) || !(mass[i] > 0)) continue;
       search.consider(

@@ -15,7 +15,7 @@ class SurfaceSurface final : public Pairing<D> {
   /// Both parts offer contact_surface().
   using Pairing<D>::Pairing;
 
-  void limit_step(const PartList<D>& parts, StepSearch& search) const override;
+  void limit_step(const PartList<D>& parts, PairLimits& limits) const override;
   void apply(const PartList<D>& parts, Real dt_s, ContactForces<D>& out) override;
 
  private:

@@ -321,6 +321,7 @@ template <int D>
 void DemPart<D>::advance(Real t, Real dt) {
   const Real half = 0.5 * dt;
   contact_.moved(dt);
+  next_contact_.started();
   move_walls(t, dt);  // the planes of t + dt, before the grains meet them
   // One pass: kick, drift, the wall guard (reflect), the power of gravity at the new
   // velocities (before any reflection) and the largest squared displacement since the list
@@ -364,6 +365,7 @@ void DemPart<D>::finish_step(Real dt) {
     v_[i] += (half / m_[i]) * force_[i];
     w_[i] += (half / inertia_[i]) * torque_[i];
   });
+  next_contact_.finished([&](const auto& f, const auto& t) { take_contact(f, t); });
   if (outflow_remove_) remove_outflow();
 }
 

@@ -190,17 +190,28 @@ class DemPart final : public parts::Part<D> {
   std::optional<parts::Fault> check() const override;
   std::optional<parts::ContactPoints<D>> contact_points() const override {
     parts::ContactPoints<D> p;
-    p.position = &x_;
+    p.position = lagged_.view(x_);
     p.velocity = &v_;
     p.mass = &m_;
     p.radius = &r_;
     p.angular_velocity = &w_;
     p.surface_offset = &surface_offset_;
     p.surface_overlap = &surface_overlap_;
+    p.id = &id_;
     return p;
   }
   void add_contact_forces(const std::vector<Vec<D>>& force,
                           const std::vector<AngularVec<D>>& torque) override;
+  void set_contact_lag(Real lag_s) override {
+    lagged_.set(x_, lag_s, [&](Index i) { return v_[i]; });  // v_: v^{n+1/2} until finish_step
+  }
+  void set_next_contact_forces(const std::vector<Vec<D>>& force,
+                               const std::vector<AngularVec<D>>& torque) override {
+    if (static_cast<Index>(force.size()) != f_.size() ||
+        static_cast<Index>(torque.size()) != f_.size())
+      throw std::logic_error("dem: next contact forces for another grain count");
+    next_contact_.set(force, torque, [&](const auto& f, const auto& t) { take_contact(f, t); });
+  }
   void advance(Real t, Real dt) override;
   void finish_step(Real dt) override;
   parts::Energies energies() const override;
@@ -524,10 +535,21 @@ class DemPart final : public parts::Part<D> {
   std::vector<Real>& static_power_;
   std::vector<Vec<D>>& contact_force_;  // from contacts with other parts (in force_ too)
   std::vector<AngularVec<D>>& contact_torque_;
-  std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
-  std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
-  parts::ContactWork contact_;          // work of those forces on the grains
-  Real wall_reflections_ = 0;           // grains put back from beyond a wall (reflect_at_walls)
+  std::vector<Real>& surface_offset_;         // parts::ContactPoints::surface_offset
+  std::vector<Real>& surface_overlap_;        // parts::ContactPoints::surface_overlap
+  parts::ContactWork contact_;                // work of those forces on the grains
+  parts::LaggedPositions<D> lagged_;          // positions the contacts see (multi-rate stepping)
+  parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
+  /// Multi-rate: the next step starts with other contact forces than the last one ended with.
+  void take_contact(const std::vector<Vec<D>>& force, const std::vector<AngularVec<D>>& torque) {
+    parallel::for_each(f_.size(), [&](Index i) {
+      force_[i] += force[at(i)] - contact_force_[i];
+      torque_[i] += torque[at(i)] - contact_torque_[i];
+      contact_force_[i] = force[at(i)];
+      contact_torque_[i] = torque[at(i)];
+    });
+  }
+  Real wall_reflections_ = 0;  // grains put back from beyond a wall (reflect_at_walls)
   AbsorbingWallParams absorbing_;
   // The grains' Love-Weber stress (laws/grain_stress.hpp), of frames only: computed in a force
   // stage that expect_frame() announced (stress_step_; the rigid and absorbing walls' moments

@@ -21,6 +21,7 @@
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
 #include "parallel/parallel.hpp"
+#include "parts/contact_points.hpp"
 #include "parts/region.hpp"
 
 namespace crater::fem {
@@ -233,6 +234,7 @@ class FemPart final : public parts::Part<D> {
     dt_pending_ = dt_s;
     stale_ = true;
     contact_pending_ = true;
+    next_contact_.started();
   }
 
   void finish_step(Real dt_s) override {
@@ -242,11 +244,13 @@ class FemPart final : public parts::Part<D> {
       mesh_.velocity[u] += half * total_acceleration(u);
       impose_velocity(u);
     });
+    // Multi-rate: the next step may start with other contact forces than this one ended with.
+    next_contact_.finished([&](const auto& f, const auto&) { contact_force_ = f; });
   }
 
   std::optional<parts::ContactSurface<D>> contact_surface() const override {
     parts::ContactSurface<D> s;
-    s.node_position = &mesh_.position;
+    s.node_position = lagged_.view(mesh_.position);
     s.node_velocity = &mesh_.velocity;
     s.node_mass = &mesh_.mass;
     s.faces = &surface_faces_;
@@ -254,6 +258,16 @@ class FemPart final : public parts::Part<D> {
     s.face_stiffness = &surface_stiffness_;
     s.revision = surface_revision_;
     return s;
+  }
+
+  void set_contact_lag(Real lag_s) override {
+    lagged_.set(mesh_.position, lag_s, [&](Index i) { return mesh_.velocity[at(i)]; });
+  }
+  void set_next_contact_forces(const std::vector<Vec<D>>& force,
+                               const std::vector<AxialVec<D>>& torque) override {
+    if (static_cast<Index>(force.size()) != mesh_.node_count())
+      throw std::logic_error("fem: next contact forces for another node count");
+    next_contact_.set(force, torque, [&](const auto& f, const auto&) { contact_force_ = f; });
   }
 
   void add_contact_forces(const std::vector<Vec<D>>& force,
@@ -720,6 +734,8 @@ class FemPart final : public parts::Part<D> {
   std::vector<std::uint8_t> element_accounted_;
   std::vector<Vec<D>> contact_force_;  // from the contacts at the last force evaluation
   bool contact_pending_ = false;       // the nodes moved since the contact forces were set
+  parts::LaggedPositions<D> lagged_;   // node positions the contacts see (multi-rate stepping)
+  parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
 
   // Contact surface (parts::ContactSurface).
   std::vector<std::array<Index, parts::kFaceNodes<D>>> surface_faces_;

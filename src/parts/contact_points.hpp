@@ -2,6 +2,10 @@
 // ContactPoints view of its fields (part.hpp): the work those forces do on it.
 #pragma once
 
+#include <vector>
+
+#include "core/axial_vec.hpp"
+#include "core/index.hpp"
 #include "core/types.hpp"
 #include "parallel/parallel.hpp"
 
@@ -30,6 +34,57 @@ struct ContactWork {
       const Real half_dt = Real(0.5) * last_dt_s;
       work_j += parallel::deterministic_sum<Real>(n, [&](Index i) { return half_dt * power(i); });
     }
+    pending = false;
+  }
+};
+
+/// A particle or solid part's positions as the contacts see them under multi-rate stepping
+/// (Part::set_contact_lag): its own, or moved back by lag_s along the drift velocity.
+template <int D>
+struct LaggedPositions {
+  std::vector<Vec<D>> x;
+  bool active = false;
+
+  /// lag_s > 0: x_i = own_i - lag_s drift(i) for i in [0, n); 0: the part's own again.
+  template <class Drift>
+  void set(const std::vector<Vec<D>>& own, Real lag_s, Drift&& drift) {
+    active = lag_s != 0;
+    if (!active) return;
+    x.resize(own.size());
+    parallel::for_each(static_cast<Index>(own.size()),
+                       [&](Index i) { x[at(i)] = own[at(i)] - lag_s * drift(i); });
+  }
+  const std::vector<Vec<D>>* view(const std::vector<Vec<D>>& own) const {
+    return active ? &x : &own;
+  }
+};
+
+/// Contact forces (and torques) a part keeps for its next step's first half kick under
+/// multi-rate stepping (Part::set_next_contact_forces), until its step is finished. The part
+/// calls started() in advance() and, once its step is finished (or at once when it is not in
+/// a step), take(f) with f(force, torque) replacing its contact forces.
+template <int D>
+struct NextContactForces {
+  std::vector<Vec<D>> force;
+  std::vector<AxialVec<D>> torque;
+  bool pending = false;
+  bool in_step = false;
+
+  void started() { in_step = true; }
+  /// Keeps the forces; takes them at once (take(f)) when the part is between steps.
+  template <class Take>
+  void set(const std::vector<Vec<D>>& f, const std::vector<AxialVec<D>>& t, Take&& take) {
+    force = f;
+    torque = t;
+    pending = true;
+    if (!in_step) finished(take);
+  }
+  /// The step is finished: the kept forces, if any, replace the part's.
+  template <class Take>
+  void finished(Take&& take) {
+    in_step = false;
+    if (!pending) return;
+    take(force, torque);
     pending = false;
   }
 };

@@ -89,6 +89,9 @@ struct ContactPoints {
   // particle), or -1 when not touching one; and the overlap at the last step [m].
   std::vector<Real>* surface_offset = nullptr;
   std::vector<Real>* surface_overlap = nullptr;
+  // Each particle's id, which stays with it when others are removed (multi-rate stepping
+  // follows its particles across a removal with it).
+  const std::vector<std::int64_t>* id = nullptr;
 };
 
 /// Nodes of a surface face: 2 (a segment, 2D) or 4 (a quadrilateral, 3D).
@@ -168,6 +171,27 @@ class Part {
   virtual std::optional<ContactSurface<D>> contact_surface() const { return std::nullopt; }
   virtual void add_contact_forces(const std::vector<Vec<D>>& /*force*/,
                                   const std::vector<AxialVec<D>>& /*torque*/) {
+    throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
+                             ") does not take part in contacts");
+  }
+
+  /// Multi-rate stepping (solver/multi_rate.hpp), for a part in the middle of its step when
+  /// the contacts are evaluated, lag_s before its step ends: contact_points() and
+  /// contact_surface() then show the positions of that time on the part's straight path,
+  /// x - lag_s v^{n+1/2} (v the velocity its last advance() drifted with). 0: its own
+  /// positions again. Nothing else of the part changes.
+  virtual void set_contact_lag(Real /*lag_s*/) {
+    throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
+                             ") does not take part in contacts");
+  }
+  /// Multi-rate stepping: the contact forces (and torques) for the first half kick of the
+  /// next step, where they differ from those add_contact_forces() gave this step's end
+  /// (a part whose contacts are evaluated at a finer step than its own). Called after
+  /// add_contact_forces() and before finish_step(); the part takes them when the step is
+  /// finished (after any removal of its entities), without booking work: the work of the
+  /// next step is booked with them.
+  virtual void set_next_contact_forces(const std::vector<Vec<D>>& /*force*/,
+                                       const std::vector<AxialVec<D>>& /*torque*/) {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
                              ") does not take part in contacts");
   }

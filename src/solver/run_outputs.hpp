@@ -249,6 +249,14 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
   j.field("time_s", r.time_s);
   j.key("time_step").begin_object();
   j.field("min_s", dt_min).field("max_s", dt_max).field("safety_factor", c.time.safety_factor);
+  if (c.time.multi_rate) {
+    // Multi-rate: a step is a cycle, min_s / max_s its base step; each part's own steps.
+    j.field("multi_rate_max_ratio", static_cast<std::int64_t>(c.time.multi_rate_max_ratio));
+    j.key("steps_by_part").begin_object();
+    for (const auto& [name, n] : r.steps_by_part)
+      j.field(name, n);
+    j.end_object();
+  }
   j.end_object();
   auto energies = [&](const char* name, const Energies& en) {
     j.key(name).begin_object();

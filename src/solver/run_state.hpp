@@ -40,6 +40,13 @@ struct LoopState {
   Real err = 0;
   std::vector<Real> part_total0_j;  // each part's total energy at t = 0 (the energy guard)
   std::uint8_t energy_warned = 0;   // the guard's warning was given
+  // Multi-rate stepping (multi_rate.hpp): the plan of the next cycle (each part's step in base
+  // steps, and the base step), decided at the end of the last one, and the steps each part has
+  // taken; empty otherwise.
+  std::vector<std::int64_t> rate_ratio;
+  Real rate_base_step_s = 0;
+  std::vector<std::int64_t> part_steps;
+  std::vector<Real> rate_carried;  // MultiRate::carried(), set when a checkpoint is written
 
   void save(parts::StateWriter& w) const {
     w.tag("loop");
@@ -55,6 +62,10 @@ struct LoopState {
     w.value(err);
     w.vector(part_total0_j);
     w.value(energy_warned);
+    w.vector(rate_ratio);
+    w.value(rate_base_step_s);
+    w.vector(part_steps);
+    w.vector(rate_carried);
   }
   void load(parts::StateReader& r) {
     r.tag("loop");
@@ -70,6 +81,10 @@ struct LoopState {
     r.value(err);
     r.vector(part_total0_j);
     r.value(energy_warned);
+    r.vector(rate_ratio);
+    r.value(rate_base_step_s);
+    r.vector(part_steps);
+    r.vector(rate_carried);
   }
 };
 

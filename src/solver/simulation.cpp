@@ -12,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <limits>
+#include <tuple>
 
 #include "contact/coupling.hpp"
 #include "core/error.hpp"
@@ -21,6 +22,7 @@
 #include "solver/assembly.hpp"
 #include "solver/energy_balance.hpp"
 #include "solver/memory_estimate.hpp"
+#include "solver/multi_rate.hpp"
 #include "solver/probes.hpp"
 #include "solver/progress.hpp"
 #include "solver/run_outputs.hpp"
@@ -62,7 +64,8 @@ class Run {
         wall_start_(std::chrono::steady_clock::now()),
         parts_((parallel::set_threads(opt.threads), build_parts<D>(c))),
         coupling_(contact_settings(c), parts_),
-        probes_(c, parts_) {}  // the initial ground surface: before any step or resume
+        probes_(c, parts_),  // the initial ground surface: before any step or resume
+        multi_rate_(c.time.safety_factor, c.time.multi_rate_max_ratio) {}
 
   RunResult go() {
     if (!opt_.restart.empty())
@@ -73,7 +76,10 @@ class Run {
       spdlog::warn("{}", w);
     r_.threads = parallel::max_threads();
     SignalGuard signals;
-    if (opt_.restart.empty()) record_start();
+    if (opt_.restart.empty()) {
+      record_start();
+      if (c_.time.multi_rate) start_multi_rate();
+    }
     r_.steps = st_.steps;
     r_.first_step = st_.steps;
     // A summary from the start (status "running"), brought up to date at every checkpoint: a
@@ -105,6 +111,13 @@ class Run {
                       "after defaults and --set; resume with the same file and overrides)",
                       h.scenario_hash, c_.hash));
     st_.load(rd);
+    if (c_.time.multi_rate) {
+      try {
+        multi_rate_.restore(st_.rate_carried);
+      } catch (const std::runtime_error& e) {
+        rd.fail(e.what());
+      }
+    }
     std::vector<std::vector<std::pair<Real, std::string>>> pvd;
     const std::uint64_t history_bytes = Outputs<D>::load_pvd(rd, pvd);
     rd.tag("parts");
@@ -176,15 +189,21 @@ class Run {
     try {
       while (st_.t < c_.end_time_s - t_eps &&
              (c_.time.max_steps == 0 || r_.steps < c_.time.max_steps)) {
-        const auto [dt, at_frame] = next_step(t_eps);
-        if (at_frame)
-          for (auto& p : parts_)
-            p->expect_frame();
-        advance_stage(parts_, st_.t, dt, &clock_);
-        st_.t = at_frame ? st_.next_frame_t : st_.t + dt;
-        ++r_.steps;
-        st_.steps = r_.steps;
-        finish_step_stages(parts_, coupling_, st_.t, dt, &clock_);
+        Real dt = 0;
+        bool at_frame = false;
+        if (c_.time.multi_rate) {
+          std::tie(dt, at_frame) = multi_rate_cycle(t_eps);
+        } else {
+          std::tie(dt, at_frame) = next_step(t_eps);
+          if (at_frame)
+            for (auto& p : parts_)
+              p->expect_frame();
+          advance_stage(parts_, st_.t, dt, &clock_);
+          st_.t = at_frame ? st_.next_frame_t : st_.t + dt;
+          ++r_.steps;
+          st_.steps = r_.steps;
+          finish_step_stages(parts_, coupling_, st_.t, dt, &clock_);
+        }
         StageClock::time(probes_s_, [&] { probes_.after_step(parts_, st_.t); });
         const bool last = st_.t >= c_.end_time_s - t_eps;
         StageClock::time(output_s_, [&] {
@@ -247,6 +266,48 @@ class Run {
     return {dt, at_frame};
   }
 
+  // Multi-rate stepping: the plan of the first cycle from the initial state, and the share of
+  // the initial contact forces of the parts whose contacts are evaluated at a finer step.
+  void start_multi_rate() {
+    const RatePlan plan = multi_rate_.plan(parts_, coupling_);
+    st_.rate_ratio = plan.ratio;
+    st_.rate_base_step_s = plan.h;
+    st_.part_steps.assign(parts_.size(), 0);
+    const Real t_eps = 1e-12 * c_.end_time_s;
+    multi_rate_.start(parts_, coupling_, make_cycle(plan, st_.t, st_.next_frame_t, t_eps).ratio);
+  }
+
+  // One multi-rate cycle (multi_rate.hpp) from the plan in st_; its base step and whether it
+  // ends at an output time. The plan of the next cycle is decided at its end.
+  std::pair<Real, bool> multi_rate_cycle(Real t_eps) {
+    const RateCycle cy =
+        make_cycle({st_.rate_ratio, st_.rate_base_step_s}, st_.t, st_.next_frame_t, t_eps);
+    if (!(cy.h > 0) || !std::isfinite(cy.h)) {
+      const StepLimit<D> lim = smallest_stable_step(parts_, &coupling_, c_.time.safety_factor);
+      throw NumericalError(lim.part.empty() ? "?" : lim.part, lim.detail.entity_id, st_.t,
+                           fmt::format("stable time step is {} ({})", lim.dt_s, lim.detail.reason));
+    }
+    // The output time after this cycle's end, as record_step will set it.
+    const Real frame_after =
+        cy.at_frame
+            ? std::min(c_.output.interval_s * static_cast<Real>(st_.frame + 1), c_.end_time_s)
+            : st_.next_frame_t;
+    auto decide = [&] {
+      const RatePlan plan = multi_rate_.plan(parts_, coupling_);
+      st_.rate_ratio = plan.ratio;
+      st_.rate_base_step_s = plan.h;
+      return make_cycle(plan, cy.t_end, frame_after, t_eps).ratio;
+    };
+    multi_rate_.cycle(cy, parts_, coupling_, clock_, decide, st_.part_steps);
+    st_.t = cy.t_end;
+    ++r_.steps;
+    st_.steps = r_.steps;
+    st_.dt = cy.h;
+    st_.dt_min = std::min(st_.dt_min, cy.h);
+    st_.dt_max = std::max(st_.dt_max, cy.h);
+    return {cy.h, cy.at_frame};
+  }
+
   // A history row every history_every steps, at frames and at the end (with the energy
   // guard), and the frame.
   void record_step(Real dt, bool at_frame, bool last) {
@@ -277,6 +338,7 @@ class Run {
                       elapsed() - last_checkpoint_s_ >= c_.output.checkpoint_every_s);
     if ((due || sig != 0) && !last) {
       out_->flush();
+      if (c_.time.multi_rate) st_.rate_carried = multi_rate_.carried();
       write_checkpoint<D>(c_, *manifest_, st_, *out_, parts_, probes_);
       stamp();
       if (sig == 0) summary("running", "");
@@ -316,6 +378,9 @@ class Run {
       tp.parts_s.emplace_back(parts_[k]->name(), s);
       accounted += s;
     }
+    r_.steps_by_part.clear();
+    for (std::size_t k = 0; k < st_.part_steps.size() && k < parts_.size(); ++k)
+      r_.steps_by_part.emplace_back(parts_[k]->name(), st_.part_steps[k]);
     tp.contacts_s = clock_.contacts_s;
     tp.probes_s = probes_s_;
     tp.output_s = output_s_;
@@ -334,9 +399,10 @@ class Run {
   RunResult r_;
   double loop_start_s_ = 0;
   double last_checkpoint_s_ = 0;
-  StageClock clock_;     // the parts' stages and the contacts, for run.time_by_part_s
-  double probes_s_ = 0;  // the probes after each step
-  double output_s_ = 0;  // history rows, frames, progress, checkpoints
+  MultiRate<D> multi_rate_;  // time.multi_rate: each part at its own step
+  StageClock clock_;         // the parts' stages and the contacts, for run.time_by_part_s
+  double probes_s_ = 0;      // the probes after each step
+  double output_s_ = 0;      // history rows, frames, progress, checkpoints
 };
 
 template <int D>

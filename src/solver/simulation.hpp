@@ -7,9 +7,11 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io/output/run_directory.hpp"
@@ -46,6 +48,8 @@ struct RunResult {
   double wall_s = 0;
   double loop_s = 0;  // the time loop alone: wall_s without the setup and the final output
   int threads = 1;
+  // Multi-rate stepping: the steps each part took (scenario order); empty otherwise.
+  std::vector<std::pair<std::string, std::int64_t>> steps_by_part;
   // loop_s split by where it went: each part's stages (scenario order), the contacts between
   // parts, the probes, the outputs (history, frames, progress, checkpoints), the rest.
   struct TimeByPart {

@@ -213,6 +213,7 @@ class SphPart final : public parts::Part<D> {
       e_[i] = eh_[i] + half * de_[i];
     });
     contact_.moved(dt);
+    next_contact_.started();
     // Work of gravity over the step, with the mid-step velocity.
     if (gravity_.squaredNorm() > 0)
       external_work_ += dt * parallel::deterministic_sum<Real>(
@@ -226,6 +227,7 @@ class SphPart final : public parts::Part<D> {
       rho_[i] = rhoh_[i] + half * drho_[i];
       e_[i] = eh_[i] + half * de_[i];
     });
+    next_contact_.finished([&](const auto& f, const auto&) { take_contact(f); });
     if (outflow_remove_) remove_outflow();
   }
 
@@ -235,12 +237,24 @@ class SphPart final : public parts::Part<D> {
     contact_radius_.resize(static_cast<std::size_t>(f_.size()));
     parallel::for_each(
         f_.size(), [&](Index i) { contact_radius_[i] = Real(0.5) * dth_root<D>(m_[i] / rho_[i]); });
-    return parts::ContactPoints<D>{.position = &x_,
+    return parts::ContactPoints<D>{.position = lagged_.view(x_),
                                    .velocity = &v_,
                                    .mass = &m_,
                                    .radius = &contact_radius_,
                                    .surface_offset = &surface_offset_,
-                                   .surface_overlap = &surface_overlap_};
+                                   .surface_overlap = &surface_overlap_,
+                                   .id = &id_};
+  }
+
+  void set_contact_lag(Real lag_s) override {
+    // The drift of advance(): the half-step velocity and the XSPH correction.
+    lagged_.set(x_, lag_s, [&](Index i) { return Vec<D>(vh_[i] + dx_xsph_[i]); });
+  }
+  void set_next_contact_forces(const std::vector<Vec<D>>& force,
+                               const std::vector<AxialVec<D>>& torque) override {
+    if (static_cast<Index>(force.size()) != f_.size())
+      throw std::logic_error("sph: next contact forces for another particle count");
+    next_contact_.set(force, torque, [&](const auto& f, const auto&) { take_contact(f); });
   }
 
   void add_contact_forces(const std::vector<Vec<D>>& force,
@@ -661,7 +675,16 @@ class SphPart final : public parts::Part<D> {
   std::vector<Real>& rhoh_;
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
-  std::vector<Vec<D>>& fc_;             // force of the contacts with other parts (in a_ too)
+  std::vector<Vec<D>>& fc_;                   // force of the contacts with other parts (in a_ too)
+  parts::LaggedPositions<D> lagged_;          // positions the contacts see (multi-rate stepping)
+  parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
+  /// Multi-rate: the next step starts with other contact forces than the last one ended with.
+  void take_contact(const std::vector<Vec<D>>& force) {
+    parallel::for_each(f_.size(), [&](Index i) {
+      a_[i] += (force[at(i)] - fc_[i]) / m_[i];
+      fc_[i] = force[at(i)];
+    });
+  }
   std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
   std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
   mutable std::vector<Real> contact_radius_;

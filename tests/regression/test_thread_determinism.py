@@ -82,6 +82,14 @@ class ThreadDeterminism(unittest.TestCase):
         self.assertIn("surface_profile.csv", files)
         self.assertIn("plate.pvd", files)
 
+    def test_paper_20cm_demo_multi_rate(self):
+        # The same with each part at its own step (time.multi_rate): the charge steps up to 8
+        # times the plate's step while its particles leave the domain (from 0.22 ms).
+        files = assert_bit_identical_runs("paper-20cm", scratch("det_paper20_mr"),
+                                          sets=["scenario.end_time_s=5e-4",
+                                                "time.multi_rate=true"])
+        self.assertIn("plate.pvd", files)
+
     def test_paper_fem_only_demo(self):
         # Pressure loads and FEM-FEM contacts (plate between four Drucker-Prager soil parts):
         # through the equivalent pressure's peak (0.11-0.25 ms) to 0.3 ms.

@@ -33,6 +33,10 @@ struct TimeConfig {
   std::optional<Real> fixed_dt_s;
   SourceLocation fixed_dt_where;  // for the "step above the stable limit" error
   Index max_steps{};              // 0: no limit
+  // Multi-rate stepping (solver/multi_rate.hpp): on, and the largest ratio of a part's step
+  // to the smallest (a power of two).
+  bool multi_rate{};
+  Index multi_rate_max_ratio{};
   // The energy guard: relative balance errors (history.csv energy_error) at which the run
   // warns once and at which it stops (exit 3); 0 turns either off.
   Real energy_warn_error{};

@@ -153,6 +153,16 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.time.fixed_dt_s = opt_num(tt, "fixed_dt_s");
   c.time.fixed_dt_where = loc(tt, "fixed_dt_s", top);
   c.time.max_steps = tt.get("max_steps")->as_integer()->get();
+  c.time.multi_rate = tt.get("multi_rate")->as_boolean()->get();
+  c.time.multi_rate_max_ratio = tt.get("multi_rate_max_ratio")->as_integer()->get();
+  if (c.time.multi_rate_max_ratio & (c.time.multi_rate_max_ratio - 1))
+    error(loc(tt, "multi_rate_max_ratio", top), "time.multi_rate_max_ratio",
+          fmt::format("expected a power of two (1, 2, 4, 8, ...), got {}",
+                      c.time.multi_rate_max_ratio));
+  if (c.time.multi_rate && c.time.fixed_dt_s)
+    error(loc(tt, "multi_rate", top), "time.multi_rate",
+          "multi-rate stepping takes each part's own stable step; unset time.fixed_dt_s or "
+          "set multi_rate = false");
   c.time.energy_warn_error = num(tt, "energy_warn_error");
   c.time.energy_stop_error = num(tt, "energy_stop_error");
   if (c.time.energy_stop_error > 0 && c.time.energy_warn_error > c.time.energy_stop_error)

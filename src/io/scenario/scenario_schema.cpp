@@ -41,6 +41,20 @@ TableSchema make_time() {
                     "stable step (the limiting part is named). Unset: computed every step.")),
       with_default(at_least(whole("max_steps", "Stop after this many steps (0: no limit)."), 0),
                    "0"),
+      with_default(flag("multi_rate",
+                        "Each part at its own stable step (docs/theory.md, \"Multi-rate "
+                        "stepping\"): parts step in power-of-two multiples of the smallest "
+                        "step, in cycles that end together; contacts are evaluated at the "
+                        "finer of their two parts' steps. A step (history.csv, max_steps, "
+                        "checkpoint_every_steps) is then one cycle. Not with fixed_dt_s."),
+                   "false"),
+      with_default(at_most(at_least(whole("multi_rate_max_ratio",
+                                          "Multi-rate: the largest ratio of a part's step to "
+                                          "the smallest (a power of two; 1: one step for all, "
+                                          "in multi-rate's bookkeeping)."),
+                                    1),
+                           1024),
+                   "8"),
       with_default(at_least(real("energy_warn_error", "1",
                                  "Energy guard: warn once when the relative energy balance "
                                  "error (history.csv energy_error, checked at every history "
