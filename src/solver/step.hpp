@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/coupling.hpp"
@@ -72,6 +73,18 @@ struct StageClock {
     f();
     into += std::chrono::duration<double>(Clock::now() - start).count();
   }
+  /// The same, or f() alone when there is no clock (`into` null).
+  template <class F>
+  static void time(double* into, F&& f) {
+    if (into)
+      time(*into, std::forward<F>(f));
+    else
+      f();
+  }
+  /// Where part k's time goes on `clock`, or nowhere.
+  static double* part_of(StageClock* clock, std::size_t k) {
+    return clock ? &clock->part(k) : nullptr;
+  }
   double& part(std::size_t k) {
     if (part_s.size() <= k) part_s.resize(k + 1, 0);
     return part_s[k];
@@ -83,12 +96,8 @@ struct StageClock {
 template <int D>
 void advance_stage(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, Real dt,
                    StageClock* clock = nullptr) {
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    if (clock)
-      StageClock::time(clock->part(k), [&] { parts[k]->advance(t, dt); });
-    else
-      parts[k]->advance(t, dt);
-  }
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    StageClock::time(StageClock::part_of(clock, k), [&] { parts[k]->advance(t, dt); });
 }
 
 /// The rest of the step, at t_new = t + dt (given, so that a step lands exactly on an output
@@ -100,23 +109,17 @@ template <int D>
 void finish_step_stages(const std::vector<std::unique_ptr<Part<D>>>& parts,
                         contact::Coupling<D>& coupling, Real t_new, Real dt,
                         StageClock* clock = nullptr) {
-  auto timed = [&](double* into, auto&& f) {
-    if (into)
-      StageClock::time(*into, f);
-    else
-      f();
-  };
-  auto part_clock = [&](std::size_t k) { return clock ? &clock->part(k) : nullptr; };
+  auto part_clock = [&](std::size_t k) { return StageClock::part_of(clock, k); };
   for (std::size_t k = 0; k < parts.size(); ++k)
-    timed(part_clock(k), [&] { parts[k]->compute_forces(t_new); });
-  timed(clock ? &clock->contacts_s : nullptr, [&] { coupling.apply(parts, dt); });
+    StageClock::time(part_clock(k), [&] { parts[k]->compute_forces(t_new); });
+  StageClock::time(clock ? &clock->contacts_s : nullptr, [&] { coupling.apply(parts, dt); });
   for (std::size_t k = 0; k < parts.size(); ++k)
-    timed(part_clock(k), [&] {
+    StageClock::time(part_clock(k), [&] {
       if (auto fault = parts[k]->check())
         throw NumericalError(parts[k]->name(), fault->entity_id, t_new, fault->what);
     });
   for (std::size_t k = 0; k < parts.size(); ++k)
-    timed(part_clock(k), [&] { parts[k]->finish_step(dt); });
+    StageClock::time(part_clock(k), [&] { parts[k]->finish_step(dt); });
 }
 
 }  // namespace crater::solver
