@@ -153,6 +153,21 @@ class GrainsOnPlate(unittest.TestCase, Case):
                          summary_without_run_block(again / "summary.json"))
 
 
+class Input(unittest.TestCase):
+    def test_bad_keys_are_refused_with_exit_2(self):
+        work = scratch("multi_rate_input")
+        path = work / "grains.toml"
+        path.write_text(grains_on_plate())
+        for sets, says in ((["time.multi_rate=true", "time.fixed_dt_s=1e-8"], "fixed_dt_s"),
+                           (["time.multi_rate_max_ratio=3"], "power of two")):
+            with self.subTest(sets=sets):
+                proc = crater("run", path, "--out", work / "out", "--force", "--quiet",
+                              *[a for x in sets for a in ("--set", x)], check=False)
+                self.assertEqual(proc.returncode, 2, proc.stderr)
+                self.assertIn("time.multi_rate", proc.stderr)
+                self.assertIn(says, proc.stderr)
+
+
 class PaperScene(unittest.TestCase):
     def test_restart_across_removals_is_bit_identical(self):
         # paper-20cm (demo level) to 0.5 ms with multi-rate: the charge steps up to 8 plate
