@@ -24,7 +24,8 @@
 // Particles a part removes at a step's end (outflow) are followed by their ids
 // (parts::ContactPoints::id) into the next step's sums.
 // The ratios for the next cycle are decided at the end of this one, from the state whose
-// forces are known (after the force stage and the contacts, before the last half kick): each
+// forces are known (after the force stage, the contacts and the checks, before the last half
+// kicks, so that the parts' limits are those one-rate stepping would see next): each
 // part's own allowed step, the side limits of its contacts (its lightest body on the stiffest
 // spring, its bodies held by several springs; absolute), and each contact's pair limit on the
 // finer of its parts. m_p = the largest power of two <= max_ratio with m_p h_0 <= allowed_p,
@@ -180,6 +181,12 @@ class MultiRate {
       for (std::size_t p = 0; p < np; ++p)
         if (ends(p)) StageClock::time(clock.part(p), [&] { parts[p]->compute_forces(t_next); });
       StageClock::time(clock.contacts_s, [&] { contacts(cy, j, parts, coupling); });
+      // As one-rate stepping: the contact forces to the parts, every part checked, then the
+      // last half kicks; the next cycle's ratios from the state in between.
+      std::vector<Sums> full(np);
+      for (std::size_t p = 0; p < np; ++p)
+        if (ends(p))
+          StageClock::time(clock.contacts_s, [&] { full[p] = hand_over(parts, coupling, p); });
       for (std::size_t p = 0; p < np; ++p)
         if (ends(p))
           StageClock::time(clock.part(p), [&] {
@@ -191,12 +198,11 @@ class MultiRate {
       const std::vector<std::int64_t>& after = j == M ? next : cy.ratio;
       for (std::size_t p = 0; p < np; ++p) {
         if (!ends(p)) continue;
-        Sums full;
-        StageClock::time(clock.contacts_s, [&] { full = hand_over(parts, coupling, p); });
-        StageClock::time(clock.part(p),
-                         [&] { parts[p]->finish_step(cy.h * static_cast<Real>(cy.ratio[p])); });
+        StageClock::time(clock.part(p), [&] {
+          parts[p]->finish_step(cy.h * static_cast<Real>(cy.ratio[p]));
+        });
         StageClock::time(clock.contacts_s, [&] {
-          if (involved(coupling, p)) begin_step(coupling, p, after, std::move(full));
+          if (involved(coupling, p)) begin_step(coupling, p, after, std::move(full[p]));
         });
       }
     }
