@@ -198,9 +198,8 @@ class MultiRate {
       const std::vector<std::int64_t>& after = j == M ? next : cy.ratio;
       for (std::size_t p = 0; p < np; ++p) {
         if (!ends(p)) continue;
-        StageClock::time(clock.part(p), [&] {
-          parts[p]->finish_step(cy.h * static_cast<Real>(cy.ratio[p]));
-        });
+        StageClock::time(clock.part(p),
+                         [&] { parts[p]->finish_step(cy.h * static_cast<Real>(cy.ratio[p])); });
         StageClock::time(clock.contacts_s, [&] {
           if (involved(coupling, p)) begin_step(coupling, p, after, std::move(full[p]));
         });

@@ -104,6 +104,29 @@ def assert_bit_identical_runs(scenario, work_dir, sets=(), threads=(1, 2)):
     return names
 
 
+def assert_restart_identical(scenario, full, checkpoint, sets=()):
+    """Restarts `scenario` from `checkpoint` (a file in full/checkpoints) in a copy of the run
+    directory `full`, with the --set overrides `sets` of the run that wrote it, and asserts
+    that every file it writes is bit-identical to full's (summary.json: all but its "run"
+    block)."""
+    import shutil
+    full = Path(full)
+    again = full.parent / (full.name + "_again")
+    if again.exists():
+        shutil.rmtree(again)
+    shutil.copytree(full, again)
+    (again / "summary.json").unlink()
+    crater("run", scenario, "--restart", again / "checkpoints" / Path(checkpoint).name, "--quiet",
+           *[a for x in sets for a in ("--set", x)])
+    for f in sorted(full.iterdir()):
+        if f.is_file() and f.name != "summary.json":
+            if f.read_bytes() != (again / f.name).read_bytes():
+                raise AssertionError(f"from {Path(checkpoint).name}: {f.name} differs")
+    if summary_without_run_block(full / "summary.json") != \
+            summary_without_run_block(again / "summary.json"):
+        raise AssertionError(f"from {Path(checkpoint).name}: summary.json differs")
+
+
 def read_vtu(path):
     """Reads a .vtu with VTK's own XML reader; returns (points Nx3, {name: array}, n_cells)."""
     from vtkmodules.util.numpy_support import vtk_to_numpy

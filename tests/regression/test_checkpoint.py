@@ -16,7 +16,7 @@ import time
 import unittest
 from pathlib import Path
 
-from crater_test import BIN, crater, scratch, summary_without_run_block
+from crater_test import BIN, assert_restart_identical, crater, scratch, summary_without_run_block
 
 SOURCE = Path(os.environ.get("CRATER_SOURCE_DIR", Path(__file__).resolve().parents[2]))
 DEMO = SOURCE / "scenarios" / "demo.toml"
@@ -137,19 +137,7 @@ class Checkpoints(unittest.TestCase):
                 cks = sorted((full / "checkpoints").glob("*.ckpt"))
                 self.assertGreaterEqual(len(cks), 2)
                 for ck in (cks[0], cks[len(cks) // 2]):
-                    again = self.dir / f"again_{name}"
-                    if again.exists():
-                        shutil.rmtree(again)
-                    shutil.copytree(full, again)
-                    (again / "summary.json").unlink()
-                    crater("run", scen, "--restart", again / "checkpoints" / ck.name, "--quiet",
-                           *sets)
-                    for f in sorted(full.iterdir()):
-                        if f.is_file() and f.name != "summary.json":
-                            self.assertEqual(f.read_bytes(), (again / f.name).read_bytes(),
-                                             f"{name} from {ck.name}: {f.name} differs")
-                    self.assertEqual(summary_without_run_block(full / "summary.json"),
-                                     summary_without_run_block(again / "summary.json"))
+                    assert_restart_identical(scen, full, ck, sets[1::2])
 
     def test_restart_across_outflow_removals(self):
         # domain.outflow = "remove": SPH particles and DEM grains (with contact and bond
@@ -176,18 +164,7 @@ class Checkpoints(unittest.TestCase):
         self.assertGreaterEqual(len(during), 3, "too few checkpoints between removals")
         for ck in (before[-1], during[0], during[len(during) // 2], during[-1]):
             with self.subTest(checkpoint=ck.name):
-                again = self.dir / "again_outflow"
-                if again.exists():
-                    shutil.rmtree(again)
-                shutil.copytree(full, again)
-                (again / "summary.json").unlink()
-                crater("run", scen, "--restart", again / "checkpoints" / ck.name, "--quiet", *sets)
-                for f in sorted(full.iterdir()):
-                    if f.is_file() and f.name != "summary.json":
-                        self.assertEqual(f.read_bytes(), (again / f.name).read_bytes(),
-                                         f"from {ck.name}: {f.name} differs")
-                self.assertEqual(summary_without_run_block(full / "summary.json"),
-                                 summary_without_run_block(again / "summary.json"))
+                assert_restart_identical(scen, full, ck, sets[1::2])
 
     def test_resume_without_checkpoint_is_refused(self):
         out = self.dir / "empty"

@@ -13,14 +13,13 @@ cases where each part steps at its own stable step, against the same case at one
   particles on the springs may step slower than the plate): the same three checks.
 Both cases check that the parts did step at different rates (summary.json's steps_by_part).
 """
-import shutil
 import sys
 import unittest
 
 import numpy as np
 
-from crater_test import (assert_bit_identical_runs, crater, read_vtu, run_scenario, scratch,
-                         summary_without_run_block)
+from crater_test import (assert_bit_identical_runs, assert_restart_identical, crater, read_vtu,
+                         run_scenario, scratch)
 from scenario_blocks import (AIR, SAND, STEEL, box, compose_scenario, contact, domain, material,
                              output, part, particle, scenario_text)
 
@@ -106,11 +105,8 @@ class Case:
         test.assertLess(worst, 0.01)
 
 
-class GrainsOnPlate(unittest.TestCase, Case):
-    @classmethod
-    def setUpClass(cls):
-        cls.case = Case()
-        cls.case.setup("grains", grains_on_plate(), "grains", "mass")
+class SharedChecks:
+    """The checks both cases run on self.case (a mixin: not a TestCase of its own)."""
 
     def test_parts_step_at_their_own_rates(self):
         self.case.check_rates(self)
@@ -123,6 +119,13 @@ class GrainsOnPlate(unittest.TestCase, Case):
 
     def test_transmitted_impulse_as_one_rate(self):
         self.case.check_impulse(self)
+
+
+class GrainsOnPlate(SharedChecks, unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.case = Case()
+        cls.case.setup("grains", grains_on_plate(), "grains", "mass")
 
     def test_thread_count_does_not_change_the_result(self):
         assert_bit_identical_runs(self.case.scenario, self.case.work / "threads",
@@ -137,20 +140,7 @@ class GrainsOnPlate(unittest.TestCase, Case):
         run_scenario(self.case.scenario, full, sets=sets)
         cks = sorted((full / "checkpoints").glob("*.ckpt"))
         self.assertGreaterEqual(len(cks), 4)
-        again = self.case.work / "ck_again"
-        if again.exists():
-            shutil.rmtree(again)
-        shutil.copytree(full, again)
-        (again / "summary.json").unlink()
-        ck = cks[len(cks) // 2]
-        crater("run", self.case.scenario, "--restart", again / "checkpoints" / ck.name,
-               "--quiet", *[a for x in sets for a in ("--set", x)])
-        for f in sorted(full.iterdir()):
-            if f.is_file() and f.name != "summary.json":
-                self.assertEqual(f.read_bytes(), (again / f.name).read_bytes(),
-                                 f"from {ck.name}: {f.name} differs")
-        self.assertEqual(summary_without_run_block(full / "summary.json"),
-                         summary_without_run_block(again / "summary.json"))
+        assert_restart_identical(self.case.scenario, full, cks[len(cks) // 2], sets)
 
 
 class Input(unittest.TestCase):
@@ -172,8 +162,8 @@ class PaperScene(unittest.TestCase):
     def test_restart_across_removals_is_bit_identical(self):
         # paper-20cm (demo level) to 0.5 ms with multi-rate: the charge steps up to 8 plate
         # steps at a time while its particles and the grains leave the domain (from 0.22 and
-        # 0.11 ms);
-        # restarted from a checkpoint after the first removals, the run writes the same files.
+        # 0.11 ms); restarted from a checkpoint after the first removals, the run writes the
+        # same files.
         work = scratch("multi_rate_paper")
         sets = ["time.multi_rate=true", "scenario.end_time_s=5e-4",
                 "output.checkpoint_every_steps=250", "output.checkpoint_keep=100"]
@@ -185,22 +175,10 @@ class PaperScene(unittest.TestCase):
         self.assertGreater(left["charge"], 0)
         cks = sorted((full / "checkpoints").glob("*.ckpt"))
         ck = cks[-1]  # at cycle 1000 of about 1160 (0.42 ms): after removals of both kinds
-        again = work / "again"
-        if again.exists():
-            shutil.rmtree(again)
-        shutil.copytree(full, again)
-        (again / "summary.json").unlink()
-        crater("run", "paper-20cm", "--restart", again / "checkpoints" / ck.name, "--quiet",
-               *[a for x in sets for a in ("--set", x)])
-        for f in sorted(full.iterdir()):
-            if f.is_file() and f.name != "summary.json":
-                self.assertEqual(f.read_bytes(), (again / f.name).read_bytes(),
-                                 f"from {ck.name}: {f.name} differs")
-        self.assertEqual(summary_without_run_block(full / "summary.json"),
-                         summary_without_run_block(again / "summary.json"))
+        assert_restart_identical("paper-20cm", full, ck, sets)
 
 
-class BlobOnPlate(unittest.TestCase):
+class BlobOnPlate(SharedChecks, unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.case = Case()
@@ -210,18 +188,6 @@ class BlobOnPlate(unittest.TestCase):
         # (0.26 %); at ratio 2 it moves by 0.42 %, the one-rate scatter (docs/validation.md).
         cls.case.setup("blob", blob_on_plate(), "blob", "mass",
                        sets=["time.multi_rate_max_ratio=2"])
-
-    def test_parts_step_at_their_own_rates(self):
-        self.case.check_rates(self)
-
-    def test_momentum_is_exchanged_exactly(self):
-        self.case.check_momentum(self)
-
-    def test_energy_balance(self):
-        self.case.check_energy(self)
-
-    def test_transmitted_impulse_as_one_rate(self):
-        self.case.check_impulse(self)
 
 
 if __name__ == "__main__":
