@@ -21,11 +21,6 @@ namespace {
 
 using materials::Mat3;
 
-template <class F>
-void for_each_entity(Index n, F&& f) {
-  parallel::for_each(n, std::forward<F>(f));
-}
-
 /// Per-element results of one force evaluation, reduced afterwards in a fixed order.
 struct ElementResults {
   std::vector<Real> internal_energy_j;
@@ -59,119 +54,120 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
   constexpr int kNodes = kElementNodes<D>;
   const Real rho0 = material.density_kg_m3;
   const Real modulus = materials::p_wave_modulus(materials::elastic_of(law));
-  for_each_entity(mesh.element_count(), [&](Index e) {
-    const std::size_t ue = at(e);
-    NodeArray<D>& force = mesh.element_force[ue];
-    const NodeArray<D> last_force = force;
-    for (Vec<D>& f : force) {
-      f.setZero();
-    }
-    if (mesh.eroded[ue]) {
-      return;
-    }
-    const NodeArray<D> x = mesh.element_positions(e);
-    const NodeArray<D> v = mesh.element_velocities(e);
-    // An element that fails now: its forces of the last evaluation worked on its nodes over the
-    // step just taken (half of the trapezoid, as the half kicks have it; the other half, with
-    // its forces now zero, is nothing). That work is booked before the element's energy leaves
-    // the part, or the nodes keep energy the element never gave up.
-    auto erode = [&] {
-      Real work = 0;
-      for (int node = 0; node < kNodes; ++node) {
-        work -= last_force[node].dot(v[node]);
-      }
-      work *= Real(0.5) * dt;
-      out.internal_energy_j[ue] = work;
-      mesh.internal_energy_j[ue] += work;
-      mesh.eroded[ue] = 1;
-      out.eroded_now[ue] = 1;
-      mesh.stress[ue].setZero();
-    };
-    const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
-    if (!(g.volume > 0)) {
-      if (material.erode_inverted) {
-        erode();
-      } else {
-        out.inverted[ue] = 1;
-      }
-      return;
-    }
-    const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
-    const Real c = std::sqrt(modulus / rho);
-    const Mat3 l = velocity_gradient<D>(v, g);
-    const Mat3 d = rate_of_deformation(l);
-    const Mat3 old_stress = mesh.stress[ue];
-    Mat3 sigma = old_stress;
-    if (dt > 0) {
-      const Mat3 rotated = D == 2 ? jaumann_rotate_plane(old_stress, spin(l)(0, 1), dt)
-                                  : jaumann_rotate(old_stress, spin(l), dt);
-      const materials::StressUpdate up = materials::update_stress_of(
-          law, rotated, d * dt,
-          materials::MaterialPointState{.plastic_strain = mesh.plastic_strain[ue],
-                                        .temperature_k = mesh.temperature_k[ue]},
-          dt, rho);
-      sigma = up.stress;
-      const Real d_eps = up.plastic_strain_increment;
-      if (material.damage && d_eps > 0) {
-        mesh.damage[ue] += materials::johnson_cook_damage_increment(
-            *material.damage, d_eps, materials::stress_triaxiality(sigma), d_eps / dt,
-            mesh.temperature_k[ue]);
-      }
-      mesh.plastic_strain[ue] += d_eps;
-      mesh.temperature_k[ue] += up.temperature_increment_k;
-      // A crushed element's step shrinks with its thickness; below the floor it erodes
-      // rather than hold the whole model's step down (bulk viscosity of this step included).
-      const bool too_small_a_step =
-          material.erosion_min_step_s > 0 &&
-          stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace()) *
-                  scaled_step_factor(mesh, material, ue) <
-              material.erosion_min_step_s;
-      if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
-          mesh.plastic_strain[ue] >= material.erosion_plastic_strain || too_small_a_step) {
-        erode();
+  parallel::for_each(
+      mesh.element_count(),
+      [&](Index e) {
+        const std::size_t ue = at(e);
+        NodeArray<D>& force = mesh.element_force[ue];
+        const NodeArray<D> last_force = force;
+        for (Vec<D>& f : force)
+          f.setZero();
+        if (mesh.eroded[ue]) return;
+        const NodeArray<D> x = mesh.element_positions(e);
+        const NodeArray<D> v = mesh.element_velocities(e);
+        // An element that fails now: its forces of the last evaluation worked on its nodes over the
+        // step just taken (half of the trapezoid, as the half kicks have it; the other half, with
+        // its forces now zero, is nothing). That work is booked before the element's energy leaves
+        // the part, or the nodes keep energy the element never gave up.
+        auto erode = [&] {
+          Real work = 0;
+          for (int node = 0; node < kNodes; ++node) {
+            work -= last_force[node].dot(v[node]);
+          }
+          work *= Real(0.5) * dt;
+          out.internal_energy_j[ue] = work;
+          mesh.internal_energy_j[ue] += work;
+          mesh.eroded[ue] = 1;
+          out.eroded_now[ue] = 1;
+          mesh.stress[ue].setZero();
+        };
+        const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
+        if (!(g.volume > 0)) {
+          if (material.erode_inverted) {
+            erode();
+          } else {
+            out.inverted[ue] = 1;
+          }
+          return;
+        }
+        const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
+        const Real c = std::sqrt(modulus / rho);
+        const Mat3 l = velocity_gradient<D>(v, g);
+        const Mat3 d = rate_of_deformation(l);
+        const Mat3 old_stress = mesh.stress[ue];
+        Mat3 sigma = old_stress;
+        if (dt > 0) {
+          const Mat3 rotated = D == 2 ? jaumann_rotate_plane(old_stress, spin(l)(0, 1), dt)
+                                      : jaumann_rotate(old_stress, spin(l), dt);
+          const materials::StressUpdate up = materials::update_stress_of(
+              law, rotated, d * dt,
+              materials::MaterialPointState{.plastic_strain = mesh.plastic_strain[ue],
+                                            .temperature_k = mesh.temperature_k[ue]},
+              dt, rho);
+          sigma = up.stress;
+          const Real d_eps = up.plastic_strain_increment;
+          if (material.damage && d_eps > 0) {
+            mesh.damage[ue] += materials::johnson_cook_damage_increment(
+                *material.damage, d_eps, materials::stress_triaxiality(sigma), d_eps / dt,
+                mesh.temperature_k[ue]);
+          }
+          mesh.plastic_strain[ue] += d_eps;
+          mesh.temperature_k[ue] += up.temperature_increment_k;
+          // A crushed element's step shrinks with its thickness; below the floor it erodes
+          // rather than hold the whole model's step down (bulk viscosity of this step included).
+          const bool too_small_a_step =
+              material.erosion_min_step_s > 0 &&
+              stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c,
+                                  d.trace()) *
+                      scaled_step_factor(mesh, material, ue) <
+                  material.erosion_min_step_s;
+          if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
+              mesh.plastic_strain[ue] >= material.erosion_plastic_strain || too_small_a_step) {
+            erode();
+            mesh.volume[ue] = g.volume;
+            return;
+          }
+        }
+        mesh.stress[ue] = sigma;
         mesh.volume[ue] = g.volume;
-        return;
-      }
-    }
-    mesh.stress[ue] = sigma;
-    mesh.volume[ue] = g.volume;
 
-    const Real size = dth_root<D>(g.volume);
-    const Real q = bulk_viscosity_pressure(material.bulk_viscosity, rho, c, size, d.trace());
-    const Eigen::Matrix<Real, D, D> sigma_eff =
-        sigma.template topLeftCorner<D, D>() - q * Eigen::Matrix<Real, D, D>::Identity();
-    for (int node = 0; node < kNodes; ++node) {
-      force[node] = -g.volume * (sigma_eff * g.b[node]);
-    }
+        const Real size = dth_root<D>(g.volume);
+        const Real q = bulk_viscosity_pressure(material.bulk_viscosity, rho, c, size, d.trace());
+        const Eigen::Matrix<Real, D, D> sigma_eff =
+            sigma.template topLeftCorner<D, D>() - q * Eigen::Matrix<Real, D, D>::Identity();
+        for (int node = 0; node < kNodes; ++node) {
+          force[node] = -g.volume * (sigma_eff * g.b[node]);
+        }
 
-    const HourglassVectors<D> gamma = hourglass_shape_vectors<D>(x, g);
-    const HourglassForces<D> hg =
-        hourglass_forces<D>(material.hourglass, gamma, v, g.volume, rho, c, dt, mesh.hourglass[ue]);
-    for (int node = 0; node < kNodes; ++node) {
-      force[node] += hg.force[node];
-    }
+        const HourglassVectors<D> gamma = hourglass_shape_vectors<D>(x, g);
+        const HourglassForces<D> hg = hourglass_forces<D>(material.hourglass, gamma, v, g.volume,
+                                                          rho, c, dt, mesh.hourglass[ue]);
+        for (int node = 0; node < kNodes; ++node) {
+          force[node] += hg.force[node];
+        }
 
-    const Real work =
-        dt * g.volume * (Real(0.5) * (old_stress + sigma).cwiseProduct(d).sum() - q * d.trace());
-    out.internal_energy_j[ue] = work;
-    out.hourglass_energy_j[ue] = dt * hg.power_w;
-    mesh.internal_energy_j[ue] += work;
-    mesh.hourglass_energy_j[ue] += dt * hg.power_w;
-    const Real own_step =
-        stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace());
-    Real step = own_step * scaled_step_factor(mesh, material, ue);
-    const Real floor = material.mass_scaling_min_step_s;
-    if (floor > 0 && step < floor) {
-      // The step grows as the square root of the element's mass: the mass that holds it at the
-      // floor is m_e (floor / step_e)^2 (bulk viscosity taken at this evaluation's rate).
-      const Real ratio = floor / own_step;
-      const Real needed = rho0 * mesh.reference_volume[ue] * (ratio * ratio - 1);
-      out.added_mass_kg[ue] = needed - mesh.added_mass_kg[ue];
-      mesh.added_mass_kg[ue] = needed;
-      step = floor;
-    }
-    out.stable_dt_s[ue] = step;
-  });
+        const Real work = dt * g.volume *
+                          (Real(0.5) * (old_stress + sigma).cwiseProduct(d).sum() - q * d.trace());
+        out.internal_energy_j[ue] = work;
+        out.hourglass_energy_j[ue] = dt * hg.power_w;
+        mesh.internal_energy_j[ue] += work;
+        mesh.hourglass_energy_j[ue] += dt * hg.power_w;
+        const Real own_step =
+            stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace());
+        Real step = own_step * scaled_step_factor(mesh, material, ue);
+        const Real floor = material.mass_scaling_min_step_s;
+        if (floor > 0 && step < floor) {
+          // The step grows as the square root of the element's mass: the mass that holds it at the
+          // floor is m_e (floor / step_e)^2 (bulk viscosity taken at this evaluation's rate).
+          const Real ratio = floor / own_step;
+          const Real needed = rho0 * mesh.reference_volume[ue] * (ratio * ratio - 1);
+          out.added_mass_kg[ue] = needed - mesh.added_mass_kg[ue];
+          mesh.added_mass_kg[ue] = needed;
+          step = floor;
+        }
+        out.stable_dt_s[ue] = step;
+      },
+      parallel::Cost::heavy);  // an element's kinematics, stress update and hourglass forces
 }
 
 }  // namespace
@@ -236,7 +232,7 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
   std::visit([&](const auto& law) { update_elements<D>(mesh, material, law, dt, results); },
              material.strength);
 
-  for_each_entity(mesh.node_count(), [&](Index node) {
+  parallel::for_each(mesh.node_count(), [&](Index node) {
     Vec<D> f = Vec<D>::Zero();
     for (Index k = mesh.node_entry_offsets[at(node)]; k < mesh.node_entry_offsets[at(node) + 1];
          ++k) {

@@ -32,8 +32,6 @@ namespace crater::neighbors {
 
 namespace {
 
-// Below this many points the OpenMP fork costs more than the loops.
-constexpr Index kParallelMin = 4096;
 // Cells per dynamic chunk: cells can hold very different numbers of points.
 constexpr int kChunk = 64;
 
@@ -632,7 +630,8 @@ void build_neighbor_list(std::span<const Vec<D>> x, Real radius, Pairs mode, Nei
     out.indices.clear();
     return;
   }
-  const bool par = static_cast<Index>(x.size()) >= kParallelMin;
+  // A query point's scan of its stencil's cells is heavy work (parallel.hpp).
+  const bool par = parallel::forks(static_cast<Index>(x.size()), parallel::Cost::heavy);
   Workspace<D>& ws = workspace<D>();
   ws.grid = make_grid_spec<D>(x, radius);  // validates coordinates
   ws.cand.fill(x, ws.grid, par);
@@ -654,7 +653,8 @@ void build_cross_list_of(std::span<const Vec<D>> a, std::span<const Vec<D>> b, R
     out.indices.clear();
     return;
   }
-  const bool par = std::max<Index>(na, static_cast<Index>(b.size())) >= kParallelMin;
+  const bool par =
+      parallel::forks(std::max<Index>(na, static_cast<Index>(b.size())), parallel::Cost::heavy);
   Workspace<D>& ws = workspace<D>();
   ws.grid = make_grid_spec<D>(b, radius);
   ws.cand.fill(b, ws.grid, par);

@@ -15,7 +15,8 @@
 namespace crater::parallel {
 
 /// Block size for deterministic reductions; fixed so that results never depend on threads.
-inline constexpr Index kReduceBlock = 4096;
+/// Small enough that a few thousand entities make blocks for both threads in even shares.
+inline constexpr Index kReduceBlock = 512;
 
 /// Loops shorter than this run on the calling thread. A parallel region costs a fork and a
 /// barrier; when another process holds a core (CI running tests side by side, a second job),
@@ -38,21 +39,34 @@ inline void set_threads(int n) {
   if (n > 0) omp_set_num_threads(n);
 }
 
+/// What one index of a loop costs, against an update of an array entry or two (`light`). A
+/// `heavy` index (an element's constitutive update, a particle's sum over its neighbours, a
+/// search over candidate faces) takes about a microsecond, so a loop of a few hundred of them
+/// already repays its fork and join: it runs in parallel from parallel_min() / 16 indices.
+enum class Cost : Index { light = 1, heavy = 16 };
+
+/// Whether a loop of n indices of `cost` each runs in parallel.
+inline bool forks(Index n, Cost cost = Cost::light) {
+  return n * static_cast<Index>(cost) >= parallel_min();
+}
+
 /// for i in [0, n): f(i), in parallel. f must only write to entity i's own data.
 template <class F>
-void for_each(Index n, F&& f) {
-#pragma omp parallel for schedule(static) if (n >= parallel_min())
+void for_each(Index n, F&& f, Cost cost = Cost::light) {
+#pragma omp parallel for schedule(static) if (forks(n, cost))
   for (Index i = 0; i < n; ++i)
     f(i);
 }
 
 /// f(first, last) for the blocks [first, last) of `block` consecutive indices covering [0, n),
 /// in parallel when n (the indices, not the blocks) reaches parallel_min(). f must only write
-/// to its block's entities' own data.
+/// to its block's entities' own data. The blocks are dealt out as threads come free (their work
+/// differs: a grain in a dense bed has many contacts, one in flight none), which does not
+/// change what any block computes.
 template <class F>
-void for_each_block(Index n, Index block, F&& f) {
+void for_each_block(Index n, Index block, F&& f, Cost cost = Cost::light) {
   const Index blocks = (n + block - 1) / block;
-#pragma omp parallel for schedule(static) if (n >= parallel_min())
+#pragma omp parallel for schedule(dynamic, 4) if (forks(n, cost))
   for (Index b = 0; b < blocks; ++b)
     f(b * block, std::min(n, (b + 1) * block));
 }

@@ -490,20 +490,23 @@ class SphPart final : public parts::Part<D> {
     const Index n = f_.size();
     std::visit(
         [&](const auto& law) {
-          parallel::for_each(n, [&](Index i) {
-            Real burn = 1;
-            if (is_explosive_) {
-              const Real f1 =
-                  t < light_[i] ? 0.0 : (t - light_[i]) * detonation_velocity_ / (burn_width_);
-              const Real f2 =
-                  beta_burn_ ? (1 - rho_ref_ / rho_[i]) / (1 - rho_ref_ / rho_cj_) : 0.0;
-              burn = std::min(1.0, std::max({burn_[i], f1, f2}));
-            }
-            burn_[i] = burn;
-            const Real p = materials::eos_pressure_of(law, rho_[i], e_[i]);
-            p_[i] = burn * p;
-            c_[i] = materials::eos_sound_speed_of(law, rho_[i], e_[i], p);
-          });
+          parallel::for_each(
+              n,
+              [&](Index i) {
+                Real burn = 1;
+                if (is_explosive_) {
+                  const Real f1 =
+                      t < light_[i] ? 0.0 : (t - light_[i]) * detonation_velocity_ / (burn_width_);
+                  const Real f2 =
+                      beta_burn_ ? (1 - rho_ref_ / rho_[i]) / (1 - rho_ref_ / rho_cj_) : 0.0;
+                  burn = std::min(1.0, std::max({burn_[i], f1, f2}));
+                }
+                burn_[i] = burn;
+                const Real p = materials::eos_pressure_of(law, rho_[i], e_[i]);
+                p_[i] = burn * p;
+                c_[i] = materials::eos_sound_speed_of(law, rho_[i], e_[i], p);
+              },
+              parallel::Cost::heavy);  // JWL: two exponentials per particle
         },
         eos_);
   }
@@ -562,32 +565,35 @@ class SphPart final : public parts::Part<D> {
     const Vec<D> g = gravity_;
     const bool walls = !wall_x_.empty();
     const bool ghosts = !ghosts_.empty();
-    parallel::for_each(n, [&](Index i) {
-      const Centre<D> me = centre(c, i);
-      PairSums<D> s;
-      for (const Index j : list_.of(i)) {
-        const Vec<D> rij = me.x - x_[j];
-        const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[j]);
-        if (k.within) gather_pair<Kernel>(c, me, fluid_neighbour(rij, j), k, s);
-      }
-      if (walls)
-        for (const Index w : fluid_to_wall_.of(i)) {
-          const Vec<D> rij = me.x - wall_x_[at(w)];
-          const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h0_);
-          if (k.within) gather_pair<Kernel>(c, me, wall_neighbour(rij, w), k, s);
-        }
-      if (ghosts)
-        for (const Index img : fluid_to_ghost_.of(i)) {
-          const Vec<D> rij = me.x - ghosts_.x[at(img)];
-          const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[ghosts_.parent[at(img)]]);
-          if (k.within) gather_pair<Kernel>(c, me, ghost_neighbour(rij, img), k, s);
-        }
-      a_[i] = s.acc + g;
-      drho_[i] = me.rho * s.drho;
-      de_[i] = s.de;
-      dx_xsph_[i] = c.eps_xsph * s.xsph;
-      dt_cv_[i] = me.h / (me.c + s.mu_max);
-    });
+    parallel::for_each(
+        n,
+        [&](Index i) {
+          const Centre<D> me = centre(c, i);
+          PairSums<D> s;
+          for (const Index j : list_.of(i)) {
+            const Vec<D> rij = me.x - x_[j];
+            const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[j]);
+            if (k.within) gather_pair<Kernel>(c, me, fluid_neighbour(rij, j), k, s);
+          }
+          if (walls)
+            for (const Index w : fluid_to_wall_.of(i)) {
+              const Vec<D> rij = me.x - wall_x_[at(w)];
+              const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h0_);
+              if (k.within) gather_pair<Kernel>(c, me, wall_neighbour(rij, w), k, s);
+            }
+          if (ghosts)
+            for (const Index img : fluid_to_ghost_.of(i)) {
+              const Vec<D> rij = me.x - ghosts_.x[at(img)];
+              const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[ghosts_.parent[at(img)]]);
+              if (k.within) gather_pair<Kernel>(c, me, ghost_neighbour(rij, img), k, s);
+            }
+          a_[i] = s.acc + g;
+          drho_[i] = me.rho * s.drho;
+          de_[i] = s.de;
+          dx_xsph_[i] = c.eps_xsph * s.xsph;
+          dt_cv_[i] = me.h / (me.c + s.mu_max);
+        },
+        parallel::Cost::heavy);  // a particle's sum over its neighbours
   }
 
   // Particle i and its three kinds of neighbours as the pair terms see them. A wall particle
