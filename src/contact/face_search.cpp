@@ -32,7 +32,8 @@ FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf) {
 
 template <int D>
 std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
-                                           const parts::ContactSurface<D>& surf) {
+                                           const parts::ContactSurface<D>& surf,
+                                           CrossCandidates<D>* kept) {
   constexpr int kF = parts::kFaceNodes<D>;
   const auto& xn = *surf.node_position;
   const auto& faces = *surf.faces;
@@ -45,47 +46,59 @@ std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
   const std::vector<Vec<D>>& centre = fc.centre;
   const Real half_size = fc.half_size;
   const Real r_max = *std::max_element(pts.radius->begin(), pts.radius->end());
-  neighbors::NeighborList candidates;
-  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*pts.position),
-                                 std::span<const Vec<D>>(centre), r_max + half_size, candidates);
+  const Real reach = r_max + half_size;
+  const Real reach_sq = reach * reach;  // the test of a list built for `reach`
+  neighbors::NeighborList fresh;
+  const std::span<const Vec<D>> xp(*pts.position);
+  const std::span<const Vec<D>> xc(centre);
+  if (!kept) neighbors::build_cross_list<D>(xp, xc, reach, fresh);
+  const neighbors::NeighborList& candidates =
+      kept ? kept->find(xp, numbering(pts), xc,
+                        Numbering{.ids = {}, .revision = surf.revision, .known = true}, reach)
+           : fresh;
   // Only the particles with a candidate face (a few per cent of a soil bed) are looked at.
   const std::vector<Index> near =
       parallel::select(np, [&](Index i) { return !candidates.of(i).empty(); });
   std::vector<FaceHit<D>> found(near.size());
-  parallel::for_each(static_cast<Index>(near.size()), [&](Index k) {
-    const Index i = near[at(k)];
-    const Vec<D>& x = (*pts.position)[at(i)];
-    const Real r = (*pts.radius)[at(i)];
-    FaceHit<D> best;
-    best.body = i;
-    for (Index f : candidates.of(i)) {
-      std::array<Vec<D>, kF> fx;
-      for (int q = 0; q < kF; ++q)
-        fx[at(q)] = xn[at(faces[at(f)][at(q)])];
-      const FacePoint<D> fp = closest_on_face<D>(x, fx);
-      const Vec<D> nf_out = face_normal<D>(fx);
-      const Vec<D> d = x - fp.point;
-      const Real s = d.dot(nf_out);
-      Real overlap = 0;
-      Vec<D> n;
-      if (s >= 0) {
-        const Real dist = d.norm();
-        overlap = r - dist;
-        n = dist > 0 ? Vec<D>(d / dist) : nf_out;
-      } else {
-        if (s <= -r) continue;  // beyond the reach of this face (e.g. the other side of a plate)
-        overlap = r - s;
-        n = nf_out;
-      }
-      if (overlap > best.overlap) {
-        best.face = f;
-        best.overlap = overlap;
-        best.where = fp;
-        best.n = n;
-      }
-    }
-    found[at(k)] = best;
-  });
+  parallel::for_each(
+      static_cast<Index>(near.size()),
+      [&](Index k) {
+        const Index i = near[at(k)];
+        const Vec<D>& x = (*pts.position)[at(i)];
+        const Real r = (*pts.radius)[at(i)];
+        FaceHit<D> best;
+        best.body = i;
+        for (Index f : candidates.of(i)) {
+          if (search_distance_sq<D>(centre[at(f)], x) > reach_sq) continue;  // a kept list's margin
+          std::array<Vec<D>, kF> fx;
+          for (int q = 0; q < kF; ++q)
+            fx[at(q)] = xn[at(faces[at(f)][at(q)])];
+          const FacePoint<D> fp = closest_on_face<D>(x, fx);
+          const Vec<D> nf_out = face_normal<D>(fx);
+          const Vec<D> d = x - fp.point;
+          const Real s = d.dot(nf_out);
+          Real overlap = 0;
+          Vec<D> n;
+          if (s >= 0) {
+            const Real dist = d.norm();
+            overlap = r - dist;
+            n = dist > 0 ? Vec<D>(d / dist) : nf_out;
+          } else {
+            if (s <= -r)
+              continue;  // beyond the reach of this face (e.g. the other side of a plate)
+            overlap = r - s;
+            n = nf_out;
+          }
+          if (overlap > best.overlap) {
+            best.face = f;
+            best.overlap = overlap;
+            best.where = fp;
+            best.n = n;
+          }
+        }
+        found[at(k)] = best;
+      },
+      parallel::Cost::heavy);
   const std::vector<Index> touching = parallel::select(
       static_cast<Index>(found.size()), [&](Index k) { return found[at(k)].face >= 0; });
   std::vector<FaceHit<D>> touched(touching.size());
@@ -136,38 +149,42 @@ std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
   neighbors::NeighborList candidates;
   neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(centre),
                                  Real(1.5) * half_size, candidates);
-  parallel::for_each(static_cast<Index>(nodes.size()), [&](Index i) {
-    FaceHit<D> best;
-    best.body = nodes[at(i)];
-    const Vec<D>& p = x[at(i)];
-    for (Index f : candidates.of(i)) {
-      std::array<Vec<D>, kF> fx;
-      for (int k = 0; k < kF; ++k)
-        fx[at(k)] = xb[at(faces[at(f)][at(k)])];
-      const FacePoint<D> fp = closest_on_face<D>(p, fx);
-      const Vec<D> nf_out = face_normal<D>(fx);
-      const Vec<D> d = p - fp.point;
-      const Real s = d.dot(nf_out);
-      const Real len = size[at(f)];
-      if (s >= 0 || -s > Real(0.5) * len) continue;
-      if ((d - s * nf_out).norm() > Real(0.01) * len) continue;  // projects beside the face
-      if (best.face >= 0 && (-s > best.overlap || (-s == best.overlap && f > best.face))) continue;
-      best.face = f;
-      best.where = fp;
-      best.n = nf_out;
-      best.overlap = -s;
-      best.k = std::min((*faces_of.face_stiffness)[at(f)], node_k[at(best.body)]);
-    }
-    hits[at(i)] = best;
-  });
+  parallel::for_each(
+      static_cast<Index>(nodes.size()),
+      [&](Index i) {
+        FaceHit<D> best;
+        best.body = nodes[at(i)];
+        const Vec<D>& p = x[at(i)];
+        for (Index f : candidates.of(i)) {
+          std::array<Vec<D>, kF> fx;
+          for (int k = 0; k < kF; ++k)
+            fx[at(k)] = xb[at(faces[at(f)][at(k)])];
+          const FacePoint<D> fp = closest_on_face<D>(p, fx);
+          const Vec<D> nf_out = face_normal<D>(fx);
+          const Vec<D> d = p - fp.point;
+          const Real s = d.dot(nf_out);
+          const Real len = size[at(f)];
+          if (s >= 0 || -s > Real(0.5) * len) continue;
+          if ((d - s * nf_out).norm() > Real(0.01) * len) continue;  // projects beside the face
+          if (best.face >= 0 && (-s > best.overlap || (-s == best.overlap && f > best.face)))
+            continue;
+          best.face = f;
+          best.where = fp;
+          best.n = nf_out;
+          best.overlap = -s;
+          best.k = std::min((*faces_of.face_stiffness)[at(f)], node_k[at(best.body)]);
+        }
+        hits[at(i)] = best;
+      },
+      parallel::Cost::heavy);
   return hits;
 }
 
-#define CRATER_FACE_SEARCH(D)                                                              \
-  template FaceCentres<D> face_centres<D>(const parts::ContactSurface<D>&);                \
-  template std::vector<FaceHit<D>> particle_face_hits<D>(const parts::ContactPoints<D>&,   \
-                                                         const parts::ContactSurface<D>&); \
-  template std::vector<FaceHit<D>> node_face_hits<D>(const parts::ContactSurface<D>&,      \
+#define CRATER_FACE_SEARCH(D)                                                                \
+  template FaceCentres<D> face_centres<D>(const parts::ContactSurface<D>&);                  \
+  template std::vector<FaceHit<D>> particle_face_hits<D>(                                    \
+      const parts::ContactPoints<D>&, const parts::ContactSurface<D>&, CrossCandidates<D>*); \
+  template std::vector<FaceHit<D>> node_face_hits<D>(const parts::ContactSurface<D>&,        \
                                                      const parts::ContactSurface<D>&);
 CRATER_FACE_SEARCH(2)
 CRATER_FACE_SEARCH(3)

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "contact/candidates.hpp"
 #include "contact/face_geometry.hpp"
 #include "core/types.hpp"
 #include "parts/part.hpp"
@@ -33,10 +34,12 @@ template <int D>
 FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf);
 
 /// The particles that touch a face, ascending, each with its face of largest overlap (ties:
-/// the lowest face); FaceHit::k is left 0 (the face's own stiffness serves).
+/// the lowest face); FaceHit::k is left 0 (the face's own stiffness serves). With `kept`, the
+/// candidate faces come from the pairing's kept list (candidates.hpp); the hits are the same.
 template <int D>
 std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
-                                           const parts::ContactSurface<D>& surf);
+                                           const parts::ContactSurface<D>& surf,
+                                           CrossCandidates<D>* kept = nullptr);
 
 /// Every surface node of `nodes_of` that carries mass, ascending, with the face of `faces_of`
 /// it is in contact with (face < 0: none) and the stiffer of the two sides' springs.

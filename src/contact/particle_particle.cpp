@@ -39,35 +39,42 @@ void ParticleParticle<D>::limit_step(const PartList<D>& parts, PairLimits& limit
 
 template <int D>
 std::vector<typename ParticleParticle<D>::Pair> ParticleParticle<D>::pairs(
-    const parts::ContactPoints<D>& a, const parts::ContactPoints<D>& b) {
+    const parts::ContactPoints<D>& a, const parts::ContactPoints<D>& b, CrossCandidates<D>* kept) {
   const Index na = static_cast<Index>(a.position->size());
   const Index nb = static_cast<Index>(b.position->size());
   if (na == 0 || nb == 0) return {};
   const Real ra_max = *std::max_element(a.radius->begin(), a.radius->end());
   const Real rb_max = *std::max_element(b.radius->begin(), b.radius->end());
-  neighbors::NeighborList list;
-  neighbors::build_cross_list<D>(std::span<const Vec<D>>(*a.position),
-                                 std::span<const Vec<D>>(*b.position), ra_max + rb_max, list);
+  const std::span<const Vec<D>> xa(*a.position);
+  const std::span<const Vec<D>> xb(*b.position);
+  neighbors::NeighborList fresh;
+  if (!kept) neighbors::build_cross_list<D>(xa, xb, ra_max + rb_max, fresh);
+  // A kept list's extra candidates do not overlap: the pairs are those of a fresh list.
+  const neighbors::NeighborList& list =
+      kept ? kept->find(xa, numbering(a), xb, numbering(b), ra_max + rb_max) : fresh;
   std::vector<Pair> all(list.indices.size());
-  parallel::for_each(na, [&](Index i) {
-    const Vec<D>& xi = (*a.position)[at(i)];
-    const Real ri = (*a.radius)[at(i)];
-    const auto row = list.of(i);
-    const auto base = at(list.offsets[at(i)]);
-    for (std::size_t q = 0; q < row.size(); ++q) {
-      const Index j = row[q];
-      const Vec<D> d = xi - (*b.position)[at(j)];
-      const Real dist = d.norm();
-      const Real overlap = ri + (*b.radius)[at(j)] - dist;
-      if (overlap <= 0 || !(dist > 0)) continue;
-      all[base + q] = {i, j, overlap, dist, d};
-    }
-  });
-  const std::vector<Index> kept =
+  parallel::for_each(
+      na,
+      [&](Index i) {
+        const Vec<D>& xi = (*a.position)[at(i)];
+        const Real ri = (*a.radius)[at(i)];
+        const auto row = list.of(i);
+        const auto base = at(list.offsets[at(i)]);
+        for (std::size_t q = 0; q < row.size(); ++q) {
+          const Index j = row[q];
+          const Vec<D> d = xi - (*b.position)[at(j)];
+          const Real dist = d.norm();
+          const Real overlap = ri + (*b.radius)[at(j)] - dist;
+          if (overlap <= 0 || !(dist > 0)) continue;
+          all[base + q] = {i, j, overlap, dist, d};
+        }
+      },
+      parallel::Cost::heavy);
+  const std::vector<Index> touching =
       parallel::select(static_cast<Index>(all.size()), [&](Index q) { return all[at(q)].a >= 0; });
-  std::vector<Pair> found(kept.size());
-  parallel::for_each(static_cast<Index>(kept.size()),
-                     [&](Index q) { found[at(q)] = all[at(kept[at(q)])]; });
+  std::vector<Pair> found(touching.size());
+  parallel::for_each(static_cast<Index>(touching.size()),
+                     [&](Index q) { found[at(q)] = all[at(touching[at(q)])]; });
   return found;
 }
 
@@ -88,7 +95,7 @@ template <int D>
 void ParticleParticle<D>::measure_load(const PartList<D>& parts) const {
   const auto pts = parts[this->points_]->contact_points();
   const auto grains = parts[this->other_]->contact_points();
-  this->measure(pts->position->size(), grains->position->size(), pairs(*pts, *grains),
+  this->measure(pts->position->size(), grains->position->size(), pairs(*pts, *grains, &kept_),
                 [&](const Pair& pp) { add_load(*grains, pp); });
 }
 
@@ -100,7 +107,7 @@ void ParticleParticle<D>::apply(const PartList<D>& parts, Real /*dt_s*/, Contact
   const parts::ContactPoints<D>& b = *pb;
   this->restart(a.position->size(), b.position->size());
   this->load_.known = true;
-  const std::vector<Pair> found = pairs(a, b);
+  const std::vector<Pair> found = pairs(a, b, &kept_);
   // Per pair results, in list order (a ascending, then b ascending).
   struct PairForce {
     Vec<D> force = Vec<D>::Zero();  // on a

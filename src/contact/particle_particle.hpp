@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "contact/candidates.hpp"
 #include "contact/pairing.hpp"
 
 namespace crater::contact {
@@ -26,16 +27,18 @@ class ParticleParticle final : public Pairing<D> {
     Real overlap = 0, dist = 0;
     Vec<D> d = Vec<D>::Zero();  // from b's centre to a's
   };
-  /// The overlapping pairs, a ascending, then b ascending.
-  static std::vector<Pair> pairs(const parts::ContactPoints<D>& a,
-                                 const parts::ContactPoints<D>& b);
+  /// The overlapping pairs, a ascending, then b ascending; with `kept`, the candidates come
+  /// from the pairing's kept list (candidates.hpp) and the pairs are the same.
+  static std::vector<Pair> pairs(const parts::ContactPoints<D>& a, const parts::ContactPoints<D>& b,
+                                 CrossCandidates<D>* kept = nullptr);
 
  private:
   Real stiffness(const parts::ContactPoints<D>& grains, Index j) const;
   void add_load(const parts::ContactPoints<D>& grains, const Pair& pp) const;
   void measure_load(const PartList<D>& parts) const;
 
-  Real grain_modulus_pa_;  // E of the grains [Pa]
+  Real grain_modulus_pa_;            // E of the grains [Pa]
+  mutable CrossCandidates<D> kept_;  // the candidate pairs, kept between steps
 };
 
 }  // namespace crater::contact

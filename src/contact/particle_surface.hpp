@@ -24,6 +24,8 @@ class ParticleSurface final : public Pairing<D> {
   void add_load(const parts::ContactSurface<D>& surf, const Hit& h) const;
   // Fills the spring sums from the current state (without changing it).
   void measure_load(const PartList<D>& parts) const;
+
+  mutable CrossCandidates<D> kept_;  // the candidate faces, kept between steps
 };
 
 }  // namespace crater::contact
