@@ -145,17 +145,21 @@ class SphPart final : public parts::Part<D> {
 
   parts::StableStep stable_step() const override {
     // Monaghan & Kos (1999): dt = cfl * min(dt_f, dt_cv), dt_f = sqrt(h/|a|),
-    // dt_cv = h / (c + max_j |mu_ij|) (max over neighbours, from the force loop).
+    // dt_cv = h / (c + max_j |mu_ij|) (max over neighbours, from the force loop); with a
+    // laminar viscosity also Morris, Fox & Zhu (1997) eq. 12: dt_v = 0.125 h^2 rho / mu.
     parts::StableStep s;
     s.dt_s = kInf;
+    const Real mu = cfg_.viscosity_pa_s;
     for (Index i = 0; i < f_.size(); ++i) {
       const Real an = a_[i].norm();
       const Real dt_f = an > 0 ? std::sqrt(h_[i] / an) : kInf;
-      const Real dt_i = cfg_.cfl * std::min(dt_f, dt_cv_[i]);
+      const Real dt_v = mu > 0 ? Real(0.125) * h_[i] * h_[i] * rho_[i] / mu : kInf;
+      const Real dt_i = std::min(cfg_.cfl * std::min(dt_f, dt_cv_[i]), dt_v);
       if (dt_i < s.dt_s) {
         s.dt_s = dt_i;
         s.entity_id = id_[i];
-        s.reason = dt_f < dt_cv_[i]
+        s.reason = dt_i == dt_v ? fmt::format("viscous limit, mu = {:.3g} Pa s", mu)
+                   : dt_f < dt_cv_[i]
                        ? fmt::format("force criterion, |a| = {:.3g} m/s^2", an)
                        : fmt::format("CFL {} with sound speed {:.4g} m/s", cfg_.cfl, c_[i]);
       }

@@ -245,10 +245,12 @@ TableSchema make_sph() {
                                     0),
                            1),
                    "0"),
-      with_default(at_least(real("viscosity_pa_s", "Pa s",
-                                 "Dynamic viscosity of the laminar term (eq. 36); 0: inviscid."),
-                            0),
-                   "0"),
+      with_default(
+          at_least(real("viscosity_pa_s", "Pa s",
+                        "Dynamic viscosity of the laminar term (eq. 36); 0: inviscid. Adds the "
+                        "viscous step limit 0.125 h^2 rho / mu."),
+                   0),
+          "0"),
       with_default(choice_list("walls", {"left", "right", "bottom", "top", "back", "front"},
                                "Domain faces that are walls: left/right = x min/max, bottom/top = "
                                "y min/max, back/front = z min/max (3D). The fluid fills up to a "
