@@ -407,12 +407,13 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
     }
     const RelativeVelocity<D> rel =
         relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{wall.velocity});
-    const typename Law::Params law = at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0));
+    typename Law::Params law = at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0));
+    if (wall.symmetry) law.friction = 0;  // the grain slides along a plane of symmetry
     const PreparedContact<D> prep =
         prepare_contact<D, Law>(law, g, m_[i], row_pitch(r_[i], r_[i]), wall_xi_[at]);
     const ContactForce<D> cf = finish_contact<D, Law>(law, g, rel, prep, dt);
     RollingTorque<D> rt;
-    if (rolling)
+    if (rolling && !wall.symmetry)
       rt = rolling_resistance<D>(rolling_, g, rel,
                                  RollingLoad{.normal_force = cf.normal_force,
                                              .normal_stiffness = cf.normal_stiffness,

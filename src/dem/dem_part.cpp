@@ -159,6 +159,7 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
       surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)),
       surface_overlap_(f_.add_scalar("coupling_surface_overlap", "m", kRestart)),
       stress_(f_.add_tensor(kStressField, "Pa", kOutput)) {
+  symmetry_ = settings.part.domain.symmetry_planes;
   init_laws(settings);
   if (local_damping) {
     cfg_.local_damping = *local_damping;

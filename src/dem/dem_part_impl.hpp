@@ -28,6 +28,7 @@
 // (std::visit over the part's law pair), so no contact branches on it.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -253,6 +254,7 @@ class DemPart final : public parts::Part<D> {
     Real plane = 0;      // its coordinate on the axis [m]
     const parts::RegionConfig* body = nullptr;
     Vec<D> velocity = Vec<D>::Zero();  // of a moving wall (cfg_.wall_motion), over the last step
+    bool symmetry = false;             // a plane of symmetry: no friction, no rolling resistance
   };
   // A moving wall (a face of cfg_.wall_motion): its slot in wall_planes_ and guard_planes_
   // (that of its face in cfg_.walls) and what the servo carries from step to step.
@@ -427,6 +429,7 @@ class DemPart final : public parts::Part<D> {
     w.axis = static_cast<int>(face) / 2;
     w.upper = static_cast<int>(face) % 2 == 1;
     w.plane = w.upper ? domain_hi_[w.axis] : domain_lo_[w.axis];
+    w.symmetry = std::find(symmetry_.begin(), symmetry_.end(), face) != symmetry_.end();
     return w;
   }
   // Inside every face (x <= an upper plane, x >= a lower one): reflect_at_walls has nothing
@@ -509,6 +512,7 @@ class DemPart final : public parts::Part<D> {
   ContactLaws laws_;
   RollingResistanceParams rolling_;
   RateDependentFriction grain_rate_, wall_rate_;
+  std::vector<parts::Face> symmetry_;  // the domain's planes of symmetry (walls of cfg_.walls)
   ParallelBondParams bond_law_;
   Real r_min_ = 0, r_max_ = 0;
 

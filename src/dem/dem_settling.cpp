@@ -42,6 +42,12 @@ std::string packing_key_text(const PartSettings& settings) {
     for (const auto f : d.absorbing_walls)
       s += fmt::format("{},", static_cast<int>(f));
   }
+  // Symmetry planes are frictionless walls (listed only when there are some).
+  if (!pc.domain.symmetry_planes.empty()) {
+    s += "|symmetry=";
+    for (const auto f : pc.domain.symmetry_planes)
+      s += fmt::format("{},", static_cast<int>(f));
+  }
   s += fmt::format("|law={},{:a},{:a},{:a},{:a},{:a},{},{:a},{:a}", static_cast<int>(d.contact),
                    d.normal_stiffness_n_m, d.shear_stiffness_n_m, d.stiffness_step_fraction,
                    d.rolling_friction, d.rolling_damping, d.rate_dependent_friction,

@@ -115,6 +115,7 @@ class FemPart final : public parts::Part<D> {
     rebuild_surface();
     for (const auto& b : settings.fem.boundaries)
       apply_boundary_config(source, b);
+    apply_symmetry_planes(pc);
     for (const auto& l : settings.fem.loads)
       add_pressure_load(l);
     if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
@@ -680,6 +681,23 @@ class FemPart final : public parts::Part<D> {
       case BoundaryType::NonReflecting:
         add_dashpots(set);
         break;
+    }
+  }
+
+  /// The domain's planes of symmetry: the nodes on one (within 1e-9 of the domain's extent)
+  /// keep zero velocity normal to it, whatever else holds them. (A part cannot reach across
+  /// one: the reader holds its region or mesh inside the domain.)
+  void apply_symmetry_planes(const parts::PartSetup& pc) {
+    for (const parts::Face face : pc.domain.symmetry_planes) {
+      const int axis = static_cast<int>(face) / 2;
+      if (axis >= D) continue;
+      const Real plane = parts::face_coordinate(pc.domain, face);
+      const Real tol = 1e-9 * (pc.domain.max_m[axis] - pc.domain.min_m[axis]);
+      for (Index n = 0; n < mesh_.node_count(); ++n)
+        if (std::abs(mesh_.reference_position[at(n)][axis] - plane) <= tol) {
+          constrained_[at(n)] |= 1u << axis;
+          imposed_velocity_[at(n)][axis] = 0;
+        }
     }
   }
 

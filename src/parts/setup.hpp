@@ -31,7 +31,24 @@ struct Domain {
   // DEM grains that leave are removed in batches, this many steps after the first went out
   // (and at frames); 1 (the default): at the end of the step they left in.
   std::int64_t outflow_batch_steps = 1;
+  // Faces that are planes of symmetry for every part ([domain] symmetry_planes): SPH mirror
+  // images, DEM frictionless walls without rolling resistance, FEM nodes on the plane held
+  // normal to it. A quarter model is two of them.
+  std::vector<Face> symmetry_planes;
 };
+
+/// Whether `face` is one of the domain's planes of symmetry.
+inline bool is_symmetry_plane(const Domain& d, Face face) {
+  for (const Face f : d.symmetry_planes)
+    if (f == face) return true;
+  return false;
+}
+
+/// The coordinate [m] of a face of the domain box on its axis.
+inline Real face_coordinate(const Domain& d, Face face) {
+  const int axis = static_cast<int>(face) / 2;
+  return static_cast<int>(face) % 2 ? d.max_m[axis] : d.min_m[axis];
+}
 
 struct InitialState {
   std::optional<Real> density_kg_m3;

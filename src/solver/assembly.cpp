@@ -30,16 +30,37 @@ parts::PartSetup part_setup(const io::Config& config, const io::PartConfig& part
   return s;
 }
 
+namespace {
+
+// `walls` with the domain's symmetry planes added (after the part's own, whose order the moving
+// walls' slots follow); the reader keeps a face from being in both.
+std::vector<parts::Face> with_symmetry_planes(std::vector<parts::Face> walls,
+                                              const parts::Domain& domain) {
+  for (const parts::Face f : domain.symmetry_planes)
+    walls.push_back(f);
+  return walls;
+}
+
+}  // namespace
+
 sph::PartSettings sph_settings(const io::Config& config, const io::PartConfig& part) {
   const io::MaterialConfig& m = config.materials[part.material];
-  return {part_setup(config, part), part.sph(), m.eos, m.rho0_kg_m3};
+  sph::Settings s = part.sph();
+  // A symmetry plane is a free-slip wall: mirror images (the reader refuses no-slip walls
+  // beside them).
+  s.walls = with_symmetry_planes(std::move(s.walls), config.domain);
+  if (!config.domain.symmetry_planes.empty()) s.wall_no_slip = false;
+  return {part_setup(config, part), s, m.eos, m.rho0_kg_m3};
 }
 
 dem::PartSettings dem_settings(const io::Config& config, const io::PartConfig& part) {
   const io::MaterialConfig& m = config.materials[part.material];
   const Real settle = part.packing().settle_safety_factor;
+  // A symmetry plane is a rigid wall of the grains (frictionless: DemPart::init_walls).
+  dem::Settings d = part.dem();
+  d.walls = with_symmetry_planes(std::move(d.walls), config.domain);
   return {part_setup(config, part),
-          part.dem(),
+          d,
           part.packing(),
           m.granular,
           m.rho0_kg_m3,

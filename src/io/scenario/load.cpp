@@ -196,6 +196,16 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.domain.gravity_m_s2 = vec3(dt, "gravity_m_s2");
   c.domain.outflow = str(dt, "outflow") == "remove" ? Outflow::Remove : Outflow::Stop;
   c.domain.outflow_batch_steps = dt.get("outflow_batch_steps")->as_integer()->get();
+  const auto& sym = *dt.get("symmetry_planes")->as_array();
+  c.domain.symmetry_planes =
+      read_faces(sym, loc(dt, "symmetry_planes", top), "domain.symmetry_planes", dim);
+  for (std::size_t j = 1; j < c.domain.symmetry_planes.size(); ++j)
+    if (std::find(c.domain.symmetry_planes.begin(), c.domain.symmetry_planes.begin() + j,
+                  c.domain.symmetry_planes[j]) != c.domain.symmetry_planes.begin() + j)
+      error(where_of(*sym.get(j), loc(dt, "symmetry_planes", top)),
+            fmt::format("domain.symmetry_planes[{}]", j),
+            fmt::format("\"{}\" is listed twice",
+                        kFaceNames[static_cast<int>(c.domain.symmetry_planes[j])]));
   for (int d = 0; d < dim; ++d)
     if (!(c.domain.max_m[d] > c.domain.min_m[d])) {
       domain_ok_ = false;

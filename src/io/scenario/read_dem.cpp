@@ -38,6 +38,7 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   d.local_damping = num(dt, "local_damping");
   d.rayleigh_fraction = num(dt, "rayleigh_fraction");
   d.walls = read_faces(*dt.get("walls")->as_array(), dw, key + ".dem.walls", dim);
+  check_not_symmetry(*dt.get("walls")->as_array(), dw, key + ".dem.walls", c.domain);
   d.wall_friction = num(dt, "wall_friction");
   d.wall_restitution = num(dt, "wall_restitution");
   d.contact =
@@ -69,7 +70,7 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   d.rate_dependent_friction = dt.get("rate_dependent_friction")->as_boolean()->get();
   d.friction_rate_beta = num(dt, "friction_rate_beta");
   d.friction_reference_strain_rate = num(dt, "friction_reference_strain_rate");
-  read_absorbing_walls(dt, dw, key, dim, d);
+  read_absorbing_walls(dt, dw, key, dim, c.domain, d);
   read_bonds(table(dt, "bonds"), dw, key, d.bonds);
   if (const toml::node* mn = dt.get("wall_motion"))
     read_wall_motion(c, *mn->as_array(), dw, key, d);
@@ -283,10 +284,12 @@ void Builder::read_dense_packing(const Config& c, const toml::table& pt, const S
 // Absorbing walls: faces of their own (not also rigid walls, not twice) and the bed's
 // impedance (Hertz contacts have no fixed stiffness: their P-wave speed must be given).
 void Builder::read_absorbing_walls(const toml::table& dt, const SourceLocation& dw,
-                                   const std::string& key, int dim, DemConfig& d) {
+                                   const std::string& key, int dim, const DomainConfig& domain,
+                                   DemConfig& d) {
   const std::string ak = key + ".dem.absorbing_walls";
   const auto& arr = *dt.get("absorbing_walls")->as_array();
   d.absorbing_walls = read_faces(arr, dw, ak, dim);
+  check_not_symmetry(arr, dw, ak, domain);
   std::vector<std::string> seen;
   for (std::size_t j = 0; j < arr.size(); ++j) {
     const std::string name = arr.get(j)->as_string()->get();

@@ -372,4 +372,18 @@ std::vector<Face> Builder::read_faces(const toml::array& walls, const SourceLoca
   return faces;
 }
 
+// A face of a part's walls that is also one of the domain's symmetry planes: the plane holds
+// the part already, and two conditions on one face would be ambiguous.
+void Builder::check_not_symmetry(const toml::array& walls, const SourceLocation& w,
+                                 const std::string& key, const DomainConfig& domain) {
+  for (std::size_t j = 0; j < walls.size(); ++j) {
+    const int f = face_index(walls.get(j)->as_string()->get());
+    if (f < 6 && parts::is_symmetry_plane(domain, static_cast<Face>(f)))
+      error(where_of(*walls.get(j), w), fmt::format("{}[{}]", key, j),
+            fmt::format("\"{}\" is one of domain.symmetry_planes, which hold every part on "
+                        "that face; remove it here",
+                        kFaceNames[f]));
+  }
+}
+
 }  // namespace crater::io::reader

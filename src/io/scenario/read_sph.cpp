@@ -27,6 +27,12 @@ void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocati
   s.wall_layers = static_cast<int>(st.get("wall_layers")->as_integer()->get());
   s.wall_no_slip = str(st, "wall_slip") == "no";
   s.walls = read_faces(*st.get("walls")->as_array(), w, key + ".sph.walls", dim);
+  check_not_symmetry(*st.get("walls")->as_array(), w, key + ".sph.walls", c.domain);
+  if (s.wall_no_slip && !s.walls.empty() && !c.domain.symmetry_planes.empty())
+    error(loc(st, "wall_slip", w), key + ".sph.wall_slip",
+          "no-slip walls (dummy particles) cannot be combined with the domain's "
+          "symmetry_planes (mirror images); use wall_slip = \"free\", or model the whole "
+          "domain");
   for (const Face f : s.walls) {
     // The wall lattice is laid at the part's spacing along the face: the domain's extent
     // along the face's other axes should be a multiple of it, or gaps open at the far end.

@@ -160,6 +160,8 @@ class Builder {
                     const SourceLocation& w, const std::string& key, PartConfig& p);
   std::vector<Face> read_faces(const toml::array& walls, const SourceLocation& w,
                                const std::string& key, int dim);
+  void check_not_symmetry(const toml::array& walls, const SourceLocation& w, const std::string& key,
+                          const DomainConfig& domain);
 
   // read_sph.cpp
   void read_sph(const Config& c, const toml::table& t, const SourceLocation& w,
@@ -175,7 +177,7 @@ class Builder {
   void read_dense_packing(const Config& c, const toml::table& pt, const SourceLocation& pw,
                           const std::string& kp, const PartConfig& p);
   void read_absorbing_walls(const toml::table& dt, const SourceLocation& dw, const std::string& key,
-                            int dim, DemConfig& d);
+                            int dim, const DomainConfig& domain, DemConfig& d);
   void read_bonds(const toml::table& bt, const SourceLocation& dw, const std::string& key,
                   DemBondConfig& b);
   void read_wall_motion(const Config& c, const toml::array& ma, const SourceLocation& dw,

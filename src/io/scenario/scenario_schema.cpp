@@ -164,6 +164,20 @@ TableSchema make_domain() {
                          "spheres with 32. 1: at the end of the step it left in."),
                    1),
           "1"),
+      with_default(
+          choice_list(
+              "symmetry_planes", {"left", "right", "bottom", "top", "back", "front"},
+              "Domain faces that are planes of symmetry for every part, so that half a "
+              "symmetric problem is modelled (a quarter with two, an eighth with three): "
+              "SPH parts get mirror images behind the face (as free-slip walls: exact); DEM "
+              "parts a rigid wall without friction or rolling resistance (the grains slide "
+              "and spin freely along it; its normal law is the part's grain-wall law, with "
+              "wall_restitution); FEM nodes on the plane (within 1e-9 of the domain's extent) "
+              "keep zero velocity normal to it. A face here is not also in a part's walls or "
+              "absorbing_walls; SPH parts "
+              "with wall_slip = \"no\" and walls cannot have them. Every output (masses, "
+              "energies, forces, counts) is that of the modelled part of the domain."),
+          "[]"),
   };
   return t;
 }
