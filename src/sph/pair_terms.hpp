@@ -9,6 +9,8 @@
 //   continuity_rate       V_j v_ij . grad_i W_ij (eq. 32; times rho_i once summed)
 //   energy_rate           (V_j p_i/rho_i + 1/2 m_j Pi_ij) v_ij . grad_i W_ij (wall: all of it)
 //   physical_viscosity    Lo & Shao (2002), paper eq. 36, and its heating
+//   artificial_conductivity  m_j alpha_u v_sig^u (e_i - e_j) / rhobar r_hat . grad_i W_ij (Price
+//                         2008), a heat flux between the pair; off by default
 //   xsph_velocity         -m_j / rhobar W_ij v_ij (Monaghan 1989)
 // The equations with their sources are in sph_part.cpp's header and docs/theory.md. Every step
 // is inline and forced so (always_inline): the gather is the hot loop of an SPH run, and the
@@ -29,6 +31,7 @@ struct RateParams {
   Real viscosity_pa_s = 0;   // physical (dynamic) viscosity; 0: off
   Real eps_xsph = 0;         // XSPH epsilon; 0: off
   Real eps_tensile = 0;      // tensile-correction epsilon; 0: off
+  Real alpha_u = 0;          // Price (2008) artificial conductivity alpha_u; 0: off
   Real spacing_m = 0;        // reference pitch of the tensile correction's W(dp)
 };
 
@@ -42,6 +45,7 @@ template <int D>
 struct Centre {
   Vec<D> x, v;
   Real h = 0, rho = 0, c = 0, p = 0;
+  Real e = 0;          // specific internal energy [J/kg]
   Real inv_rho = 0;    // 1 / rho
   Real r_tensile = 0;  // artificial_pressure of i
 };
@@ -49,11 +53,12 @@ struct Centre {
 /// One neighbour j within the kernel support: r_ij = x_i - x_j, its state, the velocity the viscous
 /// terms see (a wall's mirrored fluid velocity; else v_j) and whether it is a fixed wall particle,
 /// which cannot take its share of the pressure work (particle i books all of it, and kinetic plus
-/// internal energy stays conserved).
+/// internal energy stays conserved). e is its specific internal energy (a mirror image: its
+/// parent's; a wall particle has none, and the conductivity skips it).
 template <int D>
 struct Neighbour {
   Vec<D> rij;
-  Real m = 0, rho = 0, p = 0, c = 0;
+  Real m = 0, rho = 0, p = 0, c = 0, e = 0;
   Vec<D> v, v_visc;
   bool wall = false;
 };
@@ -63,7 +68,8 @@ template <int D>
 struct PairSums {
   Vec<D> acc = Vec<D>::Zero(), xsph = Vec<D>::Zero();
   Real drho = 0, de = 0;
-  Real mu_max = 0;  // max_j |mu_ij|, for the CFL step
+  Real mu_max = 0;      // max_j |mu_ij|, for the CFL step
+  Real vsig_u_max = 0;  // max_j alpha_u v_sig^u_ij, the conductivity's signal speed, ditto
 };
 
 /// Kernel quantities of a pair: within the support of hbar = (h_i + h_j)/2 or not; if so, r,
@@ -182,6 +188,36 @@ template <int D>
   return t;
 }
 
+/// Price (2008) artificial thermal conductivity: the heat particle i gains from j [W/kg],
+///   de_i/dt += m_j alpha_u v_sig^u (e_i - e_j) / rhobar r_hat_ij . grad_i W_ij,
+///   v_sig^u = sqrt(|p_i - p_j| / rhobar),   rhobar = (rho_i + rho_j)/2,
+/// with r_hat_ij . grad_i W_ij = dW/dr(r, hbar) <= 0: heat flows from the hotter particle to the
+/// colder. Every factor but (e_i - e_j) is symmetric in the pair, so m_i de_i/dt = -m_j
+/// de_j/dt and the internal energy only moves (total energy conserved pair by pair). The
+/// pressure-jump signal speed (Price's choice without gravity) is non-zero only between
+/// neighbours of different pressure: it smooths e across a contact discontinuity while the
+/// pressure there is out of balance (the shock tube's blip) and leaves smooth flow alone. A
+/// fixed wall particle cannot take heat (adiabatic wall): 0 against it. Returns the heat and
+/// alpha_u v_sig^u.
+struct HeatFlux {
+  Real heat = 0;  // added to de_i/dt [W/kg]
+  Real vsig = 0;  // alpha_u v_sig^u [m/s], a signal speed of the stable step
+};
+
+template <int D>
+[[gnu::always_inline]] inline HeatFlux artificial_conductivity(const RateParams& c,
+                                                               const Centre<D>& i,
+                                                               const Neighbour<D>& j,
+                                                               const PairKernel<D>& k) {
+  HeatFlux f;
+  if (j.wall || !(k.r > 0)) return f;
+  const Real rhobar = 0.5 * (i.rho + j.rho);
+  f.vsig = c.alpha_u * std::sqrt(std::abs(i.p - j.p) / rhobar);
+  const Real dwdr = k.gw.dot(j.rij) / k.r;  // r_hat_ij . grad_i W_ij
+  f.heat = j.m * f.vsig * (i.e - j.e) / rhobar * dwdr;
+  return f;
+}
+
 /// XSPH (Monaghan 1989) pair term without epsilon and sign: m_j / rhobar W_ij v_ij [m/s].
 template <class Kernel, int D>
 [[gnu::always_inline]] inline Vec<D> xsph_velocity(const Centre<D>& i, const Neighbour<D>& j,
@@ -209,6 +245,11 @@ template <class Kernel, int D>
     const ViscousTerms<D> vt = physical_viscosity(c, i, j, k, a);
     s.acc += vt.acc;
     s.de -= vt.heating;
+  }
+  if (c.alpha_u > 0) {
+    const HeatFlux hf = artificial_conductivity(c, i, j, k);
+    s.de += hf.heat;
+    s.vsig_u_max = std::max(s.vsig_u_max, hf.vsig);
   }
   if (c.eps_xsph > 0) s.xsph -= xsph_velocity<Kernel>(i, j, k, a);
 }

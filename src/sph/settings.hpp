@@ -27,6 +27,7 @@ struct Settings {
   Real xsph_epsilon{};
   Real tensile_epsilon{};
   Real viscosity_pa_s{};
+  Real conductivity_alpha{};
   std::vector<parts::Face> walls;
   int wall_layers{};
   bool wall_no_slip{};

@@ -8,6 +8,8 @@
 //                                  + (viscous term, eq. 36) + g
 //   energy:           d e_i/dt   = p_i/rho_i sum_j V_j v_ij . grad_i W_ij
 //                                  + 1/2 sum_j m_j Pi_ij v_ij . grad_i W_ij + viscous heating
+//                                  + sum_j m_j alpha_u v_sig^u (e_i - e_j)/rhobar r_hat . grad_i W
+//                                    (artificial conductivity, Price 2008; off by default)
 //   Monaghan viscosity: Pi_ij = (-alpha cbar mu + beta mu^2) / rhobar for v_ij . r_ij < 0,
 //                       mu = hbar v_ij . r_ij / (r_ij^2 + 0.01 hbar^2)
 // Pairs use hbar = (h_i + h_j)/2, so grad_i W_ij = -grad_j W_ji and pair forces are equal and
@@ -145,8 +147,10 @@ class SphPart final : public parts::Part<D> {
 
   parts::StableStep stable_step() const override {
     // Monaghan & Kos (1999): dt = cfl * min(dt_f, dt_cv), dt_f = sqrt(h/|a|),
-    // dt_cv = h / (c + max_j |mu_ij|) (max over neighbours, from the force loop); with a
-    // laminar viscosity also Morris, Fox & Zhu (1997) eq. 12: dt_v = 0.125 h^2 rho / mu.
+    // dt_cv = h / (c + max_j |mu_ij|) (max over neighbours, from the force loop); with the
+    // artificial conductivity max_j |mu_ij| becomes max(max_j |mu_ij|, max_j alpha_u v_sig^u_ij),
+    // the diffusion's own signal speed (explicit diffusion needs dt <~ h / (alpha_u v_sig^u));
+    // with a laminar viscosity also Morris, Fox & Zhu (1997) eq. 12: dt_v = 0.125 h^2 rho / mu.
     parts::StableStep s;
     s.dt_s = kInf;
     const Real mu = cfg_.viscosity_pa_s;
@@ -565,6 +569,7 @@ class SphPart final : public parts::Part<D> {
                        .viscosity_pa_s = cfg_.viscosity_pa_s,
                        .eps_xsph = cfg_.xsph_epsilon,
                        .eps_tensile = cfg_.tensile_epsilon,
+                       .alpha_u = cfg_.conductivity_alpha,
                        .spacing_m = spacing_};
     const Vec<D> g = gravity_;
     const bool walls = !wall_x_.empty();
@@ -595,7 +600,7 @@ class SphPart final : public parts::Part<D> {
           drho_[i] = me.rho * s.drho;
           de_[i] = s.de;
           dx_xsph_[i] = c.eps_xsph * s.xsph;
-          dt_cv_[i] = me.h / (me.c + s.mu_max);
+          dt_cv_[i] = me.h / (me.c + std::max(s.mu_max, s.vsig_u_max));
         },
         parallel::Cost::heavy);  // a particle's sum over its neighbours
   }
@@ -612,6 +617,7 @@ class SphPart final : public parts::Part<D> {
     me.rho = rho_[i];
     me.c = c_[i];
     me.p = p_[i];
+    me.e = e_[i];
     me.inv_rho = 1 / me.rho;
     me.r_tensile = artificial_pressure(c.eps_tensile, me.p, me.rho);
     return me;
@@ -622,6 +628,7 @@ class SphPart final : public parts::Part<D> {
             .rho = rho_[j],
             .p = p_[j],
             .c = c_[j],
+            .e = e_[j],
             .v = v_[j],
             .v_visc = v_[j],
             .wall = false};
@@ -645,6 +652,7 @@ class SphPart final : public parts::Part<D> {
             .rho = rho_[j],
             .p = ghosts_.p[k],
             .c = c_[j],
+            .e = e_[j],
             .v = ghosts_.v[k],
             .v_visc = ghosts_.v[k],
             .wall = false};

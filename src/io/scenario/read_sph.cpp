@@ -24,6 +24,7 @@ void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocati
   s.xsph_epsilon = num(st, "xsph_epsilon");
   s.tensile_epsilon = num(st, "tensile_epsilon");
   s.viscosity_pa_s = num(st, "viscosity_pa_s");
+  s.conductivity_alpha = num(st, "conductivity_alpha");
   s.wall_layers = static_cast<int>(st.get("wall_layers")->as_integer()->get());
   s.wall_no_slip = str(st, "wall_slip") == "no";
   s.walls = read_faces(*st.get("walls")->as_array(), w, key + ".sph.walls", dim);

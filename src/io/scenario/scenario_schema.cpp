@@ -265,6 +265,17 @@ TableSchema make_sph() {
                         "viscous step limit 0.125 h^2 rho / mu."),
                    0),
           "0"),
+      with_default(
+          at_most(at_least(real("conductivity_alpha", "1",
+                                "Artificial thermal conductivity alpha_u (Price 2008): heat flows "
+                                "between neighbours at the signal speed sqrt(abs(p_i - p_j) / "
+                                "rho_ij), which smooths the specific energy across a contact "
+                                "discontinuity (the pressure blip of a shock tube) and vanishes "
+                                "where the pressure is smooth. 0: off; 1: Price's value. Its "
+                                "effect on crater's shock tube: docs/validation.md (Sod)."),
+                           0),
+                  1),
+          "0"),
       with_default(choice_list("walls", {"left", "right", "bottom", "top", "back", "front"},
                                "Domain faces that are walls: left/right = x min/max, bottom/top = "
                                "y min/max, back/front = z min/max (3D). The fluid fills up to a "

@@ -1,7 +1,9 @@
 // Unit tests of the SPH pair terms (src/sph/pair_terms.hpp): a pair's forces are equal and
 // opposite, and the energy rates balance the work of those forces (the semi-discrete
-// equations conserve momentum and kinetic + internal energy pair by pair).
+// equations conserve momentum and kinetic + internal energy pair by pair), and the artificial
+// conductivity (Price 2008) against its formula written out.
 #include <gtest/gtest.h>
+#include <cmath>
 
 #include "sph/kernels.hpp"
 #include "sph/pair_terms.hpp"
@@ -11,7 +13,7 @@ namespace {
 
 struct Particle {
   Vec<2> x, v;
-  Real h, m, rho, p, c;
+  Real h, m, rho, p, c, e;
 };
 
 Centre<2> centre_of(const RateParams& c, const Particle& a) {
@@ -22,6 +24,7 @@ Centre<2> centre_of(const RateParams& c, const Particle& a) {
   me.rho = a.rho;
   me.c = a.c;
   me.p = a.p;
+  me.e = a.e;
   me.inv_rho = 1 / a.rho;
   me.r_tensile = artificial_pressure(c.eps_tensile, a.p, a.rho);
   return me;
@@ -33,6 +36,7 @@ Neighbour<2> neighbour_of(const Centre<2>& me, const Particle& b) {
           .rho = b.rho,
           .p = b.p,
           .c = b.c,
+          .e = b.e,
           .v = b.v,
           .v_visc = b.v,
           .wall = false};
@@ -51,13 +55,14 @@ class PairTerms : public ::testing::Test {
  protected:
   // Two approaching particles of different mass, density, pressure (one in tension) and
   // smoothing length; every term on.
-  Particle a{Vec<2>(0.0, 0.0), Vec<2>(3.0, -1.0), 0.013, 2.0, 1000.0, 2e5, 40.0};
-  Particle b{Vec<2>(0.011, 0.004), Vec<2>(-2.0, 0.5), 0.012, 1.5, 950.0, -5e4, 35.0};
+  Particle a{Vec<2>(0.0, 0.0), Vec<2>(3.0, -1.0), 0.013, 2.0, 1000.0, 2e5, 40.0, 700.0};
+  Particle b{Vec<2>(0.011, 0.004), Vec<2>(-2.0, 0.5), 0.012, 1.5, 950.0, -5e4, 35.0, 250.0};
   RateParams c{.alpha = 1.0,
                .beta = 2.0,
                .viscosity_pa_s = 0.3,
                .eps_xsph = 0.5,
                .eps_tensile = 0.2,
+               .alpha_u = 1.0,
                .spacing_m = 0.01};
 };
 
@@ -69,13 +74,14 @@ TEST_F(PairTerms, MomentumIsConserved) {
 }
 
 // The tensile correction is a momentum term only (Monaghan 2000 books no work for it): off here.
+// The conductivity is on: it only moves internal energy within the pair.
 TEST_F(PairTerms, EnergyIsConserved) {
   c.eps_tensile = 0;
   const PairSums<2> sa = sums(c, a, b), sb = sums(c, b, a);
   // d/dt (kinetic + internal) = sum m (v . a + de/dt)
   const Real power = a.m * (a.v.dot(sa.acc) + sa.de) + b.m * (b.v.dot(sb.acc) + sb.de);
-  const Real scale = std::abs(a.m * a.v.dot(sa.acc));
-  EXPECT_GT(scale, 0);
+  const Real scale = std::abs(a.m * a.v.dot(sa.acc)) + std::abs(a.m * sa.de);
+  EXPECT_GT(std::abs(a.m * a.v.dot(sa.acc)), 0);
   EXPECT_LT(std::abs(power), 1e-12 * scale);
 }
 
@@ -102,6 +108,72 @@ TEST_F(PairTerms, NothingBeyondTheSupport) {
   EXPECT_EQ(s.drho, 0);
   EXPECT_EQ(s.de, 0);
   EXPECT_EQ(s.mu_max, 0);
+}
+
+// Price (2008): de_i/dt = m_j alpha_u v_sig^u (e_i - e_j) / rhobar dW/dr(r, hbar),
+// v_sig^u = sqrt(|p_i - p_j| / rhobar), rhobar = (rho_i + rho_j) / 2, hbar = (h_i + h_j) / 2:
+// written out here with the kernel's radial derivative, not through grad_i W.
+TEST_F(PairTerms, ConductivityHasPricesValue) {
+  const Centre<2> me = centre_of(c, a);
+  const Neighbour<2> nb = neighbour_of(me, b);
+  const PairKernel<2> k = pair_kernel<WendlandC2<2>>(nb.rij, a.h, b.h);
+  ASSERT_TRUE(k.within);
+  const Real rhobar = 0.5 * (a.rho + b.rho);
+  const Real vsig = std::sqrt(std::abs(a.p - b.p) / rhobar);
+  const Real r = (a.x - b.x).norm();
+  const Real dwdr = WendlandC2<2>::dw_dr(r, 0.5 * (a.h + b.h));
+  const Real expect = b.m * c.alpha_u * vsig * (a.e - b.e) / rhobar * dwdr;
+  const HeatFlux f = artificial_conductivity(c, me, nb, k);
+  EXPECT_LT(dwdr, 0);
+  EXPECT_LT(f.heat, 0);  // a is hotter (e 700 > 250 J/kg): it loses heat to b
+  EXPECT_NEAR(f.heat, expect, 1e-13 * std::abs(expect));
+  EXPECT_DOUBLE_EQ(f.vsig, c.alpha_u * vsig);
+  // The gather adds it to de/dt and nothing else.
+  RateParams off = c;
+  off.alpha_u = 0;
+  EXPECT_NEAR(sums(c, a, b).de - sums(off, a, b).de, expect, 1e-12 * std::abs(expect));
+  EXPECT_EQ(sums(c, a, b).acc, sums(off, a, b).acc);
+  EXPECT_EQ(sums(c, a, b).drho, sums(off, a, b).drho);
+}
+
+// The heat a gains is the heat b loses: m_a de_a/dt + m_b de_b/dt = 0 to round-off.
+TEST_F(PairTerms, ConductivityIsAntisymmetric) {
+  const Centre<2> ca = centre_of(c, a), cb = centre_of(c, b);
+  const Neighbour<2> na = neighbour_of(cb, a), nb = neighbour_of(ca, b);
+  const HeatFlux fa =
+      artificial_conductivity(c, ca, nb, pair_kernel<WendlandC2<2>>(nb.rij, a.h, b.h));
+  const HeatFlux fb =
+      artificial_conductivity(c, cb, na, pair_kernel<WendlandC2<2>>(na.rij, b.h, a.h));
+  EXPECT_GT(fb.heat, 0);
+  EXPECT_LT(std::abs(a.m * fa.heat + b.m * fb.heat), 1e-14 * std::abs(a.m * fa.heat));
+  EXPECT_EQ(fa.vsig, fb.vsig);
+}
+
+TEST_F(PairTerms, ConductivityVanishesForEqualEnergyOrAlphaZero) {
+  Particle same = b;
+  same.e = a.e;
+  const Centre<2> me = centre_of(c, a);
+  const Neighbour<2> nb = neighbour_of(me, same);
+  const PairKernel<2> k = pair_kernel<WendlandC2<2>>(nb.rij, a.h, b.h);
+  EXPECT_EQ(artificial_conductivity(c, me, nb, k).heat, 0.0);
+  RateParams off = c;
+  off.alpha_u = 0;
+  const Neighbour<2> hot = neighbour_of(me, b);
+  EXPECT_EQ(artificial_conductivity(off, me, hot, k).heat, 0.0);
+  EXPECT_EQ(artificial_conductivity(off, me, hot, k).vsig, 0.0);
+  // Equal pressures: no signal speed, no heat (the term acts at pressure jumps only).
+  Particle level = b;
+  level.p = a.p;
+  EXPECT_EQ(artificial_conductivity(c, me, neighbour_of(me, level), k).heat, 0.0);
+}
+
+// A fixed wall particle cannot take heat: the wall is adiabatic.
+TEST_F(PairTerms, ConductivitySkipsWallParticles) {
+  const Centre<2> me = centre_of(c, a);
+  Neighbour<2> wall = neighbour_of(me, b);
+  wall.wall = true;
+  const PairKernel<2> k = pair_kernel<WendlandC2<2>>(wall.rij, a.h, b.h);
+  EXPECT_EQ(artificial_conductivity(c, me, wall, k).heat, 0.0);
 }
 
 }  // namespace
