@@ -112,6 +112,14 @@ class ThreadDeterminism(unittest.TestCase):
                                           scratch("det_sph3d"))
         self.assertIn("charge.pvd", files)
 
+    def test_sph_3d_conductivity(self):
+        # The artificial conductivity (Price 2008) adds a heat flux and a signal speed to each
+        # particle's gather; the sums must stay in list order on any number of threads.
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",
+                                          scratch("det_sph3d_conductivity"),
+                                          sets=["parts.charge.sph.conductivity_alpha=1"])
+        self.assertIn("charge.pvd", files)
+
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -17,6 +17,9 @@ Cases (walls on all four faces of the domain, free slip; the gas fills the box u
    points): box [0, 0.2]^2 m, dx = 4 mm, the products at 0.25 rho0 (p ~ 0.6 GPa) and a
    [[parts.zones]] disk (centre (0.09, 0.11) m, r = 0.04 m) at rho0 (p ~ 8 GPa). Run to
    t = 200 us: about five crossings at c ~ 5 km/s.
+3. Both again with the artificial conductivity on (conductivity_alpha = 1, Price 2008,
+   J. Comput. Phys. 227, 10040): it moves internal energy between the particles of a pair, so the
+   total must stay conserved with it as well.
 
 Measured: the total energy E = K + U (+ the ledger terms of summary.json) from history.csv
 (total_j, every 10 steps) and summary.json energy.balance_error.
@@ -78,6 +81,14 @@ def jwl_box():
     }
 
 
+def with_conductivity(case, alpha=1.0):
+    """A case of the above with [parts.sph] conductivity_alpha = alpha."""
+    side, dx, sc = case
+    sc["parts"][0]["sph"]["conductivity_alpha"] = alpha
+    sc["scenario"]["name"] += "-conductivity"
+    return side, dx, sc
+
+
 class ClosedBox(unittest.TestCase):
     results = {}
 
@@ -129,6 +140,14 @@ class ClosedBox(unittest.TestCase):
 
     def test_jwl_products(self):
         self._check("jwl", jwl_box, ("density", 0.25 * TNT["rho0_kg_m3"], TNT["rho0_kg_m3"]))
+
+    def test_ideal_gas_conductivity(self):
+        self._check("ideal_gas_conductivity", lambda: with_conductivity(ideal_gas_box()),
+                    ("pressure", 0.1, 1.0))
+
+    def test_jwl_products_conductivity(self):
+        self._check("jwl_conductivity", lambda: with_conductivity(jwl_box()),
+                    ("density", 0.25 * TNT["rho0_kg_m3"], TNT["rho0_kg_m3"]))
 
 
 if __name__ == "__main__":
