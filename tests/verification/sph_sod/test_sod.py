@@ -32,7 +32,7 @@ import unittest
 
 import numpy as np
 
-from sod_case import LEFT, RIGHT, T_END, X0, exact, run_case
+from sod_case import LEFT, RIGHT, T_END, X0, describe, exact, run_case
 from sph_profiles import profile, pyplot, save_figure
 
 DX = 1.0 / 400
@@ -45,9 +45,8 @@ class SodShockTube(unittest.TestCase):
         cls.coarse = run_case(DX, "dx400")
         cls.fine = run_case(DX / 2, "dx800")
         for r in (cls.coarse, cls.fine):
-            print(f"sod dx = 1/{1 / r['dx']:.0f}: L1 density error {100 * r['l1']:.3f} %, "
-                  f"{r['summary']['parts'][0]['count']} particles, {r['summary']['steps']} "
-                  f"steps, {r['wall_s']:.1f} s", file=sys.stderr)
+            print(f"sod {describe(r)}; {r['summary']['parts'][0]['count']} particles",
+                  file=sys.stderr)
         cls._figure()
 
     @classmethod
