@@ -5,8 +5,11 @@
 //     against the nearest face of the solid's surface. Closest point c on the face, outward
 //     normal n_f; the particle centre at signed distance s = (x - c).n_f. In front of the face
 //     (s >= 0) the normal is n = (x - c)/|x - c| (rounded edges and corners) and the overlap
-//     delta = r - |x - c|; behind it (-r < s < 0, the centre has crossed) n = n_f and
-//     delta = r - s. Each particle takes the face of largest overlap (ties: the lowest face).
+//     delta = r - |x - c|; behind it (-r < s < 0, the centre has crossed, and c is the foot
+//     of x on the face: x projects onto it) n = n_f and delta = r - s. A centre behind the
+//     plane of a face that it projects beside has not crossed that face (a particle on a
+//     plate's top next to its edge is behind the side face's plane): it is treated as in
+//     front. Each particle takes the face of largest overlap (ties: the lowest face).
 //     Stiffness k = s_p K A^2 / V of the face's element (LS-DYNA's segment stiffness; K bulk
 //     modulus, A face area, V element volume; s_p = penalty_scale).
 //     Penetration found at first touch is not pushed out: a particle that starts touching with

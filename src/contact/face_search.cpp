@@ -30,6 +30,11 @@ FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf) {
   return out;
 }
 
+// How far beside a face [in particle radii] a particle's centre behind the face's plane may
+// project and still count as having crossed the face (round-off of the closest point: it is the
+// projection itself when that lies on the face).
+constexpr Real kBesideFace = 1e-6;
+
 template <int D>
 std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
                                            const parts::ContactSurface<D>& surf,
@@ -77,15 +82,19 @@ std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
           const Vec<D> nf_out = face_normal<D>(fx);
           const Vec<D> d = x - fp.point;
           const Real s = d.dot(nf_out);
+          // Behind the face's plane but beside the face (a particle resting on a plate's top
+          // next to its edge is behind the side face's plane) the centre has not crossed the
+          // face: the particle meets its edge or corner from outside, as in front of it.
+          const bool crossed = s < 0 && (d - s * nf_out).norm() <= kBesideFace * r;
+          if (crossed && s <= -r)
+            continue;  // beyond the reach of this face (e.g. the other side of a plate)
           Real overlap = 0;
           Vec<D> n;
-          if (s >= 0) {
+          if (!crossed) {
             const Real dist = d.norm();
             overlap = r - dist;
             n = dist > 0 ? Vec<D>(d / dist) : nf_out;
           } else {
-            if (s <= -r)
-              continue;  // beyond the reach of this face (e.g. the other side of a plate)
             overlap = r - s;
             n = nf_out;
           }

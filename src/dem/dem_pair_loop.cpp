@@ -286,11 +286,14 @@ inline void DemPart<D>::grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
   Vec<D> force;
   AngularVec<D> torque;
   const int bonds = gather_shares(i, tally, force, torque);
+  // Whether another grain pushes on this one (its pairs are kept by either grain; both sums are
+  // in `force` now, beside gravity): the absorbing faces' tangential dashpot acts on the bed.
+  const bool in_bed = force != Vec<D>(m_[i] * gravity_);
   Real elastic = tally.elastic, dissipated = tally.dissipated;
   rigid_wall_contacts<Law>(i, dt, laws, tally,
                            GrainSum{force, torque, elastic, dissipated, moment});
   // Absorbing walls: the held static reaction plus dashpots (absorbing_wall.hpp).
-  const auto [absorbed, static_power] = absorbing_wall_loads(i, force, moment);
+  const auto [absorbed, static_power] = absorbing_wall_loads(i, force, moment, in_bed);
   if (!bond_partner_new_.empty()) close_bond_slots(i, tally);
 
   Real local_power = 0;
@@ -437,18 +440,23 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
 // their dashpots absorb and that of the held static reactions [W].
 template <int D>
 inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& force,
-                                                              SymTensor* moment) {
+                                                              SymTensor* moment, bool in_bed) {
   Real absorbed = 0, static_power = 0;
-  for (const parts::Face face : cfg_.absorbing_walls) {
+  const Real g_norm = gravity_.norm();
+  const Real height = g_norm > 0 ? Real(-x_[i].dot(gravity_) / g_norm) : Real(0);
+  for (std::size_t k = 0; k < cfg_.absorbing_walls.size(); ++k) {
     // The face's plane and normal into the bed (not the grain's: one whose centre has crossed
-    // the face is leaving, remove_outflow, and meets it no more).
-    const WallPlane w = wall_plane(face);
+    // the face is leaving, remove_outflow, and meets it no more). Above the ground it had at
+    // t = 0 the face is open: a grain there passes.
+    if (height > absorbing_top_[k]) continue;
+    const WallPlane w = wall_plane(cfg_.absorbing_walls[k]);
     const Real gap = w.upper ? w.plane - x_[i][w.axis] : x_[i][w.axis] - w.plane;
     if (!(gap > 0 && gap < r_[i])) continue;
     Vec<D> normal = Vec<D>::Zero();
     normal[w.axis] = w.upper ? -1 : 1;
-    const AbsorbingWallForce<D> aw = absorbing_wall_force<D>(
-        absorbing_, absorbing_wall_area<D>(r_[i]), normal, v_[i], static_reaction_[i][w.axis]);
+    const AbsorbingWallForce<D> aw =
+        absorbing_wall_force<D>(absorbing_, absorbing_wall_area<D>(r_[i]), normal, v_[i],
+                                static_reaction_[i][w.axis], in_bed);
     force += aw.force;
     if (moment) *moment += contact_moment<D>(Vec<D>(-gap * normal), aw.force);
     absorbed += aw.dissipated_power;

@@ -491,7 +491,8 @@ class DemPart final : public parts::Part<D> {
   [[gnu::always_inline]] inline void rigid_wall_contacts(Index i, Real dt, const LawPair<Law>& laws,
                                                          PairTally& tally, GrainSum sum);
   [[gnu::always_inline]] inline std::pair<Real, Real> absorbing_wall_loads(Index i, Vec<D>& force,
-                                                                           SymTensor* moment);
+                                                                           SymTensor* moment,
+                                                                           bool in_bed);
   [[gnu::always_inline]] inline void close_bond_slots(Index i, const PairTally& tally);
   inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
 
@@ -555,6 +556,10 @@ class DemPart final : public parts::Part<D> {
   }
   Real wall_reflections_ = 0;  // grains put back from beyond a wall (reflect_at_walls)
   AbsorbingWallParams absorbing_;
+  // Per absorbing face (cfg_.absorbing_walls' order): the height (along -gravity) of the
+  // highest grain centre touching it at t = 0. Above it the face is open air, not ground: it
+  // puts no force on a grain there (init_absorbing_walls, absorbing_wall_loads).
+  std::vector<Real> absorbing_top_;
   // The grains' Love-Weber stress (laws/grain_stress.hpp), of frames only: computed in a force
   // stage that expect_frame() announced (stress_step_; the rigid and absorbing walls' moments
   // are summed in its own instance of grain_pass (Stress), the pairs' by

@@ -265,15 +265,28 @@ void DemPart<D>::init_absorbing_walls(const PartSettings& settings) {
   add_diagnostic("absorbing_wall_density_kg_m3", rho);
   add_diagnostic("absorbing_wall_p_wave_speed_m_s", cp);
   add_diagnostic("absorbing_wall_s_wave_speed_m_s", cs);
+  // Each face's top: the highest centre among the grains it touches now (all grains' if it
+  // touches none; no top without gravity). t = 0 here also on a restart: the part is built
+  // from the initial grains before the checkpoint's fields replace them.
+  const Real g_norm = gravity_.norm();
+  const auto height = [&](Index i) {
+    return g_norm > 0 ? Real(-x_[i].dot(gravity_) / g_norm) : Real(0);
+  };
+  const Real lowest = -std::numeric_limits<Real>::infinity();
+  absorbing_top_.assign(cfg_.absorbing_walls.size(), lowest);
+  Real top_all = lowest;
+  for (Index i = 0; i < n; ++i)
+    top_all = std::max(top_all, height(i));
   std::visit(
       [&]<class Law>(const LawPair<Law>& laws) {
         for (Index i = 0; i < n; ++i)
-          for (const parts::Face face : cfg_.absorbing_walls) {
-            const WallPlane w = wall_plane(face);
+          for (std::size_t k = 0; k < cfg_.absorbing_walls.size(); ++k) {
+            const WallPlane w = wall_plane(cfg_.absorbing_walls[k]);
             Vec<D> foot = x_[i];
             foot[w.axis] = w.plane;
             const ContactGeometry<D> g = sphere_wall_geometry<D>(x_[i], r_[i], foot);
             if (!g.touching()) continue;
+            absorbing_top_[k] = std::max(absorbing_top_[k], height(i));
             const ContactForce<D> cf =
                 evaluate_contact<D, Law>(laws.wall, g, RelativeVelocity<D>{}, m_[i],
                                          row_pitch(r_[i], r_[i]), Vec<D>::Zero(), Real(0));
@@ -281,6 +294,12 @@ void DemPart<D>::init_absorbing_walls(const PartSettings& settings) {
           }
       },
       laws_);
+  for (Real& top : absorbing_top_) {
+    if (!(g_norm > 0))
+      top = std::numeric_limits<Real>::infinity();
+    else if (top == lowest)
+      top = top_all;
+  }
 }
 
 // Safeguard: a grain driven through a wall (its centre beyond the face: an overlap of more

@@ -235,8 +235,13 @@ Real Probes<D>::surface_height(const Column& col, std::size_t column) const {
     }
   }
   if (top < 0) return kNaN;
+  // The soil of the top cell and the one above, spread over the column, on that of the cell
+  // below (as much of it as there is: a top cell's few grains over a half-empty cell below
+  // are not a full cell of ground under them).
   const Real above = top + 1 < n ? col.filled[at(top + 1)] : 0;
-  return lo_[D - 1] + static_cast<Real>(top) * bin_ + (col.filled[at(top)] + above) / (full / bin_);
+  const Real below = top > 0 ? std::min(col.filled[at(top - 1)], full) : full;
+  return lo_[D - 1] + static_cast<Real>(top - 1) * bin_ +
+         (below + col.filled[at(top)] + above) / (full / bin_);
 }
 
 template <int D>

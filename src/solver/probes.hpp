@@ -10,8 +10,9 @@
 // plate was laid: pieces thrown up are not the ground), phi_ref the bed's packing fraction measured
 // at t = 0 (median over cells inside the bed). From the top down, the first non-empty cell c that
 // with the cell below holds at least half a cell's worth (F_c + F_{c-1} >= b^D / 2) is the column's
-// top; the surface height is the bottom of c plus (F_c + F_{c+1}) / b^(D-1), the height the solid
-// of those two cells would fill at the bed's packing. A cell pair that half fills is "dense". The
+// top; the surface height is the bottom of the cell below c plus (min(F_{c-1}, b^D) + F_c +
+// F_{c+1}) / b^(D-1), the height the solid of those three cells would fill at the bed's
+// packing (the floor counts as a full cell). A cell pair that half fills is "dense". The
 // column's ground is what stands on its floor: from the bottom up, the dense cells until the first
 // gap of more than three grain diameters (6 r_max; at the default b = 8 r_max, any cell that is not
 // dense), where cells inside the regions the soil was laid around (the charge's, the plate's:

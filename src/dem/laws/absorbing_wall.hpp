@@ -3,7 +3,7 @@
 // boundary particles (force = traction x the particle's tributary area):
 //
 //   f_n = max(F_0 - \eta_n (v . n), 0)      along n (from the wall into the bed)     [N]
-//   F_t = -\eta_t (v - (v . n) n)                                                     [N]
+//   F_t = -\eta_t (v - (v . n) n)    on a grain of the bed (in_bed), else 0             [N]
 //   \eta_n = \rho c_p A,   \eta_t = \rho c_s A                                        [N s/m]
 //   A = 2r (2D, per metre of depth),  A = (2r)^2 (3D)                                 [m^2]
 //
@@ -22,6 +22,17 @@
 // price: the wall has no stiffness, so a grain that was not touching it at t = 0 is held only
 // by the dashpot and creeps into it at F / \eta_n (for a 5 mm sand grain under its own weight,
 // about 0.2 mm/s).
+//
+// The tangential dashpot acts on the grains of the bed inside, those another grain pushes on
+// (the part passes in_bed): the S wave it absorbs travels in the bed. A grain the blast cut
+// loose from the bed and that comes to rest on the face is not held up by it (with the
+// dashpot, such grains hung on the side faces of the paper-20cm demo: the normal dashpot or
+// the held reaction kept them pressed to the face, the tangential one carried their weight,
+// and the surface probe took them for ground).
+//
+// The face is the ground beyond the model, so it stops where the ground did at t = 0: above
+// the highest grain centre that touched it then, it is open air and applies nothing (the part
+// keeps that height per face). Ejecta flying out over the rim leave through it.
 //
 // The face transmits: the part applies this force while the grain's centre is inside the face
 // and less than r from it, and removes a grain whose centre crosses the face (its energy booked
@@ -71,12 +82,12 @@ inline Real absorbing_wall_area(Real radius) {
 template <int D>
 inline AbsorbingWallForce<D> absorbing_wall_force(const AbsorbingWallParams& p, Real area,
                                                   const Vec<D>& normal, const Vec<D>& velocity,
-                                                  Real static_reaction) {
+                                                  Real static_reaction, bool in_bed = true) {
   AbsorbingWallForce<D> out;
   const Real vn = velocity.dot(normal);
   const Vec<D> vt = velocity - vn * normal;
   const Real eta_n = p.normal_impedance * area;
-  const Real eta_t = p.tangential_impedance * area;
+  const Real eta_t = in_bed ? p.tangential_impedance * area : Real(0);
   const Real fn = std::max(static_reaction - eta_n * vn, Real(0));
   out.force = fn * normal - eta_t * vt;
   out.static_power = static_reaction * vn;

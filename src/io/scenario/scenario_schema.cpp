@@ -515,8 +515,12 @@ TableSchema make_dem() {
               "non-reflecting boundaries of a bed: a grain touching one gets its static reaction "
               "of t = 0 (the wall's elastic normal force at its initial overlap, so a bed settled "
               "on it keeps resting on it) plus dashpots rho c_p A on its normal and rho c_s A on "
-              "its tangential velocity, A = 2r (2D, per metre of depth) or (2r)^2 (3D); the wall "
-              "pushes, never pulls. The faces transmit: a grain whose centre crosses one leaves "
+              "its tangential velocity, A = 2r (2D, per metre of depth) or (2r)^2 (3D), the "
+              "tangential one on grains of the bed (another grain pushes on them: a loose "
+              "grain at rest on the face is not held up); the wall pushes, never pulls. A face "
+              "reaches up to the highest grain centre that touched it at t = 0 (the ground "
+              "beyond the model): above, it is open and applies nothing. The faces transmit: a "
+              "grain whose centre crosses one leaves "
               "the model, its energy booked as outflow (left_domain_* in summary.json). While "
               "the packing settles they are rigid walls. A face is in walls or here, not both."),
           "[]"),

@@ -729,6 +729,12 @@ TEST(DemAbsorbingWall, HeldReactionPlusDashpots) {
       absorbing_wall_force<2>(p, absorbing_wall_area<2>(r), Vec<2>(-1, 0), Vec<2>::Zero(), 0.5);
   EXPECT_DOUBLE_EQ(rest.force.x(), -0.5);
   EXPECT_DOUBLE_EQ(rest.dissipated_power, 0.0);
+  // A grain no other grain pushes on (not in the bed): the normal dashpot and the held reaction
+  // as before, no tangential dashpot (it would carry a loose grain's weight on the face).
+  const auto loose = absorbing_wall_force<3>(p, area, n, Vec<3>(0.2, -0.1, 0), 2.0, false);
+  EXPECT_EQ(loose.force.x(), 0.0);
+  EXPECT_NEAR(loose.force.y(), 2.48, 1e-12);
+  EXPECT_NEAR(loose.dissipated_power, 0.048, 1e-12);
 }
 
 TEST(DemLawTypes, SameSignatureForPairLoops) {

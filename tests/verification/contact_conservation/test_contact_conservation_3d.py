@@ -17,20 +17,10 @@ with the same references and tolerances.
 Measured (2026-11-26): blob on the plate: momentum drift 2.9e-15, balance 1.1e-3, the plate
 took 2.75 of 2.59 kg m/s; blob on spheres: drift 2.7e-15, balance 2.3e-4.
 
-EXPECTED FAILURE (2026-11-26), the gas column: the 36 particles of the column's bottom edge (next
-to the side walls) fall through the plate within 20 us and the run stops (exit 3, a particle
-below the domain). The cause is the particle-surface search (src/contact/face_search.cpp): a
-particle resting on the plate's top next to its edge lies behind the plane of the plate's side
-face, within r of it, and the search takes that as a crossing of the side face with overlap
-r - s (up to 2r) and pushes it sideways, though its centre projects beside that face (it has
-not crossed it). Requiring the centre to project onto the face before it counts as crossed
-(as the node-to-face search does) fixes it: 0.965 of p A (0.92-1.04 over 1-2 ms), and the 2D
-column's force steadies from 0.85-1.03 to 0.96-0.98 of p A. It is not in yet because it moves
-the paper-20cm demo's outcome, where it exposes an artefact of the absorbing faces that
-tests/regression/test_demo_surface.py catches: grains the blast cut loose from the bed hang on
-the right face above the ground (the normal dashpot keeps them pressed to it and the tangential
-one carries their weight), and the surface probe counts them as ground. Both go in together
-(issue 26's note). In 2D the same geometry happens to fall on the boundary s = -r and passes.
+The gas column: 0.965 of p A (0.92-1.04 over 1-2 ms). Before the particle-surface search
+required a centre behind a face to project onto it (src/contact/face_search.cpp), the 36
+particles of the column's bottom edge fell through the plate within 20 us: each lay behind the
+plane of the plate's side face, within r of it, and was pushed sideways by an overlap r - s.
 """
 import csv
 import sys
@@ -110,7 +100,6 @@ class Contacts3d(unittest.TestCase):
         self.assertLess(drift, 1e-10)
         self.assertLess(abs(s["energy"]["balance_error"]), 0.01)
 
-    @unittest.expectedFailure  # the edge of the column falls through the plate: see above
     def test_gas_column_transmits_pressure(self):
         out, _ = self.run_case("column", COLUMN_3D)
         with open(out / "history.csv") as f:

@@ -316,6 +316,46 @@ class AbsorbingWall(unittest.TestCase):
                     self.assertLess(abs(summary["energy"]["balance_error"]), 0.01)
 
 
+    def test_face_is_open_above_the_ground(self):
+        # The face is the ground beyond the model: it reaches up to the highest grain centre
+        # that touched it at t = 0, and is open above. A grain shot at it above that height
+        # leaves untouched, in free flight under gravity: with the crossing at t = 0.05 s (the
+        # removal at the end of that step), it carries 0.5 m (V^2 + (g t)^2), within 1e-3 (a
+        # step of 1e-4 s moves g t by 2e-3 of it). A dashpot would have taken 3/4 of its
+        # energy (test_grain_through_the_face_leaves).
+        for dim in (2, 3):
+            with self.subTest(dim=dim):
+                d = scratch(f"dem_absorbing_open_{dim}d")
+                (d / "case.toml").write_text(open_face_scenario(dim))
+                summary = run_scenario(d / "case.toml", d / "out", threads=1)
+                self.assertEqual(summary["status"], "completed")
+                diag = summary["parts"][0]["diagnostics"]
+                self.assertEqual(diag["left_domain_count"], 1)
+                t = 0.05 / V_THROUGH
+                exact = 0.5 * mass(dim) * (V_THROUGH**2 + (9.81 * t) ** 2)
+                left = diag["left_domain_energy_j"]
+                print(f"{dim}D grain over the ground at an absorbing face: leaves with "
+                      f"{left / exact:.5f} of free flight's energy", file=sys.stderr)
+                self.assertAlmostEqual(left / exact, 1.0, delta=1e-3)
+
+
+def open_face_scenario(dim):
+    """Gravity down y; one grain at rest touching the right face (absorbing) at y = -0.05 m sets
+    the face's top; one shot at the face from x = 0.15 m at y = 0, above that top."""
+    lo, hi = vec(dim, 0.0, -0.1, -0.1), vec(dim, 0.2, 0.1, 0.1)
+    return scenario_text(compose_scenario(
+        f"absorbing-open-{dim}d", dim, 0.06, output=output(0.03),
+        domain=domain(lo, hi, gravity=vec(dim, 0.0, -9.81)),
+        materials=[material(BEADS, restitution=1.0)],
+        parts=[part("grains", "dem", "beads", A, box(lo, hi),
+                    dem={"contact": "linear_spring", "normal_stiffness_n_m": KN,
+                         "absorbing_walls": ["right"], "absorbing_wall_density_kg_m3": RHO,
+                         "absorbing_wall_p_wave_speed_m_s":
+                             0.5 * mass(dim) / (R * (A if dim == 2 else A * A)) / RHO},
+                    particles=[particle(vec(dim, 0.2 - 0.999 * R, -0.05), R),
+                               particle(vec(dim, 0.15, 0.0), R, vec(dim, V_THROUGH, 0.0))])]))
+
+
 def through_scenario(dim, outflow):
     """One grain shot at the right face (absorbing, eta r / m = 1/2: it crosses at V / 2) and one
     at rest far from every face (the part keeps a grain)."""
