@@ -73,10 +73,21 @@ bool carved(const std::vector<RegionConfig>& carving, const Vec<D>& x, Real radi
   return false;
 }
 
+/// A plane of symmetry a lattice is cut at: x[axis] = plane, the model on the side below it
+/// (upper: the plane is the domain's upper face) or above it.
+struct LatticeCut {
+  int axis = 0;
+  Real plane = 0;
+  bool upper = false;
+};
+
 /// Centres of a square/cubic lattice of pitch s over the region's bounding box, centred in
-/// it, kept when inside the region. Each point stands for a cell of volume s^D.
+/// it, kept when inside the region. Each point stands for a cell of volume s^D. Where the box
+/// reaches across one of the `cuts` (planes of symmetry), the lattice is laid from the plane,
+/// half a pitch off it (so the mirror images continue it), on the model's side only.
 template <int D>
-std::vector<Vec<D>> region_lattice(const RegionConfig& r, Real s) {
+std::vector<Vec<D>> region_lattice(const RegionConfig& r, Real s,
+                                   const std::vector<LatticeCut>& cuts = {}) {
   Vec<D> lo, hi;
   for (int d = 0; d < D; ++d) {
     const auto k = static_cast<std::size_t>(d);
@@ -90,6 +101,18 @@ std::vector<Vec<D>> region_lattice(const RegionConfig& r, Real s) {
   Vec<D> start;
   for (int d = 0; d < D; ++d)
     start[d] = lo[d] + 0.5 * ((hi[d] - lo[d]) - static_cast<Real>(n[d] - 1) * s);
+  for (const LatticeCut& cut : cuts) {
+    const int d = cut.axis;
+    const Real plane = cut.plane;
+    const bool upper = cut.upper;
+    if (d >= D || !(lo[d] < plane && plane < hi[d])) continue;
+    const Real from = upper ? lo[d] : plane, to = upper ? plane : hi[d];
+    const auto count = static_cast<std::int64_t>(std::floor((to - from) / s + 1e-9));
+    if (count < 1) return {};
+    n[d] = count;
+    // Points at plane -/+ (k + 1/2) s; from the lower side, the one nearest the far end first.
+    start[d] = upper ? plane - (static_cast<Real>(count) - 0.5) * s : plane + 0.5 * s;
+  }
   std::vector<Vec<D>> pts;
   IVec<D> i = IVec<D>::Zero();
   while (true) {

@@ -50,6 +50,14 @@ inline Real face_coordinate(const Domain& d, Face face) {
   return static_cast<int>(face) % 2 ? d.max_m[axis] : d.min_m[axis];
 }
 
+/// The domain's planes of symmetry as cuts of a particle lattice (region_lattice).
+inline std::vector<LatticeCut> lattice_cuts(const Domain& d) {
+  std::vector<LatticeCut> cuts;
+  for (const Face f : d.symmetry_planes)
+    cuts.push_back({static_cast<int>(f) / 2, face_coordinate(d, f), static_cast<int>(f) % 2 == 1});
+  return cuts;
+}
+
 struct InitialState {
   std::optional<Real> density_kg_m3;
   std::optional<Real> pressure_pa;

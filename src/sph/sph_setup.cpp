@@ -21,12 +21,13 @@ ParticleLattice<D> particle_lattice(const parts::PartSetup& pc, Real spacing) {
         k = static_cast<int>(z);
     return k;
   };
-  for (const auto& x : parts::region_lattice<D>(pc.region, spacing))
+  const std::vector<parts::LatticeCut> cuts = parts::lattice_cuts(pc.domain);
+  for (const auto& x : parts::region_lattice<D>(pc.region, spacing, cuts))
     if (owner(x) < 0 && !parts::carved<D>(pc.carving, x, 0.5 * spacing))
       out.x.push_back(x), out.pitch.push_back(spacing);
   for (std::size_t z = 0; z < pc.zones.size(); ++z) {
     if (!pc.zones[z].spacing_m) continue;
-    for (const auto& x : parts::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m))
+    for (const auto& x : parts::region_lattice<D>(pc.zones[z].region, *pc.zones[z].spacing_m, cuts))
       if (parts::region_contains<D>(pc.region, x) && owner(x) == static_cast<int>(z))
         out.x.push_back(x), out.pitch.push_back(*pc.zones[z].spacing_m);
   }

@@ -322,11 +322,23 @@ void Builder::check_region(const Config& c, const toml::table& t, const toml::ta
     bool well_formed = domain_ok_;
     for (int d = 0; d < dim; ++d)
       well_formed = well_formed && b.hi[d] > b.lo[d];
+    // An SPH part's region may reach across a plane of symmetry (the charge of a quarter
+    // model is the whole sphere, centred on the planes' line): its particles are laid on the
+    // modelled side only (parts::region_lattice).
+    const auto across = [&](int d, bool upper) {
+      return p.is(Method::Sph) &&
+             parts::is_symmetry_plane(c.domain, static_cast<parts::Face>(2 * d + (upper ? 1 : 0)));
+    };
     for (int d = 0; d < dim && well_formed; ++d)
-      if (b.lo[d] < c.domain.min_m[d] || b.hi[d] > c.domain.max_m[d]) {
+      if ((b.lo[d] < c.domain.min_m[d] && !across(d, false)) ||
+          (b.hi[d] > c.domain.max_m[d] && !across(d, true)) || b.hi[d] <= c.domain.min_m[d] ||
+          b.lo[d] >= c.domain.max_m[d]) {
         error(where_of(rt, w), key + ".region",
-              fmt::format("expected the region inside the domain {} .. {}; it spans {} .. {}",
+              fmt::format("expected the region inside the domain {} .. {}{}; it spans {} .. {}",
                           vec_text(c.domain.min_m, dim), vec_text(c.domain.max_m, dim),
+                          c.domain.symmetry_planes.empty()
+                              ? ""
+                              : " (an SPH part's may reach across domain.symmetry_planes)",
                           vec_text(b.lo, dim), vec_text(b.hi, dim)));
         break;
       }

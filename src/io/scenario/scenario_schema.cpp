@@ -169,7 +169,10 @@ TableSchema make_domain() {
               "symmetry_planes", {"left", "right", "bottom", "top", "back", "front"},
               "Domain faces that are planes of symmetry for every part, so that half a "
               "symmetric problem is modelled (a quarter with two, an eighth with three): "
-              "SPH parts get mirror images behind the face (as free-slip walls: exact); DEM "
+              "SPH parts get mirror images behind the face (as free-slip walls: exact), and "
+              "an SPH part's region may reach across the plane (a quarter model's charge is "
+              "the whole sphere centred on the planes): its lattice is laid from the plane, "
+              "half a spacing off it, on the domain's side only; DEM "
               "parts a rigid wall without friction or rolling resistance (the grains slide "
               "and spin freely along it; its normal law is the part's grain-wall law, with "
               "wall_restitution); FEM nodes on the plane (within 1e-9 of the domain's extent) "
