@@ -174,6 +174,11 @@ struct ProbesConfig {
   std::optional<std::size_t> soil;   // a dem part
   Real stress_time_s{};
   std::optional<Real> surface_bin_m;
+  // 3D: the horizontal position [x, y] of the crater's axis [m], about which the surface
+  // profile is averaged. From axis_m, else the first detonation point of the first SPH part
+  // that has one, else the full model's horizontal centre (on the symmetry planes the domain
+  // has). Unused in 2D.
+  std::array<Real, 2> axis_m{};
   bool any() const { return plate || soil; }
 };
 

@@ -94,11 +94,59 @@ void Builder::read_probes(Config& c, const SourceLocation& top) {
   };
   c.probes.plate = part("plate", Method::Fem);
   c.probes.soil = part("soil", Method::Dem);
+  read_probe_axis(c, t, w);
   if (c.probes.plate && c.probes.stress_time_s > c.end_time_s)
     c_warnings_.push_back(
         fmt::format("probes.stress_time_s = {} s is after scenario.end_time_s = {} s: "
                     "plate_peak_von_mises_pa will not be measured",
                     c.probes.stress_time_s, c.end_time_s));
+}
+
+// [probes] axis_m: the crater's axis in 3D, given or resolved here so that the run and `check`
+// use one value. The detonation point is where a buried charge's crater centres; without one,
+// the full model's centre, which lies on the symmetry planes of a half or quarter model.
+void Builder::read_probe_axis(Config& c, const toml::table& t, const SourceLocation& w) {
+  const std::vector<Real> given = reals(t, "axis_m");
+  if (t.get("axis_m")) {
+    const SourceLocation aw = loc(t, "axis_m", w);
+    if (c.dimension != 3) {
+      error(aw, "probes.axis_m",
+            "the crater's axis is for 3D scenarios (scenario.dimension = 3); a 2D surface "
+            "profile is along x, per column");
+      return;
+    }
+    if (given.size() != 2) {
+      error(aw, "probes.axis_m",
+            fmt::format("expected [x, y], the horizontal position of the crater's axis (2 "
+                        "numbers), got {} entries",
+                        given.size()));
+      return;
+    }
+    for (std::size_t d = 0; d < 2; ++d)
+      if (given[d] < c.domain.min_m[d] || given[d] > c.domain.max_m[d])
+        c_warnings_.push_back(
+            fmt::format("probes.axis_m = [{}, {}] is outside the domain's horizontal extent: "
+                        "the surface profile is averaged about an axis outside the model",
+                        given[0], given[1]));
+    c.probes.axis_m = {given[0], given[1]};
+    return;
+  }
+  if (c.dimension != 3) return;
+  for (const auto& p : c.parts)
+    if (p.is(Method::Sph) && !p.detonations.empty()) {
+      c.probes.axis_m = {p.detonations.front().point_m[0], p.detonations.front().point_m[1]};
+      return;
+    }
+  for (std::size_t axis = 0; axis < 2; ++axis) {
+    const auto lo = static_cast<parts::Face>(2 * axis);
+    const auto hi = static_cast<parts::Face>(2 * axis + 1);
+    if (parts::is_symmetry_plane(c.domain, lo))
+      c.probes.axis_m[axis] = c.domain.min_m[axis];
+    else if (parts::is_symmetry_plane(c.domain, hi))
+      c.probes.axis_m[axis] = c.domain.max_m[axis];
+    else
+      c.probes.axis_m[axis] = Real(0.5) * (c.domain.min_m[axis] + c.domain.max_m[axis]);
+  }
 }
 
 }  // namespace crater::io::reader

@@ -198,6 +198,7 @@ class Builder {
   // read_contacts_probes.cpp
   void read_contacts(Config& c, const SourceLocation& top);
   void read_probes(Config& c, const SourceLocation& top);
+  void read_probe_axis(Config& c, const toml::table& t, const SourceLocation& w);
 
   toml::table& root_;
   std::string file_;

@@ -914,11 +914,11 @@ TableSchema make_probes() {
   t.keys = {
       text("plate",
            "The fem part measured as the plate: plate_peak_von_mises_pa (at stress_time_s), "
-           "plate_peak_von_mises_max_pa, plate_eroded_elements, plate_perforated, and the "
-           "history.csv column plate_max_von_mises_pa."),
+           "plate_peak_von_mises_max_pa, plate_eroded_elements, plate_perforated, "
+           "plate_perforated_area_m2, and the history.csv column plate_max_von_mises_pa."),
       text("soil",
            "The dem part whose surface (with the plate's) is the ground: surface_profile.csv, "
-           "surface_settlement_max_m, surface_settlement_max_x_m, crater_depth_m, "
+           "surface_settlement_max_m, surface_settlement_max_x_m (3D: _r_m), crater_depth_m, "
            "crater_radius_m, delamination_gap_max_m."),
       with_default(at_least(real("stress_time_s", "s",
                                  "Time of plate_peak_von_mises_pa (the paper's figures: 0.6 ms)."),
@@ -928,6 +928,13 @@ TableSchema make_probes() {
           real("surface_bin_m", "m",
                "Width of the columns (and height of the cells) in which the ground surface "
                "is found. Unset: 8 x the soil's largest grain radius (cells of some 15 grains).")),
+      of_type(real("axis_m", "m",
+                   "3D only: [x, y], the horizontal position of the crater's axis, about which "
+                   "surface_profile.csv is averaged in rings and crater_radius_m is measured. "
+                   "Unset: the first detonation point of the first sph part that has one, else "
+                   "the full model's horizontal centre (on the domain's symmetry planes: the "
+                   "corner of a quarter model)."),
+              KeyType::RealArray),
   };
   return t;
 }
