@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <string_view>
 
 #include "core/index.hpp"
@@ -13,6 +12,7 @@
 #include "fem/element_geometry.hpp"
 #include "io/checkpoint/checkpoint.hpp"
 #include "io/output/atomic_file.hpp"
+#include "solver/probe_geometry.hpp"
 
 namespace crater::solver {
 namespace {
@@ -69,6 +69,11 @@ void Probes<D>::for_each_neighbour(std::size_t k, F&& f) const {
 template <int D>
 Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>>>& parts)
     : cfg_(c.probes) {
+  // A vertical plane of symmetry mirrors the modelled part into the other half: the full
+  // model's horizontal area is twice the modelled one, whether a hole meets the plane (it is
+  // doubled) or not (it has a twin).
+  for (const parts::Face f : c.domain.symmetry_planes)
+    if (static_cast<int>(f) / 2 != D - 1) mirror_factor_ *= 2;
   if (!cfg_.soil) return;
   for (int d = 0; d < D; ++d)
     lo_[d] = c.domain.min_m[d];
@@ -354,6 +359,20 @@ void Probes<D>::plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts
     perforated = perforated || (bottom[at(e)] && top[at(e)]);
   m.push_back({"plate_eroded_elements", static_cast<Real>(eroded_count)});
   m.push_back({"plate_perforated", perforated ? Real(1) : Real(0)});
+  // The undeformed footprint that only eroded elements cover, the full model's (mirrored in
+  // the vertical symmetry planes); in 2D a length, x 1 m of depth.
+  std::vector<Vec<D>> reference(xn.size());
+  for (std::size_t k = 0; k < xn.size(); ++k) {
+    reference[k] = xn[k];
+    for (int d = 0; disp && d < D; ++d)
+      reference[k][d] -= disp->real_data[k * D + at(d)];
+  }
+  std::vector<std::uint8_t> gone(at(ne));
+  for (Index e = 0; e < ne; ++e)
+    gone[at(e)] = is_eroded(e) ? 1 : 0;
+  const Real area =
+      perforated_footprint<D>({reference, g.connectivity, g.offsets, gone}) * mirror_factor_;
+  m.push_back({"plate_perforated_area_m2", area});
 }
 
 // Column k's centre along horizontal axis `axis` (row-major: the last horizontal axis varies
@@ -387,14 +406,24 @@ void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& part
     if (!std::isfinite(now[k]) && std::isfinite(surface0_[k])) now[k] = lo_[D - 1];
     if (std::isfinite(now[k]) && std::isfinite(surface0_[k])) drop[k] = surface0_[k] - now[k];
   }
+  if constexpr (D == 2)
+    column_crater_metrics(now, drop, dir, m);
+  else
+    ring_crater_metrics(now, dir, m);
+  if (cfg_.plate) gap_metrics(parts, cols, now, m);
+}
+
+// 2D: the profile per column, the crater as the connected columns around the deepest one, the
+// settlement of the others.
+template <int D>
+void Probes<D>::column_crater_metrics(const std::vector<Real>& now, const std::vector<Real>& drop,
+                                      const std::filesystem::path& dir,
+                                      std::vector<Diagnostic>& m) const {
+  const std::size_t nc = now.size();
   {
-    std::string csv = D == 2 ? "x_m," : "x_m,y_m,";
-    csv += "surface_initial_m,surface_m,vertical_displacement_m\n";
-    for (std::size_t k = 0; k < nc; ++k) {
-      for (int d = 0; d + 1 < D; ++d)
-        csv += fmt::format("{},", column_centre(k, d));
-      csv += fmt::format("{},{},{}\n", surface0_[k], now[k], -drop[k]);
-    }
+    std::string csv = "x_m,surface_initial_m,surface_m,vertical_displacement_m\n";
+    for (std::size_t k = 0; k < nc; ++k)
+      csv += fmt::format("{},{},{},{}\n", column_centre(k, 0), surface0_[k], now[k], -drop[k]);
     io::write_file_atomic(dir / "surface_profile.csv", csv);
   }
   // The crater: the connected columns around the deepest drop that dropped by more than a
@@ -421,10 +450,7 @@ void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& part
       });
     }
   }
-  const Real column_area = cell_volume_ground() / bin_;
-  const Real crater_radius =
-      D == 2 ? static_cast<Real>(crater_columns) * column_area / 2
-             : std::sqrt(static_cast<Real>(crater_columns) * column_area / std::numbers::pi);
+  const Real crater_radius = static_cast<Real>(crater_columns) * width_[0] / 2;
   // Settlement outside the crater and its neighbouring columns.
   Real settle = -std::numeric_limits<Real>::infinity(), settle_x = kNaN;
   for (std::size_t k = 0; k < nc; ++k) {
@@ -443,8 +469,47 @@ void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& part
   }
   m.push_back({"crater_depth_m", depth});
   m.push_back({"crater_radius_m", crater_radius});
+}
 
-  if (cfg_.plate) gap_metrics(parts, cols, now, m);
+// 3D: the surface averaged in rings about the crater's axis, the crater read off that profile
+// (probe_geometry.hpp) and the settlement of the rings outside it. A blast under a flat ground
+// is axisymmetric about its axis: the rings keep what a single column's packing noise hides.
+template <int D>
+void Probes<D>::ring_crater_metrics(const std::vector<Real>& now, const std::filesystem::path& dir,
+                                    std::vector<Diagnostic>& m) const {
+  if constexpr (D == 3) {
+    const std::size_t nc = now.size();
+    std::vector<Real> r(nc);
+    for (std::size_t k = 0; k < nc; ++k)
+      r[k] = std::hypot(column_centre(k, 0) - cfg_.axis_m[0], column_centre(k, 1) - cfg_.axis_m[1]);
+    // With vertical planes of symmetry through the axis (a half or quarter model), the modelled
+    // columns of a ring are a half or quarter of the full model's, mirror images of the rest:
+    // their mean is already the full ring's.
+    const Real width = std::sqrt(width_[0] * width_[1]);
+    const std::vector<Ring> rings = ring_profile(r, surface0_, now, width);
+    std::string csv = "r_m,surface_initial_m,surface_m,dz_m\n";
+    for (const Ring& g : rings)
+      csv += fmt::format("{},{},{},{}\n", g.r_m, g.surface0_m, g.surface_m, -g.drop_m());
+    io::write_file_atomic(dir / "surface_profile.csv", csv);
+    const CraterSize crater = crater_of_profile(rings, grain_r_max_);
+    // Settlement: the rings outside the crater and the ring next to it.
+    Real settle = -std::numeric_limits<Real>::infinity(), settle_r = kNaN;
+    for (const Ring& g : rings) {
+      if (crater.depth_m > 0 && g.r_m <= crater.radius_m + width) continue;
+      if (g.drop_m() > settle) {
+        settle = g.drop_m();
+        settle_r = g.r_m;
+      }
+    }
+    if (std::isfinite(settle)) {
+      m.push_back({"surface_settlement_max_m", settle});
+      m.push_back({"surface_settlement_max_r_m", settle_r});
+    }
+    m.push_back({"crater_depth_m", crater.depth_m});
+    m.push_back({"crater_radius_m", crater.radius_m});
+    m.push_back({"crater_axis_x_m", cfg_.axis_m[0]});
+    m.push_back({"crater_axis_y_m", cfg_.axis_m[1]});
+  }
 }
 
 // The largest gap between the plate's live nodes and the grains below or above them, per

@@ -22,16 +22,34 @@
 // more than its own diameter: |v|^2 > 4 g r), however dense the stream it flies in. The packing's
 // density varies from cell to cell: the surface of a flat bed comes out within about a grain
 // diameter.
-//   surface_profile.csv: per column, the surface at t = 0 and at the end, and their difference.
-//   crater_depth_m: the largest drop; crater_radius_m: half the width (2D) or the radius of the
-//   equal-area disk (3D) of the connected columns around it that dropped by more than the
-//   largest grain radius; surface_settlement_max_m (and _x_m): the largest drop of the other
-//   columns, outside the crater and the column next to it (negative: they all rose).
+//   2D: surface_profile.csv: per column, the surface at t = 0 and at the end, and their
+//   difference. crater_depth_m: the largest drop; crater_radius_m: half the width of the
+//   connected columns around it that dropped by more than the largest grain radius;
+//   surface_settlement_max_m (and _x_m): the largest drop of the other columns, outside the
+//   crater and the column next to it (negative: they all rose).
+//   3D: the surface averaged in rings about the crater's axis (probes.axis_m, else the first
+//   detonation point of the first SPH part that has one, else the full model's horizontal
+//   centre: config.hpp). Ring j holds the columns whose centres lie at j w <= r < (j + 1) w from
+//   the axis (w the column width), its value the mean over those with a surface at both times.
+//   With vertical planes of symmetry through the axis (a quarter model: the axis at the
+//   corner) the modelled columns of a ring are mirror images of the rest: their mean is the
+//   full model's. surface_profile.csv: per ring, r_m (its columns' mean distance),
+//   surface_initial_m, surface_m, dz_m. crater_depth_m: the largest drop of a ring (0 when not
+//   above the largest grain radius); crater_radius_m: going outward from that ring (the axis
+//   ring of a bowl), the radius at which the drop first falls below the largest grain radius,
+//   linear between the rings (the last ring's radius when it never does);
+//   surface_settlement_max_m (and _r_m): the largest drop of the rings outside the crater and
+//   the ring next to it (r > crater_radius_m + w); crater_axis_x_m, _y_m: the axis used.
 // Plate. plate_peak_von_mises_pa: the largest von Mises stress over the live elements at the
 // end of the first step reaching probes.stress_time_s (plate_peak_von_mises_time_s says when);
 // plate_peak_von_mises_max_pa: the largest over the history rows (and that sample);
 // plate_eroded_elements; plate_perforated = 1 when eroded elements sharing nodes connect the
 // plate's bottom face to its top face (faces of the undeformed plate along the vertical axis).
+// plate_perforated_area_m2: the area of the plate's undeformed horizontal footprint where a
+// vertical line meets only eroded elements: the footprints (reference nodes, x - displacement)
+// of the element columns through the thickness all of whose elements are eroded
+// (probe_geometry.hpp), the full model's: x 2 per vertical plane of symmetry. In 2D the
+// perforated length x 1 m (per metre of depth).
 // delamination_gap_max_m: per column, the open gap between the plate's live nodes and the
 // nearest grain under the plate, and over it where the ground still covers it (its surface a
 // cell above the plate); the largest over the columns. At t = 0 it is the packing's own gap at
@@ -84,6 +102,12 @@ class Probes {
                      std::vector<Diagnostic>& m) const;
   void ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
                       const std::filesystem::path& dir, std::vector<Diagnostic>& m) const;
+  // The profile, crater and settlement from the columns' surfaces at t = 0 and now: per
+  // column (2D), in rings about the crater's axis (3D).
+  void column_crater_metrics(const std::vector<Real>& now, const std::vector<Real>& drop,
+                             const std::filesystem::path& dir, std::vector<Diagnostic>& m) const;
+  void ring_crater_metrics(const std::vector<Real>& now, const std::filesystem::path& dir,
+                           std::vector<Diagnostic>& m) const;
   void gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
                    const std::vector<Column>& cols, const std::vector<Real>& now,
                    std::vector<Diagnostic>& m) const;
@@ -111,7 +135,10 @@ class Probes {
   Index rows_ = 0;
   Real grain_r_max_ = 0;
   Real phi_ref_ = 1;
-  Real gravity_ = 0;            // |g| along the vertical axis [m/s^2]
+  Real gravity_ = 0;  // |g| along the vertical axis [m/s^2]
+  // 2 per vertical plane of symmetry: what a horizontal measure of the modelled part is
+  // multiplied by for the full model's.
+  Real mirror_factor_ = 1;
   std::vector<Real> surface0_;  // per column; NaN where there is no ground
   // Per column, per cell: it reaches into a region the soil was laid around (the charge's,
   // the plate's), where a column's ground may have a gap.
