@@ -687,11 +687,13 @@ def von_mises_history_figure(path, hist, columns, title):
 
 
 def surface_figure(path, prof, title, end_time_s):
-    """surface_profile.csv: per column of the ground, its vertical displacement at the end (2D:
-    along x, with the surface heights at t = 0 and at the end when the file has them; 3D: a map
-    over x and y)."""
-    x = np.array(prof["x_m"])
-    d = np.array(prof["vertical_displacement_m"])
+    """surface_profile.csv: the ground's vertical displacement at the end, with the surface
+    heights at t = 0 and at the end when the file has them: per column along x (2D), or per
+    ring against the distance r from the crater's axis (3D: r_m, dz_m); a file of an earlier
+    3D run (a row per column, x_m and y_m) as a map over x and y."""
+    radial = "r_m" in prof
+    x = np.array(prof["r_m" if radial else "x_m"])
+    d = np.array(prof["dz_m" if radial else "vertical_displacement_m"])
     finite = np.isfinite(d)
     big = bool(np.any(finite)) and np.nanmax(np.abs(d)) >= 0.1
     scale, unit = (1.0, "m") if big else (1e3, "mm")
@@ -729,7 +731,7 @@ def surface_figure(path, prof, title, end_time_s):
     ax = axes[-1][0]
     ax.axhline(0.0, color="0.6", lw=0.8)
     ax.plot(x, d * scale, lw=1.8, marker=marker)
-    ax.set_xlabel("x [m]")
+    ax.set_xlabel("distance from the crater's axis r [m]" if radial else "x [m]")
     ax.set_ylabel(f"vertical displacement [{unit}]")
     ax.grid(alpha=0.3)
     if heights:
@@ -750,7 +752,7 @@ def surface_figure(path, prof, title, end_time_s):
 # ---------------------------------------------------------------------------------------------
 
 # Metric names end in their unit (summary.json): the longest matching suffix wins.
-UNIT_SUFFIXES = [("_m_s", "m/s"), ("_pa", "Pa"), ("_kg", "kg"), ("_j", "J"), ("_n", "N"),
+UNIT_SUFFIXES = [("_m_s", "m/s"), ("_m2", "m^2"), ("_pa", "Pa"), ("_kg", "kg"), ("_j", "J"), ("_n", "N"),
                  ("_m", "m"), ("_s", "s"), ("_k", "K")]
 
 
@@ -948,7 +950,8 @@ def main(argv):
         warn(f"{run_dir / 'history.csv'}: absent; no energy history")
 
     prof = read_csv_columns(run_dir / "surface_profile.csv")
-    if prof and {"x_m", "vertical_displacement_m"} <= prof.keys() and prof["x_m"]:
+    if prof and any(cols <= prof.keys() and prof[x] for x, cols in
+                    [("x_m", {"x_m", "vertical_displacement_m"}), ("r_m", {"r_m", "dz_m"})]):
         surface_figure(out_dir / SURFACE_FILE, prof, title, as_float(summary.get("time_s")))
         figures.append(("Ground surface settlement", SURFACE_FILE))
 
