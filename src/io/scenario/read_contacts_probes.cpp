@@ -122,12 +122,14 @@ void Builder::read_probe_axis(Config& c, const toml::table& t, const SourceLocat
                         given.size()));
       return;
     }
+    bool outside = false;
     for (std::size_t d = 0; d < 2; ++d)
-      if (given[d] < c.domain.min_m[d] || given[d] > c.domain.max_m[d])
-        c_warnings_.push_back(
-            fmt::format("probes.axis_m = [{}, {}] is outside the domain's horizontal extent: "
-                        "the surface profile is averaged about an axis outside the model",
-                        given[0], given[1]));
+      outside = outside || given[d] < c.domain.min_m[d] || given[d] > c.domain.max_m[d];
+    if (outside)
+      c_warnings_.push_back(
+          fmt::format("probes.axis_m = [{}, {}] is outside the domain's horizontal extent: "
+                      "the surface profile is averaged about an axis outside the model",
+                      given[0], given[1]));
     c.probes.axis_m = {given[0], given[1]};
     return;
   }
