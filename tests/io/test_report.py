@@ -89,6 +89,10 @@ class Report(unittest.TestCase):
             self.assertRegex(text, rf"\| {p['name']} \| {p['method']} \| {p['count']} \|")
         # default snapshots: four output times spread over the run, the first and last included
         self.assertIn("Snapshots at 0 ms, 0.05 ms, 0.15 ms, 0.2 ms;", text)
+        # a 2D run gets none of the 3D maps: its file list is what it was before them
+        self.assertEqual(sorted(p.name for p in (self.scene / "report").iterdir()), [
+            "energy.png", "report.md", "snapshots_parts.png", "snapshots_pressure.png",
+            "snapshots_velocity.png", "snapshots_von_mises.png"])
 
     def test_times_and_out(self):
         out = self.work / "elsewhere"
@@ -189,6 +193,54 @@ class Report(unittest.TestCase):
         self.assertIn("python3-vtk9", p.stderr)
 
 
+class Report3D(unittest.TestCase):
+    """A quarter model (symmetry planes x = 0 and y = 0) of a small charge under a plate in a
+    box of grains: the 3D maps, the plate from below and the crater, mirrored to the whole
+    model."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("report_3d")
+        scenario = cls.work / "scene3d.toml"
+        scenario.write_text(SCENE_3D)
+        cls.run_dir = cls.work / "scene3d"
+        run_scenario(scenario, cls.run_dir, threads=1)
+        cls.proc = report(cls.run_dir)
+
+    def test_maps_written(self):
+        p = self.proc
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertNotIn("Traceback", p.stderr)
+        self.assertNotIn("warning", p.stderr)
+        text = Report.assert_valid_report(self, self.run_dir / "report", [
+            "plate_from_below.png", "crater_map.png", "snapshots_von_mises.png",
+            "surface_profile.png"])
+        self.assertIn("mirrored through the scenario's symmetry planes", text)
+        # The sizes the figures are laid out at (100 dpi): the plate at two frames (the last,
+        # and the one nearest probes.stress_time_s) side by side, 2 x 7.6 x 7.4 in for a
+        # square plate; the crater map 8.1 x 7.5 in for a square domain.
+        self.assertEqual(png_size(self.run_dir / "report" / "plate_from_below.png"), (1520, 740))
+        self.assertEqual(png_size(self.run_dir / "report" / "crater_map.png"), (810, 750))
+
+    def test_without_the_scenario_file(self):
+        # The scenario moved away: the maps are still drawn (not mirrored), no error.
+        run = self.work / "moved"
+        if run.exists():
+            shutil.rmtree(run)
+        shutil.copytree(self.run_dir, run, ignore=shutil.ignore_patterns("report"))
+        cmd = run / "crater-command.toml"
+        cmd.write_text(re.sub(r"(?m)^(scenario(_file)?) = .*$", r"\1 = 'gone.toml'",
+                              cmd.read_text()))
+        summary = json.loads((run / "summary.json").read_text())
+        summary["scenario"]["file"] = "gone.toml"
+        (run / "summary.json").write_text(json.dumps(summary))
+        p = report(run)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertNotIn("Traceback", p.stderr)
+        Report.assert_valid_report(self, run / "report", ["plate_from_below.png",
+                                                          "crater_map.png"])
+
+
 # A small charge under a plate in a box of grains: the paper's scene
 # (scenarios/paper-20cm.toml) at a fifth of its size; runs in about a second.
 SCENE = scenario_text(compose_scenario(
@@ -208,6 +260,31 @@ SCENE = scenario_text(compose_scenario(
                      "hertz_2d": "row_of_spheres", "walls": ["left", "right", "bottom"]})],
     contacts=[contact("charge", "plate"), contact("soil", "plate", friction=0.4),
               contact("charge", "soil")]))
+
+
+# SCENE in 3D as a quarter model: a charge of some 230 SPH particles (the whole sphere given,
+# centred on the symmetry planes' corner), a plate of 13 x 13 hexahedra and some 350 grains;
+# a few steps.
+SCENE_3D = scenario_text(compose_scenario(
+    "report-small-3d", 3, 6.0e-5,
+    description="a quarter model of a small charge under a plate in grains (crater report test)",
+    time={"safety_factor": 0.45}, output=output(2.0e-5, history_every=5),
+    domain={**domain([0.0, 0.0, -0.3], [0.4, 0.4, 0.3], gravity=[0.0, 0.0, -9.81]),
+            "symmetry_planes": ["left", "bottom"]},
+    materials=[TNT, material(STEEL_JC, damage=STEEL_JC_DAMAGE), SAND],
+    parts=[part("charge", "sph", "tnt", 0.01,
+                {"type": "sphere", "center_m": [0.0, 0.0, -0.15], "radius_m": 0.06},
+                sph={"walls": ["right", "top", "back"]},
+                detonation=[{"point_m": [0.0, 0.0, -0.15]}]),
+           part("plate", "fem", "steel", 0.02, box([0.0, 0.0, -0.08], [0.26, 0.26, -0.06]),
+                fem={"erode_inverted": True, "erosion_plastic_strain": 0.3}),
+           part("soil", "dem", "sand", 0.05, box([0.0, 0.0, -0.3], [0.4, 0.4, 0.0]),
+                carve=["charge", "plate"],
+                dem={"radius_min_m": 0.022, "radius_max_m": 0.025,
+                     "walls": ["right", "top", "back"]})],
+    contacts=[contact("charge", "plate"), contact("soil", "plate", friction=0.4),
+              contact("charge", "soil")],
+    probes={"plate": "plate", "soil": "soil", "stress_time_s": 3.0e-5}))
 
 
 if __name__ == "__main__":

@@ -18,6 +18,11 @@ surface_profile.csv. Written into OUT (default DIR/report/):
   energy.png                the energy balance of history.csv (and each part's total);
   von_mises_history.png     the <part>_max_von_mises_pa columns of history.csv, if any;
   surface_profile.png       the ground surface of surface_profile.csv, if present;
+  plate_from_below.png      3D: the FEM plate's underside over x-y by von Mises stress, eroded
+                            elements hatched, at the last frame (and the one nearest
+                            probes.stress_time_s), mirrored through the symmetry planes;
+  crater_map.png            3D: the ground's height change dz over x-y, last frame vs t = 0,
+                            from the grains, mirrored likewise;
   report.md                 the summary as tables, linking the figures.
 Snapshots show up to four output times spread evenly from the first to the last (the state at
 failure of a failed run counts as the last), or the frames nearest to --times (seconds).
@@ -25,7 +30,9 @@ Particles are drawn as discs of their own size (DEM: the grain radius; SPH: the 
 is mass/density), FEM elements as filled polygons; eroded elements are hidden. 3D runs show a
 vertical section through the charge (the vertical axis: along gravity in the scenario file, else
 z, as crater's probes take it): the FEM mesh cut by the plane, the particles within about a
-particle layer of it.
+particle layer of it. The 3D maps re-read the scenario file (crater-command.toml names it; its
+--level and --set applied) for the symmetry planes, the domain and the probes; without it they
+are not mirrored.
 
 Exit codes: 0 done; 2 bad input (no run directory, no summary.json, no .pvd, bad --times);
 1 missing Python modules or another error; 130 interrupted.
@@ -53,11 +60,25 @@ SNAPSHOT_FILES = {
 ENERGY_FILE = "energy.png"
 VON_MISES_HISTORY_FILE = "von_mises_history.png"
 SURFACE_FILE = "surface_profile.png"
+PLATE_FILE = "plate_from_below.png"
+CRATER_MAP_FILE = "crater_map.png"
 REPORT_FILE = "report.md"
 OUR_FILES = [*SNAPSHOT_FILES.values(), ENERGY_FILE, VON_MISES_HISTORY_FILE, SURFACE_FILE,
-             REPORT_FILE]
+             PLATE_FILE, CRATER_MAP_FILE, REPORT_FILE]
 
 DEFAULT_SNAPSHOTS = 4
+PLATE_CAPTION = (
+    "Each element's bottom face projected on the horizontal plane, the lowest drawn over the "
+    "others (what is seen from below; axes as in a plan view), by von Mises stress; eroded "
+    "elements hatched, grey where no live element is left above them (a hole through the "
+    "plate); mirrored through the scenario's symmetry planes.")
+CRATER_CAPTION = (
+    "The change of the ground's top since t = 0 per column (probes.surface_bin_m, else 8 x the "
+    "largest grain radius): the top of the grains standing on the bed's bottom, up to the first "
+    "gap of more than three grain diameters (the charge's and the plate's room at t = 0 make no "
+    "gap), grains in flight left out (the probe's rules); a column emptied to the bottom is a "
+    "hole. Read off the grains, not the probe's solid-volume surface: loosened ground shows as "
+    "a rise. Mirrored through the scenario's symmetry planes.")
 DPI = 100
 # Parts without the plotted quantity are grey, a shade per method (products, grains, steel).
 GREY = {"sph": "#dedee6", "dem": "#a6a6a6", "fem": "#707070"}
@@ -281,21 +302,80 @@ class Plane:
         return "" if self.n is None else f"section {AXES[self.n]} = {self.c0:.3g} m"
 
 
-def vertical_axis_3d(summary, run_dir):
-    """The vertical axis of a 3D run: the one gravity points along in the scenario file (when it
-    can still be read), else z, as crater's probes take it (surface_profile.csv: x_m, y_m)."""
-    sc = summary.get("scenario") if isinstance(summary.get("scenario"), dict) else {}
-    name = sc.get("file")
+def load_scenario(summary, run_dir):
+    """The run's scenario as a dict, with its --level and --set applied (the file named by
+    DIR/crater-command.toml, else by summary.json); None, with a warning, when it cannot be
+    read (a bundled scenario, a file moved or edited since: the figures that need it do
+    without). Only what the figures read is trusted: gravity, the domain, its symmetry planes,
+    probes, detonation points."""
+    cmd = {}
     try:
         import tomllib
-        for path in ([Path(name), run_dir.parent / name] if isinstance(name, str) else []):
-            if path.is_file():
-                with open(path, "rb") as f:
-                    g = tomllib.load(f).get("domain", {}).get("gravity_m_s2")
-                if isinstance(g, list) and len(g) == 3 and any(g):
-                    return max(range(3), key=lambda a: abs(float(g[a])))
-                break
-    except (ImportError, OSError, ValueError, TypeError):
+    except ImportError:
+        return None
+    try:
+        with open(run_dir / "crater-command.toml", "rb") as f:
+            cmd = tomllib.load(f)
+    except (OSError, ValueError):
+        run = summary.get("run") if isinstance(summary.get("run"), dict) else {}
+        c = run.get("command") if isinstance(run.get("command"), dict) else {}
+        cmd = {"level": c.get("level", ""), "set": c.get("set", [])}
+    sc = summary.get("scenario") if isinstance(summary.get("scenario"), dict) else {}
+    names = [cmd.get("scenario_file"), sc.get("file")]
+    paths = [Path(n) for n in names if isinstance(n, str) and n]
+    paths += [run_dir.parent / n for n in names if isinstance(n, str) and n]
+    path = next((q for q in paths if q.is_file()), None)
+    if path is None:
+        return None
+    try:
+        with open(path, "rb") as f:
+            table = tomllib.load(f)
+        sets = []
+        level = cmd.get("level") if isinstance(cmd.get("level"), str) else ""
+        for name in filter(None, level.split(",")):
+            sets += table.get("levels", {}).get(name.strip(), {}).get("set", [])
+        sets += cmd.get("set") if isinstance(cmd.get("set"), list) else []
+        for item in sets:
+            apply_set(table, str(item))
+    except (OSError, ValueError, TypeError, KeyError, AttributeError) as e:
+        warn(f"{path}: not read as the run's scenario ({e}); 3D maps not mirrored")
+        return None
+    return table
+
+
+def apply_set(table, item):
+    """One `--set dotted.key=VALUE` on the scenario dict (an array of tables is indexed by its
+    entries' names, as crater does: parts.plate.spacing_m)."""
+    import tomllib
+    key, value = item.split("=", 1)
+    value = tomllib.loads(f"v = {value.strip()}")["v"]
+    keys = [k.strip() for k in key.split(".")]
+    node = table
+    for i, k in enumerate(keys):
+        if isinstance(node, list):
+            j = next((n for n, x in enumerate(node)
+                      if isinstance(x, dict) and x.get("name") == k), None)
+            if j is None and k.isdigit() and int(k) < len(node):
+                j = int(k)
+            if j is None:
+                return
+            k = j
+        elif not isinstance(node, dict):
+            return
+        if i == len(keys) - 1:
+            node[k] = value
+        else:
+            node = node.setdefault(k, {}) if isinstance(node, dict) else node[k]
+
+
+def vertical_axis_3d(scenario):
+    """The vertical axis of a 3D run: the one gravity points along in the scenario file (when it
+    can still be read), else z, as crater's probes take it (surface_profile.csv: x_m, y_m)."""
+    g = (scenario or {}).get("domain", {}).get("gravity_m_s2")
+    try:
+        if isinstance(g, list) and len(g) == 3 and any(g):
+            return max(range(3), key=lambda a: abs(float(g[a])))
+    except (TypeError, ValueError):
         pass
     return 2
 
@@ -748,6 +828,421 @@ def surface_figure(path, prof, title, end_time_s):
 
 
 # ---------------------------------------------------------------------------------------------
+# 3D: the plate from below and the crater as a height map, over the horizontal plane
+# ---------------------------------------------------------------------------------------------
+
+# The faces of VTK's 8-node hexahedron, each a loop of its local node numbers.
+HEX_FACES = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+HEX_OPPOSITE = [(0, 1), (2, 4), (3, 5)]  # its pairs of opposite faces
+# Where each face of the domain lies: (axis, 0 at min_m, 1 at max_m).
+FACES = {"left": (0, 0), "right": (0, 1), "bottom": (1, 0), "top": (1, 1), "back": (2, 0),
+         "front": (2, 1)}
+
+
+class Horizontal:
+    """The horizontal plane of a 3D run: its axes (h0, h1), the vertical axis, the symmetry
+    planes across it [(0 or 1: which of h0, h1, coordinate)], the domain's horizontal box
+    (or None) and the charge's axis (or None)."""
+
+    def __init__(self, scenario, summary, vertical):
+        self.v = vertical
+        self.axes = [a for a in range(3) if a != vertical]
+        sc = scenario or {}
+        dom = sc.get("domain") if isinstance(sc.get("domain"), dict) else {}
+        lo, hi = dom.get("min_m"), dom.get("max_m")
+        self.box = None
+        if all(isinstance(b, list) and len(b) == 3 for b in (lo, hi)):
+            self.box = np.array([[float(lo[a]), float(hi[a])] for a in self.axes])
+        self.planes = []
+        for face in dom.get("symmetry_planes") or []:
+            axis, side = FACES.get(face, (vertical, 0))
+            if axis != vertical and self.box is not None:
+                self.planes.append((self.axes.index(axis), float(self.box[self.axes.index(axis),
+                                                                           side])))
+        self.axis = charge_axis(sc, summary, self.axes)
+
+    def images(self, xy):
+        """xy (N x 2) and its mirror images through the symmetry planes."""
+        out = [np.asarray(xy, dtype=float)]
+        for k, c in self.planes:
+            for a in list(out):
+                b = a.copy()
+                b[..., k] = 2.0 * c - b[..., k]
+                out.append(b)
+        return out
+
+    def mirrored(self):
+        """' (mirrored about x = 0 and y = 0: the whole model)', or '' without planes."""
+        if not self.planes:
+            return ""
+        about = " and ".join(f"{AXES[self.axes[k]]} = {c:.3g} m" for k, c in self.planes)
+        return f", mirrored about {about}"
+
+    def label(self, k):
+        return f"{AXES[self.axes[k]]} [m]"
+
+
+def charge_axis(scenario, summary, axes):
+    """The crater's axis (x, y): the probes' (summary.json), else the first detonation point of
+    the scenario's first SPH part that has one; None if neither."""
+    m = summary.get("metrics") if isinstance(summary.get("metrics"), dict) else {}
+    ax, ay = as_float(m.get("crater_axis_x_m")), as_float(m.get("crater_axis_y_m"))
+    if ax is not None and ay is not None:
+        return (ax, ay)
+    for p in scenario.get("parts") or []:
+        det = p.get("detonation") if isinstance(p, dict) and p.get("method") == "sph" else None
+        for d in det or []:
+            pt = d.get("point_m") if isinstance(d, dict) else None
+            if isinstance(pt, list) and len(pt) == 3:
+                return (float(pt[axes[0]]), float(pt[axes[1]]))
+    return None
+
+
+def mark_axis(ax, hz, radius=None):
+    if hz.axis is None:
+        return
+    for a in hz.images(np.array([hz.axis])):
+        ax.plot(a[0, 0], a[0, 1], marker="+", color="k", ms=14, mew=1.8, zorder=6)
+    if radius:
+        ax.add_patch(Circle(hz.axis, radius, fill=False, ls="--", lw=1.2, color="k", zorder=6))
+
+
+def bottom_footprints(grid, hz):
+    """Each cell's bottom face projected on the horizontal plane: (polygons [K x 2], the face's
+    mean height, von Mises [MPa] and eroded flags per cell); cells with non-finite points are
+    left out. 8-node cells: of the hexahedron's pair of opposite faces with the largest
+    footprint, the lower (by mean height); others: the convex hull of the cell's points. An
+    eroded element's nodes that no live element holds any more are drawn at their reference
+    (undeformed) place, wherever they flew: the element covers the hole it left, between the
+    live elements around it and where it was."""
+    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+    cells = grid.GetCells()
+    conn = vtk_to_numpy(cells.GetConnectivityArray()).astype(np.int64)
+    offs = vtk_to_numpy(cells.GetOffsetsArray()).astype(np.int64)
+    n = len(offs) - 1
+    arr = vtk_arrays(grid.GetCellData())
+    vm = np.asarray(arr.get("von_mises", np.full(n, np.nan)), float) / 1e6
+    eroded = np.asarray(arr.get("eroded", np.zeros(n)), float) > 0.5
+    if len(vm) != n or len(eroded) != n:
+        return [], np.zeros(0), np.zeros(0), np.zeros(0, dtype=bool)
+    disp = vtk_arrays(grid.GetPointData()).get("displacement")
+    sizes = np.diff(offs)
+    cell_of = np.repeat(np.arange(n), sizes)
+    held = np.zeros(len(pts), dtype=bool)  # nodes of a live element
+    held[conn[~eroded[cell_of]]] = True
+    disp = np.asarray(disp, float) if disp is not None and len(disp) == len(pts) else None
+    polys, heights, keep = [None] * n, np.full(n, np.nan), np.zeros(n, dtype=bool)
+    hexes = np.flatnonzero(sizes == 8)
+    if len(hexes):
+        idx = conn[offs[hexes][:, None] + np.arange(8)]  # (H, 8) node numbers
+        p = pts[idx]
+        if disp is not None:  # an eroded element's loose nodes at their reference place
+            loose = eroded[hexes][:, None] & ~held[idx]
+            p = np.where(loose[..., None], p - disp[idx], p)
+        faces = p[:, np.array(HEX_FACES)]  # (H, 6, 4, 3)
+        # of the pair of opposite faces with the largest footprint (the plate's faces, however
+        # the element is sheared), the lower one
+        f = faces[..., hz.axes]
+        area = np.abs((f[..., 0, 0] - f[..., 2, 0]) * (f[..., 1, 1] - f[..., 3, 1]) -
+                      (f[..., 1, 0] - f[..., 3, 0]) * (f[..., 0, 1] - f[..., 2, 1]))  # (H, 6)
+        pairs = np.array(HEX_OPPOSITE)  # (3, 2)
+        best = pairs[np.argmax(np.nan_to_num(area[:, pairs].sum(axis=2), nan=-1.0), axis=1)]
+        z = faces[..., hz.v].mean(axis=2)
+        rows = np.arange(len(hexes))
+        low = np.where(z[rows, best[:, 0]] <= z[rows, best[:, 1]], best[:, 0], best[:, 1])
+        face = faces[rows, low]  # (H, 4, 3)
+        ok = np.all(np.isfinite(face), axis=(1, 2))
+        heights[hexes] = face[..., hz.v].mean(axis=1)
+        keep[hexes] = ok
+        xy = face[..., hz.axes]
+        for c, q in zip(hexes[ok], xy[ok]):
+            polys[c] = q
+    for c in np.flatnonzero(sizes != 8):  # not crater's own meshes: the hull of the points
+        q = pts[conn[offs[c]:offs[c + 1]]]
+        if len(q) >= 3 and np.all(np.isfinite(q)):
+            polys[c], heights[c], keep[c] = convex_hull(q[:, hz.axes]), q[:, hz.v].min(), True
+    return ([p for p, k in zip(polys, keep) if k], heights[keep], vm[keep], eroded[keep])
+
+
+def convex_hull(xy):
+    """The convex hull of 2D points, counter-clockwise (Andrew's monotone chain)."""
+    pts = sorted(set(map(tuple, np.asarray(xy, float))))
+    if len(pts) < 3:
+        return np.array(pts)
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1]) -
+                                     (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out[:-1]
+    return np.array(half(pts) + half(pts[::-1]))
+
+
+def plate_panels(parts, frames, scenario, summary):
+    """The frames of the plate figure: [(label, Frame)], the last frame and, when it differs,
+    the one nearest probes.stress_time_s (the time of plate_peak_von_mises_pa)."""
+    fem = [p for p in parts if p.method == "fem"]
+    probes = scenario.get("probes") if isinstance((scenario or {}).get("probes"), dict) else {}
+    if isinstance(probes.get("plate"), str) and any(p.name == probes["plate"] for p in fem):
+        fem = [p for p in fem if p.name == probes["plate"]]
+    last = next((f for f in reversed(frames) if any(p.name in f.files for p in fem)), None)
+    if last is None:
+        return fem, []
+    panels = [("state at failure" if last.label == "failure" else "last frame", last)]
+    t_stress = as_float(probes.get("stress_time_s")) if probes.get("plate") else None
+    if t_stress is None and probes.get("plate"):
+        t_stress = 6.0e-4  # the schema's default
+    if t_stress is not None:
+        cands = [f for f in frames if not f.label and any(p.name in f.files for p in fem)]
+        near = min(cands, key=lambda f: abs(f.time - t_stress), default=None)
+        if near is not None and near is not last and near.time > 0:
+            panels.insert(0, (f"nearest to probes.stress_time_s = {t_stress * 1e3:.4g} ms",
+                              near))
+    return fem, panels
+
+
+def plate_figure(path, fem, panels, hz, title):
+    """The plate's underside: each element's bottom face (bottom_footprints) over the
+    horizontal plane, the lowest drawn last (what is seen from below), coloured by von Mises
+    stress; eroded elements hatched over light grey (grey where nothing is left above them: a
+    hole through the plate); mirrored through the symmetry planes. False if nothing to draw."""
+    data = []
+    for label, frame in panels:
+        live, dead, h, vm = [], [], [], []
+        for p in fem:
+            grid = read_grid(frame.files[p.name]) if p.name in frame.files else None
+            if grid is None:
+                continue
+            polys, heights, v, er = bottom_footprints(grid, hz)
+            for poly, hh, vv, e in zip(polys, heights, v, er):
+                (dead if e else live).append(poly)
+                if not e:
+                    h.append(hh)
+                    vm.append(vv)
+        order = np.argsort(-np.asarray(h, float), kind="stable")  # the lowest last, on top
+        live = [live[i] for i in order]
+        vm = np.asarray(vm, float)[order]
+        images = [hz.images(p) for p in live]  # each polygon and its mirror images
+        data.append((label, frame, [q for im in images for q in im],
+                     np.repeat(vm, len(images[0])) if images else vm,
+                     [q for p in dead for q in hz.images(p)], len(dead)))
+    data = [d for d in data if d[2] or d[4]]
+    if not data:
+        return False
+    allv = np.concatenate([np.concatenate(d[2] + d[4]) for d in data])
+    allv = allv[np.all(np.isfinite(allv), axis=1)]
+    x0, y0 = allv.min(axis=0)
+    x1, y1 = allv.max(axis=0)
+    if hz.box is not None:  # the view stays on the domain (and its mirror images)
+        bx = np.concatenate(hz.images(hz.box.T))
+        x0, x1 = max(x0, bx[:, 0].min()), min(x1, bx[:, 0].max())
+        y0, y1 = max(y0, bx[:, 1].min()), min(y1, bx[:, 1].max())
+    pad = 0.04 * max(x1 - x0, y1 - y0, 1e-9)
+    n = len(data)
+    w = 6.2
+    h = min(max(w * (y1 - y0) / max(x1 - x0, 1e-12), 3.0), 8.0)
+    fig, axes = plt.subplots(1, n, figsize=(n * (w + 1.4), h + 1.2), squeeze=False,
+                             constrained_layout=True)
+    cmap = plt.get_cmap(QUANTITIES["von_mises"][2])
+    for ax, (label, frame, live, vm, dead, n_dead) in zip(axes[0], data):
+        fin = vm[np.isfinite(vm)]
+        hi = float(np.percentile(fin, 99.5)) if len(fin) else 1.0
+        norm = Normalize(0.0, hi if hi > 0 else 1.0)
+        if dead:
+            ax.add_collection(PolyCollection(dead, facecolors="0.85", edgecolors="none",
+                                             zorder=1))
+        if live:
+            coll = PolyCollection(live, array=vm, cmap=cmap, norm=norm, edgecolors="face",
+                                  linewidths=0.2, zorder=2)
+            ax.add_collection(coll)
+        if dead:
+            ax.add_collection(PolyCollection(dead, facecolors="none", edgecolors="k",
+                                             linewidths=0.4, hatch="xxxx", zorder=3))
+            ax.legend(handles=[Patch(facecolor="0.85", edgecolor="k", hatch="xxxx",
+                                     label=f"eroded ({n_dead} elements of the model)")],
+                      fontsize=8, loc="upper right", framealpha=0.9)
+        mark_axis(ax, hz)
+        ax.set_xlim(x0 - pad, x1 + pad)
+        ax.set_ylim(y0 - pad, y1 + pad)
+        ax.set_aspect("equal")
+        ax.set_xlabel(hz.label(0))
+        ax.set_ylabel(hz.label(1))
+        ax.set_title(f"t = {frame.time * 1e3:.4g} ms ({label})", fontsize=10)
+        fig.colorbar(ScalarMappable(norm=norm, cmap=cmap), ax=ax, shrink=0.9).set_label(
+            QUANTITIES["von_mises"][1])
+    fig.suptitle(f"{title}: the plate seen from below, von Mises stress{hz.mirrored()}")
+    save_png(fig, path)
+    return True
+
+
+def column_index(xy, origin, pitch, shape):
+    """The (i, j) column of each point and whether it lies in the grid."""
+    ij = np.floor((np.asarray(xy, float) - origin) / pitch).astype(np.int64)
+    return ij, np.all((ij >= 0) & (ij < np.array(shape)), axis=1)
+
+
+def ground_top(grid, hz, columns, floor, carved, gap):
+    """Per column (columns: origin, pitch, shape, g) the top of its ground: from the floor up,
+    the grains' tops (centre + radius) until the first gap of more than `gap`, where the room
+    `carved` (per column, the heights of the other parts at t = 0: the charge and the plate
+    the soil was laid around) makes no gap (the probe's rule, on grains rather than cells);
+    grains in flight (no contact and fast enough to rise more than their diameter,
+    |v|^2 > 4 g r) left out. nan where no grain stands on the floor."""
+    origin, pitch, shape, g = columns
+    pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+    arr = vtk_arrays(grid.GetPointData())
+    r = np.asarray(arr.get("radius", np.zeros(len(pts))), float)
+    keep = np.all(np.isfinite(pts), axis=1) & np.isfinite(r)
+    if "contacts" in arr and "velocity" in arr:
+        v2 = np.asarray(speed(arr["velocity"]), float) ** 2
+        keep &= ~((np.asarray(arr["contacts"], float) <= 0) & (v2 > 4.0 * g * r))
+    ij, inside = column_index(pts[:, hz.axes], origin, pitch, shape)
+    keep &= inside
+    col = ij[keep, 0] * shape[1] + ij[keep, 1]
+    lo, hi = pts[keep, hz.v] - r[keep], pts[keep, hz.v] + r[keep]
+    order = np.lexsort((lo, col))
+    col, lo, hi = col[order], lo[order], hi[order]
+    room_lo = carved[0].ravel() - gap  # nan where there is no room: never bridged
+    room_hi = carved[1].ravel() + gap
+    top = np.full(shape[0] * shape[1], np.nan)
+    starts = np.flatnonzero(np.r_[True, col[1:] != col[:-1]]) if len(col) else []
+    for a, b in zip(starts, list(starts[1:]) + [len(col)]):
+        c = col[a]
+        reach = np.maximum.accumulate(np.r_[floor, hi[a:b]])[:-1]  # the top below each grain
+        bridged = (reach >= room_lo[c]) & (lo[a:b] <= room_hi[c])
+        broken = np.flatnonzero((lo[a:b] - reach > gap) & ~bridged)
+        n = broken[0] if len(broken) else b - a
+        if n > 0:
+            top[c] = hi[a:a + n].max()
+    return top.reshape(shape)
+
+
+def carved_room(grids, hz, origin, pitch, shape):
+    """Per column, the lowest and highest point of the other parts (SPH, FEM) at t = 0: the
+    room the soil was laid around; nan where they have none."""
+    lo, hi = np.full(shape, np.inf), np.full(shape, -np.inf)
+    for grid in grids:
+        pts = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        ij, inside = column_index(pts[:, hz.axes], origin, pitch, shape)
+        np.minimum.at(lo, (ij[inside, 0], ij[inside, 1]), pts[inside, hz.v])
+        np.maximum.at(hi, (ij[inside, 0], ij[inside, 1]), pts[inside, hz.v])
+    ok = np.isfinite(lo)
+    return np.where(ok, lo, np.nan), np.where(ok, hi, np.nan)
+
+
+def crater_grid(grids0, hz, scenario):
+    """(origin, pitch, shape, largest grain radius) of the columns: the width of
+    probes.surface_bin_m, else 8 x the largest grain radius (the probe's), over the domain's
+    horizontal extent (else the grains') in a whole number of columns."""
+    pts = np.concatenate([vtk_to_numpy(gr.GetPoints().GetData()) for gr in grids0]).astype(float)
+    rs = [vtk_arrays(gr.GetPointData()).get("radius") for gr in grids0]
+    rmax = max((float(np.nanmax(r)) for r in rs if r is not None and len(r)), default=0.0)
+    probes = (scenario or {}).get("probes")
+    b = as_float(probes.get("surface_bin_m")) if isinstance(probes, dict) else None
+    b = b if b and b > 0 else 8.0 * rmax
+    if hz.box is not None:
+        lo, hi = hz.box[:, 0], hz.box[:, 1]
+    else:
+        xy = pts[:, hz.axes]
+        lo, hi = xy.min(axis=0) - rmax, xy.max(axis=0) + rmax
+    ext = np.maximum(hi - lo, 1e-12)
+    if not b > 0:
+        b = float(ext.max()) / 20.0
+    shape = tuple(int(max(1, round(e / b))) for e in ext)
+    return lo, ext / np.array(shape), shape, rmax
+
+
+def crater_map(soil, others, frames, hz, scenario):
+    """The ground's change dz over the columns, last frame vs the first, and both frames; None
+    when the soil has no two frames to compare."""
+    first = min((f for f in frames if any(p.name in f.files for p in soil)),
+                key=lambda f: f.time, default=None)
+    last = next((f for f in reversed(frames) if any(p.name in f.files for p in soil)), None)
+    if first is None or last is None or first is last:
+        return None
+    g = 9.81
+    grav = ((scenario or {}).get("domain") or {}).get("gravity_m_s2")
+    if isinstance(grav, list) and len(grav) == 3:
+        g = float(np.linalg.norm(np.asarray(grav, float))) or 9.81
+
+    def grids(frame, which):
+        out = [read_grid(frame.files[p.name]) for p in which if p.name in frame.files]
+        return [gr for gr in out if gr is not None and gr.GetNumberOfPoints()]
+
+    grids0, grids1 = grids(first, soil), grids(last, soil)
+    if not grids0:
+        return None
+    origin, pitch, shape, rmax = crater_grid(grids0, hz, scenario)
+    carved = carved_room(grids(first, others), hz, origin, pitch, shape)
+    # the floor: the bed's bottom at t = 0
+    pts0 = np.concatenate([vtk_to_numpy(gr.GetPoints().GetData()) for gr in grids0])
+    r0 = np.concatenate([vtk_arrays(gr.GetPointData()).get("radius",
+                                                           np.zeros(gr.GetNumberOfPoints()))
+                         for gr in grids0])
+    floor = float(np.nanmin(pts0[:, hz.v] - r0))
+    columns, gap = (origin, pitch, shape, g), 6.0 * rmax
+
+    def top(gs):
+        tops = [ground_top(gr, hz, columns, floor, carved, gap) for gr in gs]
+        return np.fmax.reduce(tops) if tops else np.full(shape, np.nan)
+
+    top0, top1 = top(grids0), top(grids1)
+    # a column that had ground and has none left is a hole through the bed (the probe's rule):
+    # its surface is the floor
+    top1 = np.where(np.isfinite(top0) & ~np.isfinite(top1), floor, top1)
+    return origin, pitch, top1 - top0, first, last
+
+
+def crater_figure(path, cmap_data, hz, title, summary):
+    origin, pitch, dz, first, last = cmap_data
+    xe = origin[0] + pitch[0] * np.arange(dz.shape[0] + 1)
+    ye = origin[1] + pitch[1] * np.arange(dz.shape[1] + 1)
+    # mirror the grid through the symmetry planes (they are the domain's faces: grid edges)
+    for k, c in hz.planes:
+        edges = xe if k == 0 else ye
+        if abs(c - edges[0]) <= abs(c - edges[-1]):
+            edges2 = np.concatenate([2.0 * c - edges[:0:-1], edges])
+            dz = np.concatenate([np.flip(dz, axis=k), dz], axis=k)
+        else:
+            edges2 = np.concatenate([edges, 2.0 * c - edges[-2::-1]])
+            dz = np.concatenate([dz, np.flip(dz, axis=k)], axis=k)
+        if k == 0:
+            xe = edges2
+        else:
+            ye = edges2
+    finite = np.isfinite(dz)
+    lim = float(np.nanmax(np.abs(dz[finite]))) if np.any(finite) else 0.0
+    scale, unit = (1.0, "m") if lim >= 0.1 else (1e3, "mm")
+    lim = max(lim, 1e-3) * scale  # at least +-1 mm: a ground that did not move stays white
+    w = 6.5
+    h = min(max(w * (ye[-1] - ye[0]) / max(xe[-1] - xe[0], 1e-12), 3.0), 8.0)
+    fig, ax = plt.subplots(figsize=(w + 1.6, h + 1.0), constrained_layout=True)
+    mesh = ax.pcolormesh(xe, ye, np.ma.masked_invalid(dz.T * scale), cmap="RdBu",
+                         norm=Normalize(-lim, lim), shading="flat")
+    m = summary.get("metrics") if isinstance(summary.get("metrics"), dict) else {}
+    radius = as_float(m.get("crater_radius_m"))
+    mark_axis(ax, hz, radius if radius and radius > 0 else None)
+    ax.set_xlim(xe[0], xe[-1])
+    ax.set_ylim(ye[0], ye[-1])
+    ax.set_aspect("equal")
+    ax.set_xlabel(hz.label(0))
+    ax.set_ylabel(hz.label(1))
+    ax.set_facecolor("0.9")  # no ground here at t = 0
+    fig.colorbar(mesh, ax=ax, shrink=0.9).set_label(f"ground surface change dz [{unit}]")
+    when = "state at failure" if last.label == "failure" else f"t = {last.time * 1e3:.4g} ms"
+    ax.set_title(f"{when} vs t = {first.time * 1e3:.4g} ms; columns "
+                 f"{pitch[0]:.3g} x {pitch[1]:.3g} m"
+                 + ("; +: the charge's axis" if hz.axis is not None else "")
+                 + ("; dashed: crater_radius_m" if radius and radius > 0 else ""), fontsize=9)
+    fig.suptitle(f"{title}: the crater as a height map{hz.mirrored()}")
+    save_png(fig, path)
+
+
+# ---------------------------------------------------------------------------------------------
 # report.md
 # ---------------------------------------------------------------------------------------------
 
@@ -871,8 +1366,9 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
                                  f"{plane.label()} through the charge (particles within about "
                                  "a particle layer of it)." if plane.n is not None else ""),
                   ""]
-    for title, fname in figures:
-        lines += [f"### {title}", "", f"![{title}]({fname})", ""]
+    for title, fname, *caption in figures:
+        lines += [f"### {title}", "", f"![{title}]({fname})", ""] + [c for c in caption if c] + (
+            [""] if any(caption) else [])
     failures = sorted(p.failure.name for p in parts if p.failure)
     if failures:
         lines += ["The state at failure: " + ", ".join(f"`{f}`" for f in failures) + ".", ""]
@@ -923,7 +1419,8 @@ def main(argv):
         dim = 3 if len(pts) and np.ptp(pts[:, 2]) > 0 else 2
     figures = []
 
-    plane = (section_plane(parts, chosen[0], vertical_axis_3d(summary, run_dir)) if dim == 3
+    scenario = load_scenario(summary, run_dir) if dim == 3 else None
+    plane = (section_plane(parts, chosen[0], vertical_axis_3d(scenario)) if dim == 3
              else Plane())
     all_states = [load_states(parts, f, plane) for f in chosen]
     if any(all_states):
@@ -955,6 +1452,21 @@ def main(argv):
         surface_figure(out_dir / SURFACE_FILE, prof, title, as_float(summary.get("time_s")))
         figures.append(("Ground surface settlement", SURFACE_FILE))
 
+    if dim == 3:
+        hz = Horizontal(scenario, summary, plane.v)
+        fem, panels = plate_panels(parts, frames, scenario, summary)
+        if panels and plate_figure(out_dir / PLATE_FILE, fem, panels, hz, title):
+            figures.append(("The plate seen from below", PLATE_FILE, PLATE_CAPTION))
+        soil = [p for p in parts if p.method == "dem"]
+        probes = (scenario or {}).get("probes")
+        if isinstance(probes, dict) and any(p.name == probes.get("soil") for p in soil):
+            soil = [p for p in soil if p.name == probes["soil"]]
+        others = [p for p in parts if p.method in ("sph", "fem")]
+        crater = crater_map(soil, others, frames, hz, scenario) if soil else None
+        if crater is not None:
+            crater_figure(out_dir / CRATER_MAP_FILE, crater, hz, title, summary)
+            figures.append(("The crater as a height map", CRATER_MAP_FILE, CRATER_CAPTION))
+
     (out_dir / REPORT_FILE).write_text(
         build_report(run_dir, summary, parts, figures, chosen, plane, hist))
     print(f"crater report: {out_dir / REPORT_FILE} and {len(figures)} figure(s)")
@@ -964,7 +1476,7 @@ def main(argv):
 def import_plotting():
     """numpy, VTK and matplotlib, into this module's globals; exit 1 naming the Debian packages
     if one is missing."""
-    global np, plt, Normalize, ScalarMappable, PolyCollection, EllipseCollection, Patch
+    global np, plt, Normalize, ScalarMappable, PolyCollection, EllipseCollection, Patch, Circle
     global vtkXMLUnstructuredGridReader, vtkCutter, vtkPlane, vtk_to_numpy
     try:
         import numpy as np
@@ -975,7 +1487,7 @@ def import_plotting():
         from matplotlib.cm import ScalarMappable
         from matplotlib.collections import EllipseCollection, PolyCollection
         from matplotlib.colors import Normalize
-        from matplotlib.patches import Patch
+        from matplotlib.patches import Circle, Patch
         from vtkmodules.util.numpy_support import vtk_to_numpy
         from vtkmodules.vtkCommonCore import vtkObject
         from vtkmodules.vtkCommonDataModel import vtkPlane
