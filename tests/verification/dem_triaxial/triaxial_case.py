@@ -60,31 +60,52 @@ SIDES = ("left", "right", "bottom", "top")  # x min, x max, y min, y max
 
 
 def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN, dem=None,
-             ramp_s=RAMP_S, side_m=L_M, history_every=50):
-    """The triaxial test of one packing (seed); `dem` adds [parts.dem] keys."""
+             ramp_s=RAMP_S, side_m=L_M, history_every=50, radii_m=(0.004, 0.01),
+             t_cons_s=T_CONS_S, gravity_m_s2=-9.81, packing=None):
+    """The triaxial test of one packing (seed); `dem` adds [parts.dem] keys, `packing`
+    [parts.packing] keys. The defaults are the case above; scaled(lam) gives the keywords of
+    the same case with every length and time multiplied by lam (tests/verification/
+    dem_grain_size)."""
     L = side_m
-    end = T_CONS_S + axial_strain / strain_rate
+    end = t_cons_s + axial_strain / strain_rate
     motion = []
     for face, x in zip(SIDES, (0.0, L, 0.0, L)):
         motion += [{"face": face, "position_m": x, "stress_pa": SIGMA3_PA,
-                    "max_speed_m_s": 0.05, "end_s": T_CONS_S},
+                    "max_speed_m_s": 0.05, "end_s": t_cons_s},
                    {"face": face, "stress_pa": SIGMA3_PA, "max_speed_m_s": 0.5,
-                    "start_s": T_CONS_S}]
+                    "start_s": t_cons_s}]
     motion += [{"face": "front", "position_m": L, "stress_pa": SIGMA3_PA,
-                "max_speed_m_s": 0.05, "end_s": T_CONS_S},
-               {"face": "front", "velocity_m_s": -strain_rate * L, "start_s": T_CONS_S,
+                "max_speed_m_s": 0.05, "end_s": t_cons_s},
+               {"face": "front", "velocity_m_s": -strain_rate * L, "start_s": t_cons_s,
                 "ramp_s": ramp_s},
                {"face": "back", "velocity_m_s": 0.0}]  # fixed: reports its load
-    keys = {"radius_min_m": 0.004, "radius_max_m": 0.01, "seed": seed, "wall_friction": 0.0,
+    keys = {"radius_min_m": radii_m[0], "radius_max_m": radii_m[1], "seed": seed,
+            "wall_friction": 0.0,
             "walls": [*SIDES, "back", "front"], "wall_motion": motion, **(dem or {})}
     return compose_scenario(
         "triaxial", 3, end,
         description="Triaxial compression of the paper's sand (tests/verification/dem_triaxial)",
         domain=domain([-0.1 * L, -0.1 * L, 0.0], [1.1 * L, 1.1 * L, 1.05 * L],
-                      [0.0, 0.0, -9.81]),
-        output=output(T_CONS_S, history_every), materials=[SAND],
-        parts=[part("soil", "dem", "sand", 0.02, box([0.0, 0.0, 0.0], [L, L, L]), dem=keys,
-                    packing={"method": "dense", "settle": True, "cache_dir": str(cache_dir)})])
+                      [0.0, 0.0, gravity_m_s2]),
+        output=output(t_cons_s, history_every), materials=[SAND],
+        parts=[part("soil", "dem", "sand", 2 * radii_m[1], box([0.0, 0.0, 0.0], [L, L, L]),
+                    dem=keys,
+                    packing={"method": "dense", "settle": True, "cache_dir": str(cache_dir),
+                             **(packing or {})})])
+
+
+def scaled(lam, gravity_scaled=True):
+    """scenario() keywords of the case with every length (grains, sample) and time (stages,
+    frames; so the strain rate / lam) multiplied by lam: the same inertial number. Velocities
+    (servo limits, the platen's speed), stresses, densities and moduli are unchanged. With
+    gravity_scaled, g / lam as well, so that rho g L / sigma_3 is unchanged and the case is
+    similar to the unscaled one in every term (docs/validation.md, "DEM: the bed's properties
+    do not depend on grain size"); settling may then last lam times longer, hence
+    settle_max_time_s (2 s by default) x lam."""
+    return {"strain_rate": STRAIN_RATE / lam, "ramp_s": RAMP_S * lam, "side_m": L_M * lam,
+            "radii_m": (0.004 * lam, 0.01 * lam), "t_cons_s": T_CONS_S * lam,
+            "gravity_m_s2": -9.81 / lam if gravity_scaled else -9.81,
+            "packing": {"settle_max_time_s": 2.0 * lam}}
 
 
 def reduce(history_csv, t_cons=T_CONS_S):
@@ -170,7 +191,7 @@ def solid_fraction(centres, radii, lo, hi, margin, h=5e-4):
     return float(full.mean())
 
 
-def frame_solid_fractions(out_dir, t, r_max=0.01):
+def frame_solid_fractions(out_dir, t, r_max=0.01, h=5e-4):
     """(whole, interior) solid fraction of the frame of soil.pvd nearest time t (a frame
     every T_CONS_S): the grains' volume over the walls' box of that moment (history.csv), and
     solid_fraction() 2 r_max inside that box."""
@@ -187,4 +208,4 @@ def frame_solid_fractions(out_dir, t, r_max=0.01):
     hi = [float(row[w + k + "_position_m"]) for k in ("right", "top", "front")]
     r = fields["radius"]
     whole = float(np.sum(4.0 / 3.0 * np.pi * r ** 3) / np.prod(np.subtract(hi, lo)))
-    return whole, solid_fraction(pts, r, lo, hi, 2 * r_max)
+    return whole, solid_fraction(pts, r, lo, hi, 2 * r_max, h)
