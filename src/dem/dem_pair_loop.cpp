@@ -442,6 +442,7 @@ template <int D>
 inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& force,
                                                               SymTensor* moment, bool in_bed) {
   Real absorbed = 0, static_power = 0;
+  if (cfg_.absorbing_walls.empty()) return {absorbed, static_power};
   const Real g_norm = gravity_.norm();
   const Real height = g_norm > 0 ? Real(-x_[i].dot(gravity_) / g_norm) : Real(0);
   for (std::size_t k = 0; k < cfg_.absorbing_walls.size(); ++k) {
