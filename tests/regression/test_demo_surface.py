@@ -1,3 +1,4 @@
+# ctest-processors: 2
 # ctest-timeout: 1500
 """The surface probe on `make run`'s result (paper-20cm at its demo level, to 10 ms; issue 24):
 the ground it reports in every column is never higher than the top of that column's settled

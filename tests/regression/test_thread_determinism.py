@@ -1,3 +1,4 @@
+# ctest-processors: 2
 # ctest-timeout: 1500
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
 history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, a

@@ -1,3 +1,4 @@
+# ctest-processors: 2
 """Absorbing (viscous) wall: a compression pulse runs down a chain of equal grains into the
 right face of the domain, which is a rigid wall or an absorbing wall (`absorbing_walls`).
 

@@ -1,3 +1,4 @@
+# ctest-processors: 2
 # ctest-timeout: 600
 """Packing of DEM grains ([parts.packing]): the random packing generator, settling under
 gravity, and the reuse of a settled packing.

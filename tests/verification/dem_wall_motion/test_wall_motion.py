@@ -1,3 +1,4 @@
+# ctest-processors: 2
 # ctest-timeout: 600
 """Moving rigid walls of a DEM part ([[parts.dem.wall_motion]], issue 24; docs/theory.md §3).
 

@@ -1,3 +1,4 @@
+# ctest-processors: 2
 """Multi-rate stepping (time.multi_rate, docs/theory.md "Multi-rate stepping", issue 25): two-part
 cases where each part steps at its own stable step, against the same case at one step for all.
 
