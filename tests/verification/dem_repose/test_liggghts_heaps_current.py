@@ -1,3 +1,4 @@
+# ctest-processors: 2
 # ctest-labels: slow
 # ctest-timeout: 1800
 """LIGGGHTS' drained heaps checked in for test_drained_heap_vs_liggghts.py
