@@ -30,6 +30,17 @@ class VerletSkin {
     return stale_given(moved_sq, static_cast<Index>(x.size()), need);
   }
 
+  /// The interaction radius the lists built at the last rebuild still hold every pair within,
+  /// for the points now at x: the built radius less twice the largest displacement (0 when no
+  /// list exists). stale(x, need) is need > reach(x).
+  Real reach(std::span<const Vec<D>> x) const {
+    if (radius_ <= 0 || x.size() != built_.size()) return 0;
+    const Real moved_sq = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
+      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).squaredNorm();
+    });
+    return radius_ - 2 * std::sqrt(moved_sq);
+  }
+
   /// stale() for `count` points whose largest squared displacement from positions() the owner
   /// measured already (the max of |x_i - positions()_i|^2 from 0, NaNs skipped as std::max
   /// skips them).

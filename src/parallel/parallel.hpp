@@ -134,11 +134,11 @@ Real min_over(Index n, Real init, F&& f) {
   return m;
 }
 
-/// Maximum of f(i) over [0, n).
+/// Maximum of f(i) over [0, n) (exact in any order); `cost` as for for_each.
 template <class F>
-Real max_over(Index n, Real init, F&& f) {
+Real max_over(Index n, Real init, F&& f, Cost cost = Cost::light) {
   Real m = init;
-#pragma omp parallel for schedule(static) reduction(max : m) if (n >= parallel_min())
+#pragma omp parallel for schedule(static) reduction(max : m) if (forks(n, cost))
   for (Index i = 0; i < n; ++i)
     m = std::max(m, f(i));
   return m;

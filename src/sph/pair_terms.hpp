@@ -48,6 +48,7 @@ struct Centre {
   Real e = 0;          // specific internal energy [J/kg]
   Real inv_rho = 0;    // 1 / rho
   Real r_tensile = 0;  // artificial_pressure of i
+  Real p_omega = 0;    // p / (Omega rho^2), the grad-h pressure factor (summation density)
 };
 
 /// One neighbour j within the kernel support: r_ij = x_i - x_j, its state, the velocity the viscous
@@ -61,6 +62,7 @@ struct Neighbour {
   Real m = 0, rho = 0, p = 0, c = 0, e = 0;
   Vec<D> v, v_visc;
   bool wall = false;
+  Real h = 0, p_omega = 0;  // smoothing length and p / (Omega rho^2) (gather_pair_grad_h only)
 };
 
 /// The sums of particle i over its neighbours.
@@ -241,6 +243,58 @@ template <class Kernel, int D>
   s.acc -= pressure_acceleration(i, j, k, vol_j, visc, tensile);
   s.drho += continuity_rate(vol_j, vdotgw);
   s.de += energy_rate(i, j, vol_j, visc, vdotgw);
+  if (c.viscosity_pa_s > 0) {
+    const ViscousTerms<D> vt = physical_viscosity(c, i, j, k, a);
+    s.acc += vt.acc;
+    s.de -= vt.heating;
+  }
+  if (c.alpha_u > 0) {
+    const HeatFlux hf = artificial_conductivity(c, i, j, k);
+    s.de += hf.heat;
+    s.vsig_u_max = std::max(s.vsig_u_max, hf.vsig);
+  }
+  if (c.eps_xsph > 0) s.xsph -= xsph_velocity<Kernel>(i, j, k, a);
+}
+
+/// The pair terms with the summation density's own pressure terms (density = "summation";
+/// Springel & Hernquist 2002, MNRAS 333, 649; Price 2012, J. Comput. Phys. 231, 759, eqs.
+/// 34-35): with P_i = p_i / (Omega_i rho_i^2), Omega_i = 1 - (dh_i/drho_i) sum_k m_k
+/// dW_ik(h_i)/dh_i, each particle's kernel at its own h,
+///   d v_i/dt -= m_j (P_i grad_i W_ij(h_i) + P_j grad_i W_ij(h_j)) + m_j (Pi_ij + R f^4) grad_i
+///   W_ij(hbar) d e_i/dt += m_j P_i v_ij . grad_i W_ij(h_i) + 1/2 m_j Pi_ij v_ij . grad_i
+///   W_ij(hbar)
+/// (a fixed wall particle: i books the whole pair's work, m_j v_ij . (P_i grad W(h_i) + P_j
+/// grad W(h_j)) and m_j Pi_ij v_ij . grad W). Summed over the pairs the pressure work and the
+/// internal energy's gain cancel exactly, as in gather_pair. The viscous terms, conductivity,
+/// XSPH and the continuity rate (written, not integrated) keep hbar. A pair interacts within the
+/// support of the larger h.
+template <class Kernel, int D>
+[[gnu::always_inline]] inline void gather_pair_grad_h(const RateParams& c, const Centre<D>& i,
+                                                      const Neighbour<D>& j, PairSums<D>& s) {
+  const Real r2 = j.rij.squaredNorm();
+  const Real hmax = std::max(i.h, j.h);
+  if (r2 >= Kernel::support * Kernel::support * hmax * hmax) return;
+  const Real r = std::sqrt(r2);
+  const Vec<D> gwi = Kernel::grad_factor(r, i.h) * j.rij;
+  const Vec<D> gwj = Kernel::grad_factor(r, j.h) * j.rij;
+  PairKernel<D> k;
+  k.r2 = r2;
+  k.r = r;
+  k.hbar = 0.5 * (i.h + j.h);
+  k.eta2 = 0.01 * k.hbar * k.hbar;
+  k.within = r2 < Kernel::support * Kernel::support * k.hbar * k.hbar;
+  k.gw = k.within ? Vec<D>(Kernel::grad_factor(r, k.hbar) * j.rij) : Vec<D>(Vec<D>::Zero());
+  const Approach<D> a = relative_motion(i, j, k);
+  s.mu_max = std::max(s.mu_max, std::abs(a.mu));
+  const Real visc = k.within ? monaghan_viscosity(c, i, j, a) : 0.0;
+  const Real tensile = k.within ? tensile_correction<Kernel>(c, i, j, k) : 0.0;
+  const Vec<D> gp = i.p_omega * gwi + j.p_omega * gwj;
+  const Real vdotgw = a.vij.dot(k.gw);
+  s.acc -= j.m * gp + j.m * (visc + tensile) * k.gw;
+  s.drho += continuity_rate(j.m / j.rho, vdotgw);
+  s.de += j.wall ? j.m * (a.vij.dot(gp) + visc * vdotgw)
+                 : j.m * (i.p_omega * a.vij.dot(gwi) + 0.5 * visc * vdotgw);
+  if (!k.within) return;
   if (c.viscosity_pa_s > 0) {
     const ViscousTerms<D> vt = physical_viscosity(c, i, j, k, a);
     s.acc += vt.acc;

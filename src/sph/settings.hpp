@@ -16,9 +16,14 @@ namespace crater::sph {
 /// Which kernel a scenario selects; the part maps it once to a kernel type (kernels.hpp).
 enum class KernelKind { WendlandC2, CubicSpline };
 
+/// How an SPH part gets its density: integrated from the continuity equation (eq. 32), or summed
+/// over the neighbours' masses at each force stage with h iterated to match (sph_part.cpp).
+enum class DensityKind { Continuity, Summation };
+
 /// Numerics of an SPH part ([parts.sph]).
 struct Settings {
   KernelKind kernel{};
+  DensityKind density{};
   Real h_factor{};
   Real av_alpha{};
   Real av_beta{};

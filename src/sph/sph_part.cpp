@@ -35,10 +35,12 @@
 #include "parts/contact_points.hpp"
 #include "parts/outflow.hpp"
 #include "parts/region.hpp"
+#include "sph/burn.hpp"
 #include "sph/kernels.hpp"
 #include "sph/pair_terms.hpp"
 #include "sph/sph_setup.hpp"
 #include "sph/sph_walls.hpp"
+#include "sph/summation.hpp"
 
 namespace crater::sph {
 namespace {
@@ -51,6 +53,10 @@ using fields::kStateRoles;
 
 constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of the largest support
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
+// Summation density: h is at most this many times h_factor (m / rho0)^(1/D), the particle's h at
+// the material's reference density (the lists are built for the largest h of the part, so a
+// lone particle must not stretch them without bound).
+constexpr Real kMaxHGrowth = 3;
 
 using parts::to_vec;
 
@@ -62,6 +68,7 @@ class SphPart final : public parts::Part<D> {
         eos_(settings.eos),
         cfg_(settings.sph),
         spacing_(settings.part.spacing_m),
+        rho_material_(settings.rho0_kg_m3),
         gravity_(to_vec<D>(settings.part.domain.gravity_m_s2)),
         domain_lo_(to_vec<D>(settings.part.domain.min_m)),
         domain_hi_(to_vec<D>(settings.part.domain.max_m)),
@@ -85,6 +92,7 @@ class SphPart final : public parts::Part<D> {
         rhoh_(f_.add_scalar("density_half", "kg/m^3", kNone)),
         eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
         dt_cv_(f_.add_scalar("dt_signal", "s", kNone)),
+        omega_(f_.add_scalar("grad_h_omega", "1", kNone)),
         fc_(f_.add_vector("contact_force", "N", kRestart)),
         surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)),
         surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)) {
@@ -94,16 +102,10 @@ class SphPart final : public parts::Part<D> {
     const Index n = static_cast<Index>(pts.size());
     f_.resize(n);
     std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
+    std::fill(omega_.begin(), omega_.end(), Real(1));
     cell_volume_ = std::pow(spacing_, D);
     h0_ = cfg_.h_factor * spacing_;
-    if (const auto* jwl = std::get_if<materials::JwlParams>(&eos_)) {
-      detonation_velocity_ = jwl->d_cj_m_s;
-      is_explosive_ = true;
-      rho_ref_ = jwl->rho0_kg_m3;
-      rho_cj_ = materials::jwl_cj_state(*jwl).density_kg_m3;
-      beta_burn_ = std::isfinite(rho_cj_) && rho_cj_ > rho_ref_ && !pc.detonations.empty();
-      burn_width_ = 1.5 * spacing_;
-    }
+    burn_model_ = ProgrammedBurn::of(eos_, spacing_, !pc.detonations.empty());
 
     for (Index i = 0; i < n; ++i) {
       const StartState<D> start = start_state<D>(pc, settings.rho0_kg_m3, pts[i]);
@@ -115,7 +117,8 @@ class SphPart final : public parts::Part<D> {
       rho_[i] = start.rho;
       h_[i] = cfg_.h_factor * pitch;
       e_[i] = initial_energy(start.rho, start.pressure);
-      light_[i] = lighting_time<D>(pc, is_explosive_, detonation_velocity_, pts[i]);
+      light_[i] =
+          lighting_time<D>(pc, burn_model_.explosive, burn_model_.detonation_velocity, pts[i]);
     }
     h_max_ = parallel::max_over(n, h0_, [&](Index i) { return h_[i]; });
 
@@ -131,10 +134,10 @@ class SphPart final : public parts::Part<D> {
       wall_mirror_ = std::move(wl.mirror);
     }
     const std::size_t nw = wall_x_.size();
-    wall_p_.assign(nw, 0);
-    wall_rho_.assign(nw, settings.rho0_kg_m3);
-    wall_c_.assign(nw, 0);
-    wall_v_.assign(nw, Vec<D>::Zero());
+    wall_.p.assign(nw, 0);
+    wall_.rho.assign(nw, settings.rho0_kg_m3);
+    wall_.c.assign(nw, 0);
+    wall_.v.assign(nw, Vec<D>::Zero());
     resort();
   }
 
@@ -173,7 +176,15 @@ class SphPart final : public parts::Part<D> {
 
   void compute_forces(Real t) override {
     time_s_ = t;
-    update_smoothing_lengths();
+    if (summation()) {
+      update_neighbors();
+      if (cfg_.kernel == KernelKind::WendlandC2)
+        summation_density<WendlandC2<D>>();
+      else
+        summation_density<CubicSpline<D>>();
+    } else {
+      update_smoothing_lengths();
+    }
     update_neighbors();
     update_eos(t);
     pair_rates();
@@ -210,6 +221,7 @@ class SphPart final : public parts::Part<D> {
   // evaluated with predicted v, rho, e of that time (Springel 2005 uses the same prediction).
   void advance(Real /*t*/, Real dt) override {
     const Real half = 0.5 * dt;
+    const bool sum_rho = summation();  // the force stage sums the density of t + dt
     parallel::for_each(f_.size(), [&](Index i) {
       vh_[i] = v_[i] + half * a_[i];
       rhoh_[i] = rho_[i] + half * drho_[i];
@@ -217,7 +229,7 @@ class SphPart final : public parts::Part<D> {
       x_[i] += dt * (vh_[i] + dx_xsph_[i]);
       if (has_walls_) reflect_at_walls(i);
       v_[i] = vh_[i] + half * a_[i];
-      rho_[i] = rhoh_[i] + half * drho_[i];
+      if (!sum_rho) rho_[i] = rhoh_[i] + half * drho_[i];
       e_[i] = eh_[i] + half * de_[i];
     });
     contact_.moved(dt);
@@ -230,9 +242,10 @@ class SphPart final : public parts::Part<D> {
 
   void finish_step(Real dt) override {
     const Real half = 0.5 * dt;
+    const bool sum_rho = summation();
     parallel::for_each(f_.size(), [&](Index i) {
       v_[i] = vh_[i] + half * a_[i];
-      rho_[i] = rhoh_[i] + half * drho_[i];
+      if (!sum_rho) rho_[i] = rhoh_[i] + half * drho_[i];
       e_[i] = eh_[i] + half * de_[i];
     });
     next_contact_.finished([&](const auto& f, const auto&) { take_contact(f); });
@@ -487,13 +500,66 @@ class SphPart final : public parts::Part<D> {
     h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
   }
 
-  // Pressure and sound speed from the EOS, with the burn fraction F for explosives, as in the
-  // programmed burn of Wilkins (1964) and LS-DYNA's *MAT_HIGH_EXPLOSIVE_BURN:
-  //   F1 = (t - t_light) D / (1.5 dx)       (lighting time: the front reaches the particle)
-  //   F2 = (1 - V) / (1 - V_CJ), V = rho0/rho (beta burn: compressed to the CJ volume, it burns)
-  //   F  = min(1, max(F_previous, F1, F2)),  p = F p_JWL(rho, e).
-  // F never decreases. F2 lets the products' compression light the explosive just ahead of the
-  // front, which brings the front's pressure closer to P_CJ at a given resolution.
+  bool summation() const {
+    return cfg_.density == DensityKind::Summation;
+  }
+
+  // density = "summation" (summation.hpp): each particle's rho, h and Omega from its lists.
+  // A particle that needs a larger h than the lists serve asks for a rebuild; the lists are
+  // rebuilt for twice the largest such h and the whole pass repeats from the h reached. Each
+  // particle reads only positions, masses and its own h, in its lists' order: the same numbers
+  // for any thread count.
+  template <class Kernel>
+  void summation_density() {
+    const Index n = f_.size();
+    const Real hf = cfg_.h_factor;
+    const Real inv_d = Real(1) / D;
+    const Real m_max = parallel::max_over(n, 0.0, [&](Index i) { return m_[i]; });
+    const Real largest_cap = kMaxHGrowth * hf * std::pow(m_max / rho_material_, inv_d);
+    for (int pass = 0;; ++pass) {
+      const Real reach_h = skin_.reach(std::span<const Vec<D>>(x_)) / Kernel::support;
+      if (!ghosts_.empty()) ghosts_.place(std::span<const Vec<D>>(x_));
+      const Real wanted = parallel::max_over(
+          n, 0.0,
+          [&](Index i) {
+            const Real cap = kMaxHGrowth * hf * std::pow(m_[i] / rho_material_, inv_d);
+            const DensitySolve s = solve_density<Kernel>(
+                m_[i], h_[i], std::min(cap, reach_h), cap, hf, cfg_.variable_h,
+                [&](Real h) { return kernel_sum<Kernel>(i, h); });
+            rho_[i] = s.rho;
+            h_[i] = s.h;
+            omega_[i] = s.omega;
+            return s.want;
+          },
+          parallel::Cost::heavy);
+      if (wanted <= 0 || pass >= 8) break;
+      h_max_ = std::max(h_max_, std::min(2 * wanted, largest_cap));
+      resort();
+      skin_.built(std::span<const Vec<D>>(x_), Kernel::support * h_max_);
+      build_lists();
+    }
+    h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
+  }
+
+  // The kernel sums of particle i at h over itself, its fluid neighbours, its mirror images and
+  // the wall particles (each list in ascending order).
+  template <class Kernel>
+  KernelSum<Kernel> kernel_sum(Index i, Real h) const {
+    KernelSum<Kernel> k(h);
+    k.add(0, m_[i]);
+    for (const Index j : list_.of(i))
+      k.add((x_[i] - x_[j]).squaredNorm(), m_[j]);
+    if (!wall_x_.empty())
+      for (const Index w : fluid_to_wall_.of(i))
+        k.add((x_[i] - wall_x_[at(w)]).squaredNorm(), wall_.rho[at(w)] * cell_volume_);
+    if (!ghosts_.empty())
+      for (const Index g : fluid_to_ghost_.of(i))
+        k.add((x_[i] - ghosts_.x[at(g)]).squaredNorm(), m_[ghosts_.parent[at(g)]]);
+    return k;
+  }
+
+  // Pressure and sound speed from the EOS, p = F p_EOS(rho, e) with the burn fraction F
+  // (burn.hpp; 1 but for explosives).
   void update_eos(Real t) {
     const Index n = f_.size();
     std::visit(
@@ -501,14 +567,7 @@ class SphPart final : public parts::Part<D> {
           parallel::for_each(
               n,
               [&](Index i) {
-                Real burn = 1;
-                if (is_explosive_) {
-                  const Real f1 =
-                      t < light_[i] ? 0.0 : (t - light_[i]) * detonation_velocity_ / (burn_width_);
-                  const Real f2 =
-                      beta_burn_ ? (1 - rho_ref_ / rho_[i]) / (1 - rho_ref_ / rho_cj_) : 0.0;
-                  burn = std::min(1.0, std::max({burn_[i], f1, f2}));
-                }
+                const Real burn = burn_model_.fraction(t, light_[i], burn_[i], rho_[i]);
                 burn_[i] = burn;
                 const Real p = materials::eos_pressure_of(law, rho_[i], e_[i]);
                 p_[i] = burn * p;
@@ -519,44 +578,12 @@ class SphPart final : public parts::Part<D> {
         eos_);
   }
 
-  // Adami et al. (2012) eqs. 27-28: a wall particle's pressure is the kernel-weighted average of
-  // its fluid neighbours' plus the hydrostatic part, p_w = (sum_f p_f W_wf + g . sum_f rho_f
-  // r_wf W_wf) / sum_f W_wf (fixed walls: no wall acceleration); density and sound speed are
-  // the same averages (Shepard); the velocity for the viscous terms is the averaged fluid
-  // velocity mirrored in the wall (eq. 22 for no slip).
   template <class Kernel>
   void wall_state() {
-    const auto nw = static_cast<Index>(wall_x_.size());
-    if (nw == 0) return;
-    const Vec<D> g = gravity_;
-    parallel::for_each(nw, [&](Index w) {
-      Real sw = 0, sp = 0, srho = 0, sc = 0;
-      Vec<D> sv = Vec<D>::Zero(), srw = Vec<D>::Zero();
-      for (const Index f : wall_to_fluid_.of(w)) {
-        const Vec<D> rwf = wall_x_[w] - x_[f];
-        const Real hbar = 0.5 * (h0_ + h_[f]);
-        const Real wgt = Kernel::w(rwf.norm(), hbar);
-        sw += wgt;
-        sp += p_[f] * wgt;
-        srho += rho_[f] * wgt;
-        sc += c_[f] * wgt;
-        sv += v_[f] * wgt;
-        srw += rho_[f] * rwf * wgt;
-      }
-      if (sw > 0) {
-        wall_p_[w] = (sp + g.dot(srw)) / sw;
-        wall_rho_[w] = srho / sw;
-        wall_c_[w] = sc / sw;
-        // The velocity the viscous terms see: the fluid's, mirrored in the wall (no slip:
-        // all of it, 2 v_wall - v; free slip: only its normal part, so sliding costs nothing).
-        const Vec<D> vf = sv / sw;
-        wall_v_[w] = cfg_.wall_no_slip ? Vec<D>(-vf) : Vec<D>(vf.cwiseProduct(wall_mirror_[w]));
-      } else {
-        wall_p_[w] = 0;
-        wall_c_[w] = 0;
-        wall_v_[w] = Vec<D>::Zero();
-      }
-    });
+    if (wall_x_.empty()) return;
+    average_wall_state<Kernel, D>(wall_x_, wall_mirror_, wall_to_fluid_,
+                                  FluidArrays<D>{x_, h_, p_, rho_, c_, v_}, h0_, gravity_,
+                                  cfg_.wall_no_slip, wall_);
   }
 
   // The rates of every particle: the pair terms (pair_terms.hpp, gather_pair) over its fluid
@@ -574,28 +601,47 @@ class SphPart final : public parts::Part<D> {
     const Vec<D> g = gravity_;
     const bool walls = !wall_x_.empty();
     const bool ghosts = !ghosts_.empty();
+    const bool grad_h = summation();
     parallel::for_each(
         n,
         [&](Index i) {
           const Centre<D> me = centre(c, i);
           PairSums<D> s;
-          for (const Index j : list_.of(i)) {
-            const Vec<D> rij = me.x - x_[j];
-            const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[j]);
-            if (k.within) gather_pair<Kernel>(c, me, fluid_neighbour(rij, j), k, s);
+          if (grad_h) {
+            for (const Index j : list_.of(i))
+              gather_pair_grad_h<Kernel>(
+                  c, me, with_grad_h(fluid_neighbour(me.x - x_[j], j), h_[j], omega_[j]), s);
+            if (walls)
+              for (const Index w : fluid_to_wall_.of(i))
+                gather_pair_grad_h<Kernel>(
+                    c, me, with_grad_h(wall_neighbour(me.x - wall_x_[at(w)], w), h0_, 1), s);
+            if (ghosts)
+              for (const Index img : fluid_to_ghost_.of(i)) {
+                const Index j = ghosts_.parent[at(img)];
+                gather_pair_grad_h<Kernel>(
+                    c, me,
+                    with_grad_h(ghost_neighbour(me.x - ghosts_.x[at(img)], img), h_[j], omega_[j]),
+                    s);
+              }
+          } else {
+            for (const Index j : list_.of(i)) {
+              const Vec<D> rij = me.x - x_[j];
+              const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[j]);
+              if (k.within) gather_pair<Kernel>(c, me, fluid_neighbour(rij, j), k, s);
+            }
+            if (walls)
+              for (const Index w : fluid_to_wall_.of(i)) {
+                const Vec<D> rij = me.x - wall_x_[at(w)];
+                const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h0_);
+                if (k.within) gather_pair<Kernel>(c, me, wall_neighbour(rij, w), k, s);
+              }
+            if (ghosts)
+              for (const Index img : fluid_to_ghost_.of(i)) {
+                const Vec<D> rij = me.x - ghosts_.x[at(img)];
+                const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[ghosts_.parent[at(img)]]);
+                if (k.within) gather_pair<Kernel>(c, me, ghost_neighbour(rij, img), k, s);
+              }
           }
-          if (walls)
-            for (const Index w : fluid_to_wall_.of(i)) {
-              const Vec<D> rij = me.x - wall_x_[at(w)];
-              const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h0_);
-              if (k.within) gather_pair<Kernel>(c, me, wall_neighbour(rij, w), k, s);
-            }
-          if (ghosts)
-            for (const Index img : fluid_to_ghost_.of(i)) {
-              const Vec<D> rij = me.x - ghosts_.x[at(img)];
-              const PairKernel<D> k = pair_kernel<Kernel>(rij, me.h, h_[ghosts_.parent[at(img)]]);
-              if (k.within) gather_pair<Kernel>(c, me, ghost_neighbour(rij, img), k, s);
-            }
           a_[i] = s.acc + g;
           drho_[i] = me.rho * s.drho;
           de_[i] = s.de;
@@ -620,6 +666,7 @@ class SphPart final : public parts::Part<D> {
     me.e = e_[i];
     me.inv_rho = 1 / me.rho;
     me.r_tensile = artificial_pressure(c.eps_tensile, me.p, me.rho);
+    if (summation()) me.p_omega = me.p / (omega_[i] * me.rho * me.rho);
     return me;
   }
   [[gnu::always_inline]] Neighbour<D> fluid_neighbour(const Vec<D>& rij, Index j) const {
@@ -636,12 +683,12 @@ class SphPart final : public parts::Part<D> {
   [[gnu::always_inline]] Neighbour<D> wall_neighbour(const Vec<D>& rij, Index w) const {
     const auto k = at(w);
     return {.rij = rij,
-            .m = wall_rho_[k] * cell_volume_,
-            .rho = wall_rho_[k],
-            .p = wall_p_[k],
-            .c = wall_c_[k],
+            .m = wall_.rho[k] * cell_volume_,
+            .rho = wall_.rho[k],
+            .p = wall_.p[k],
+            .c = wall_.c[k],
             .v = Vec<D>::Zero(),
-            .v_visc = wall_v_[k],
+            .v_visc = wall_.v[k],
             .wall = true};
   }
   [[gnu::always_inline]] Neighbour<D> ghost_neighbour(const Vec<D>& rij, Index g) const {
@@ -657,19 +704,22 @@ class SphPart final : public parts::Part<D> {
             .v_visc = ghosts_.v[k],
             .wall = false};
   }
+  // A neighbour as the grad-h terms see it: with its smoothing length and p / (Omega rho^2)
+  // (a wall particle: h0 and Omega = 1).
+  [[gnu::always_inline]] static Neighbour<D> with_grad_h(Neighbour<D> n, Real h, Real omega) {
+    n.h = h;
+    n.p_omega = n.p / (omega * n.rho * n.rho);
+    return n;
+  }
 
   std::string name_;
   materials::EosParams eos_;
   Settings cfg_;
   Real spacing_;
+  Real rho_material_;  // the material's reference density (the summation density's h cap)
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool outflow_remove_ = false;  // domain.outflow = "remove" (remove_outflow)
-  bool is_explosive_ = false;
-  Real detonation_velocity_ = 0;
-  Real rho_ref_ = 0;  // unreacted density rho0 and CJ density, for the beta burn
-  Real rho_cj_ = 0;
-  bool beta_burn_ = false;
-  Real burn_width_ = 0;  // distance over which F1 ramps from 0 to 1 [m]
+  ProgrammedBurn burn_model_;
   Real cell_volume_ = 0;
   Real h0_ = 0;
 
@@ -693,7 +743,8 @@ class SphPart final : public parts::Part<D> {
   std::vector<Real>& rhoh_;
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
-  std::vector<Vec<D>>& fc_;                   // force of the contacts with other parts (in a_ too)
+  std::vector<Real>& omega_;  // summation density: Omega_i of the grad-h terms (1 otherwise)
+  std::vector<Vec<D>>& fc_;   // force of the contacts with other parts (in a_ too)
   parts::LaggedPositions<D> lagged_;          // positions the contacts see (multi-rate stepping)
   parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
   /// Multi-rate: the next step starts with other contact forces than the last one ended with.
@@ -710,8 +761,7 @@ class SphPart final : public parts::Part<D> {
 
   // Fixed wall particles (not part of the FieldSet: they are not entities of the part).
   std::vector<Vec<D>> wall_x_, wall_mirror_;
-  std::vector<Real> wall_p_, wall_rho_, wall_c_;
-  std::vector<Vec<D>> wall_v_;
+  WallState<D> wall_;  // their pressure, density, sound speed and velocity (average_wall_state)
 
   Ghosts<D> ghosts_;  // mirror images behind free-slip walls
 

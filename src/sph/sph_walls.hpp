@@ -9,6 +9,7 @@
 
 #include "core/index.hpp"
 #include "core/types.hpp"
+#include "neighbors/neighbor_list.hpp"
 #include "parallel/parallel.hpp"
 #include "parts/setup.hpp"
 
@@ -60,5 +61,63 @@ struct Ghosts {
     });
   }
 };
+
+/// The fluid particles' arrays the wall state is averaged from.
+template <int D>
+struct FluidArrays {
+  const std::vector<Vec<D>>& x;
+  const std::vector<Real>&h, &p, &rho, &c;
+  const std::vector<Vec<D>>& v;
+};
+
+/// Per dummy wall particle: pressure, density, sound speed, and the velocity the viscous terms
+/// see.
+template <int D>
+struct WallState {
+  std::vector<Real> p, rho, c;
+  std::vector<Vec<D>> v;
+};
+
+/// Adami et al. (2012) eqs. 27-28: a wall particle's pressure is the kernel-weighted average of
+/// its fluid neighbours' plus the hydrostatic part, p_w = (sum_f p_f W_wf + g . sum_f rho_f
+/// r_wf W_wf) / sum_f W_wf (fixed walls: no wall acceleration); density and sound speed are
+/// the same averages (Shepard); the velocity for the viscous terms is the averaged fluid
+/// velocity mirrored in the wall (eq. 22 for no slip). W at hbar = (h0 + h_f)/2; each wall
+/// particle sums over its list (to_fluid) in order.
+template <class Kernel, int D>
+void average_wall_state(const std::vector<Vec<D>>& wall_x, const std::vector<Vec<D>>& mirror,
+                        const neighbors::NeighborList& to_fluid, const FluidArrays<D>& f, Real h0,
+                        const Vec<D>& g, bool no_slip, WallState<D>& out) {
+  parallel::for_each(static_cast<Index>(wall_x.size()), [&](Index w) {
+    const auto k = at(w);
+    Real sw = 0, sp = 0, srho = 0, sc = 0;
+    Vec<D> sv = Vec<D>::Zero(), srw = Vec<D>::Zero();
+    for (const Index j : to_fluid.of(w)) {
+      const auto fj = at(j);
+      const Vec<D> rwf = wall_x[k] - f.x[fj];
+      const Real hbar = 0.5 * (h0 + f.h[fj]);
+      const Real wgt = Kernel::w(rwf.norm(), hbar);
+      sw += wgt;
+      sp += f.p[fj] * wgt;
+      srho += f.rho[fj] * wgt;
+      sc += f.c[fj] * wgt;
+      sv += f.v[fj] * wgt;
+      srw += f.rho[fj] * rwf * wgt;
+    }
+    if (sw > 0) {
+      out.p[k] = (sp + g.dot(srw)) / sw;
+      out.rho[k] = srho / sw;
+      out.c[k] = sc / sw;
+      // The velocity the viscous terms see: the fluid's, mirrored in the wall (no slip: all
+      // of it, 2 v_wall - v; free slip: only its normal part, so sliding costs nothing).
+      const Vec<D> vf = sv / sw;
+      out.v[k] = no_slip ? Vec<D>(-vf) : Vec<D>(vf.cwiseProduct(mirror[k]));
+    } else {
+      out.p[k] = 0;
+      out.c[k] = 0;
+      out.v[k] = Vec<D>::Zero();
+    }
+  });
+}
 
 }  // namespace crater::sph

@@ -125,14 +125,18 @@ class Checkpoints(unittest.TestCase):
         # Every part type, restarted from checkpoints the uninterrupted run wrote (kept): DEM
         # with contact histories (a settling bed) and with bonds breaking, SPH in 3D, FEM with
         # plasticity, damage and erosion.
-        cases = [("dem_bed_2d.toml", 5000), ("dem_bonded_2d.toml", 100), ("sph3d_small.toml", 5),
-                 ("fem_plate_2d.toml", 150)]
-        for name, every in cases:
-            with self.subTest(scenario=name):
+        # SPH also with the summation density (h solved at each force stage from the saved h).
+        cases = [("dem_bed_2d.toml", 5000, []), ("dem_bonded_2d.toml", 100, []),
+                 ("sph3d_small.toml", 5, []),
+                 ("sph3d_small.toml", 5, ["--set", "parts.charge.sph.density=\"summation\"",
+                                          "--set", "scenario.end_time_s=2e-5"]),
+                 ("fem_plate_2d.toml", 150, [])]
+        for k, (name, every, extra) in enumerate(cases):
+            with self.subTest(scenario=name, extra=extra):
                 scen = SOURCE / "tests" / "data" / name
                 sets = ["--set", f"output.checkpoint_every_steps={every}",
-                        "--set", "output.checkpoint_keep=1000"]
-                full = self.dir / f"full_{name}"
+                        "--set", "output.checkpoint_keep=1000", *extra]
+                full = self.dir / f"full_{k}_{name}"
                 crater("run", scen, "--out", full, "--force", "--quiet", *sets)
                 cks = sorted((full / "checkpoints").glob("*.ckpt"))
                 self.assertGreaterEqual(len(cks), 2)

@@ -121,6 +121,16 @@ class ThreadDeterminism(unittest.TestCase):
                                           sets=["parts.charge.sph.conductivity_alpha=1"])
         self.assertIn("charge.pvd", files)
 
+    def test_sph_3d_summation(self):
+        # density = "summation": each particle's Newton solve for h and rho reads its own lists
+        # in order; a charge expanding into vacuum makes its edge particles ask for longer lists
+        # (rebuilds inside the density pass); by 20 us the outer ones reach the cap on h.
+        files = assert_bit_identical_runs(SOURCE_DIR / "tests/data/sph3d_small.toml",
+                                          scratch("det_sph3d_summation"),
+                                          sets=["parts.charge.sph.density=\"summation\"",
+                                                "scenario.end_time_s=2e-5"])
+        self.assertIn("charge.pvd", files)
+
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -16,6 +16,8 @@ void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocati
   SphConfig& s = p.sph();
   s.kernel = str(st, "kernel") == "cubic_spline" ? sph::KernelKind::CubicSpline
                                                  : sph::KernelKind::WendlandC2;
+  s.density = str(st, "density") == "summation" ? sph::DensityKind::Summation
+                                                : sph::DensityKind::Continuity;
   s.h_factor = num(st, "h_factor");
   s.av_alpha = num(st, "av_alpha");
   s.av_beta = num(st, "av_beta");

@@ -233,6 +233,19 @@ TableSchema make_sph() {
       with_default(choice("kernel", {"wendland_c2", "cubic_spline"},
                           "Smoothing kernel (paper eq. 28: Wendland C2)."),
                    "\"wendland_c2\""),
+      with_default(
+          choice("density", {"continuity", "summation"},
+                 "How the density is found. continuity: integrated from the continuity equation "
+                 "(paper eq. 32), the paper's method; keeps the density of a free surface or a "
+                 "charge's edge. summation: rho_i = sum_j m_j W(r_ij, h_i) over the particle "
+                 "and its neighbours (mirror images and wall particles included) at each force "
+                 "stage, with h_i = h_factor (m_i/rho_i)^(1/D) solved with it (Newton) when "
+                 "variable_h is on, and the pressure terms in their grad-h form (Springel & "
+                 "Hernquist 2002, Price 2012); follows the particles where a gas rarefies (the "
+                 "Sedov blast's centre: docs/validation.md) but reads low where the particles "
+                 "have no neighbours on one side (a free surface, a charge's edge). h is at "
+                 "most 3 h_factor (m/rho0)^(1/D). docs/theory.md, section 2."),
+          "\"continuity\""),
       with_default(at_most(at_least(real("h_factor", "1",
                                          "Smoothing length h = h_factor x "
                                          "spacing_m."),

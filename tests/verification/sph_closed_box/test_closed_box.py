@@ -20,6 +20,12 @@ Cases (walls on all four faces of the domain, free slip; the gas fills the box u
 3. Both again with the artificial conductivity on (conductivity_alpha = 1, Price 2008,
    J. Comput. Phys. 227, 10040): it moves internal energy between the particles of a pair, so the
    total must stay conserved with it as well.
+4. Both again with density = "summation" (the summed density, h solved with it, the grad-h
+   pressure terms; docs/theory.md section 2), and the ideal gas once more with no-slip walls
+   (dummy particles, whose share of each pair's work the fluid particle books): the grad-h
+   equations conserve the total pair by pair as the continuity form's do. Their first frame
+   holds the summed density, so the zone is checked on the specific energy (ideal gas) and
+   the particle masses (JWL) instead.
 
 Measured: the total energy E = K + U (+ the ledger terms of summary.json) from history.csv
 (total_j, every 10 steps) and summary.json energy.balance_error.
@@ -89,6 +95,15 @@ def with_conductivity(case, alpha=1.0):
     return side, dx, sc
 
 
+def with_summation(case, wall_slip="free"):
+    """A case of the above with [parts.sph] density = "summation" (and the walls' slip)."""
+    side, dx, sc = case
+    sc["parts"][0]["sph"]["density"] = "summation"
+    sc["parts"][0]["sph"]["wall_slip"] = wall_slip
+    sc["scenario"]["name"] += f"-summation-{wall_slip}-slip"
+    return side, dx, sc
+
+
 class ClosedBox(unittest.TestCase):
     results = {}
 
@@ -148,6 +163,20 @@ class ClosedBox(unittest.TestCase):
     def test_jwl_products_conductivity(self):
         self._check("jwl_conductivity", lambda: with_conductivity(jwl_box()),
                     ("density", 0.25 * TNT["rho0_kg_m3"], TNT["rho0_kg_m3"]))
+
+    def test_ideal_gas_summation(self):
+        # e = p / ((gamma - 1) rho0): 0.25 and 2.5 J/kg.
+        self._check("ideal_gas_summation", lambda: with_summation(ideal_gas_box()),
+                    ("specific_energy", 0.25, 2.5))
+
+    def test_ideal_gas_summation_no_slip(self):
+        self._check("ideal_gas_summation_no_slip",
+                    lambda: with_summation(ideal_gas_box(), wall_slip="no"),
+                    ("specific_energy", 0.25, 2.5))
+
+    def test_jwl_products_summation(self):
+        m = TNT["rho0_kg_m3"] * 0.004 ** 2
+        self._check("jwl_summation", lambda: with_summation(jwl_box()), ("mass", 0.25 * m, m))
 
 
 if __name__ == "__main__":
