@@ -8,6 +8,7 @@ orders, e.g. from the repository root after `make build`:
     PYTHONPATH=tests/lib /usr/bin/python3 tests/verification/sph_sod/sod_case.py 200 400 800 1600
     ... --conductivity 1 200 400 800 1600                (Price's artificial conductivity on)
     ... --h-factor 1.3,1.6,2.0,2.5 200 400 800 1600      (one h_factor per spacing)
+    ... --density summation 200 400 800 1600             ([parts.sph] density)
 
 (outputs under CRATER_TEST_TMP, else the system's temporary directory; one thread each).
 """
@@ -30,15 +31,18 @@ T_END = 0.2
 ROWS = 12                   # particle rows across the strip (the flow is 1D)
 
 
-def scenario(dx, rows=ROWS, conductivity=0.0, h_factor=None):
+def scenario(dx, rows=ROWS, conductivity=0.0, h_factor=None, density=None):
     """The strip at spacing dx. conductivity: [parts.sph] conductivity_alpha (Price 2008);
-    h_factor: [parts.sph] h_factor; each left out of the file when unset (the defaults)."""
+    h_factor, density: [parts.sph] h_factor and density; each left out of the file when unset
+    (the defaults)."""
     height = rows * dx
     sph = {"walls": ["left", "right", "bottom", "top"], "wall_slip": "free"}
     if conductivity:
         sph["conductivity_alpha"] = conductivity
     if h_factor is not None:
         sph["h_factor"] = h_factor
+    if density is not None:
+        sph["density"] = density
     return {
         "scenario": {"name": "sph-sod", "dimension": 2, "end_time_s": T_END,
                      "description": f"Sod shock tube in a 2D strip, dx = {dx:g}"},
@@ -101,13 +105,13 @@ def contact_blip(x, p):
     return float((p[np.abs(x - contact) <= 0.03].max() - p_star) / p_star)
 
 
-def run_case(dx, tag, threads=1, conductivity=0.0, h_factor=None):
+def run_case(dx, tag, threads=1, conductivity=0.0, h_factor=None, density=None):
     """Runs the strip at spacing dx; returns a dict with the final frame, the density profile,
     its L1 error and that error's shares by region, the contact's pressure blip, the summary and
     the wall time."""
     d = scratch(f"sph_sod_{tag}")
     path = write_scenario(d / "sod.toml", scenario(dx, conductivity=conductivity,
-                                                   h_factor=h_factor),
+                                                   h_factor=h_factor, density=density),
                           comment=f"Sod shock tube, dx = {dx:g} (tests/verification/sph_sod)")
     summary, wall = run(path, d / "out", threads=threads)
     f0 = frame_at(d / "out", "gas", 0.0)
@@ -135,6 +139,7 @@ def main(argv):
     ap.add_argument("--conductivity", type=float, default=0.0, help="conductivity_alpha")
     ap.add_argument("--h-factor", default=None,
                     help="h_factor: one for all runs, or one per spacing separated by commas")
+    ap.add_argument("--density", default=None, help="[parts.sph] density")
     a = ap.parse_args(argv)
     hf = [float(v) for v in a.h_factor.split(",")] if a.h_factor else [None]
     hf = hf * len(a.per_dx) if len(hf) == 1 else hf
@@ -142,8 +147,9 @@ def main(argv):
         ap.error("give one h_factor or one per spacing")
     runs = []
     for n, h in zip(a.per_dx, hf):
-        tag = f"study_a{a.conductivity:g}_h{h if h else 'default'}_{n}"
-        runs.append(run_case(1.0 / n, tag, conductivity=a.conductivity, h_factor=h))
+        tag = f"study_a{a.conductivity:g}_h{h if h else 'default'}_{a.density}_{n}"
+        runs.append(run_case(1.0 / n, tag, conductivity=a.conductivity, h_factor=h,
+                             density=a.density))
         print(describe(runs[-1]) + (f", h_factor {h:g}" if h else ""), flush=True)
     for p, q in zip(runs, runs[1:]):
         print(f"order 1/{1 / p['dx']:.0f} -> 1/{1 / q['dx']:.0f}: "
