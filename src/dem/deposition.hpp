@@ -171,36 +171,44 @@ class Deposition {
       if (x[d] < in_.lo[d] + r - eps_ || x[d] > in_.hi[d] - r + eps_) return false;
     for (const parts::RegionConfig& k : in_.keep_clear)
       if (parts::region_distance<D>(k, x) < r - eps_) return false;
-    bool clear = true;
-    for_near(x, r + in_.r_max, [&](std::int64_t j) {
+    return !any_near(x, r + in_.r_max, [&](std::int64_t j) {
       const Grain<D>& g = grains_[static_cast<std::size_t>(j)];
-      if ((x - g.x).squaredNorm() < (r + g.r - eps_) * (r + g.r - eps_)) clear = false;
+      return (x - g.x).squaredNorm() < (r + g.r - eps_) * (r + g.r - eps_);
     });
-    return clear;
   }
 
-  // f(j) for every grain j in the cells within `reach` of x (the first axis fastest).
-  template <class F>
-  void for_near(const V& x, Real reach, F&& f) const {
+  // Whether pred(j) holds for a grain j in the cells within `reach` of x (the first axis
+  // fastest, as for_near; it stops at the first).
+  template <class P>
+  bool any_near(const V& x, Real reach, P&& pred) const {
     std::array<std::int64_t, D> lo, hi, c;
     for (int d = 0; d < D; ++d) {
       lo[d] = std::max<std::int64_t>(
           0, static_cast<std::int64_t>(std::floor((x[d] - reach - in_.lo[d]) / cell_)));
       hi[d] = std::min<std::int64_t>(
           cells_[d] - 1, static_cast<std::int64_t>(std::floor((x[d] + reach - in_.lo[d]) / cell_)));
-      if (hi[d] < lo[d]) return;
+      if (hi[d] < lo[d]) return false;
     }
     c = lo;
     while (true) {
       for (std::int64_t g = head_[cell_index(c)]; g >= 0; g = next_[static_cast<std::size_t>(g)])
-        f(g);
+        if (pred(g)) return true;
       int d = 0;
       while (d < D && ++c[d] > hi[d]) {
         c[d] = lo[d];
         ++d;
       }
-      if (d == D) break;
+      if (d == D) return false;
     }
+  }
+
+  // f(j) for every grain j in the cells within `reach` of x (the first axis fastest).
+  template <class F>
+  void for_near(const V& x, Real reach, F&& f) const {
+    any_near(x, reach, [&](std::int64_t j) {
+      f(j);
+      return false;
+    });
   }
 
   // The fitting points of pts[0..n), the lowest kept in best.
