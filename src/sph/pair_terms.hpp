@@ -12,6 +12,8 @@
 //   artificial_conductivity  m_j alpha_u v_sig^u (e_i - e_j) / rhobar r_hat . grad_i W_ij (Price
 //                         2008), a heat flux between the pair; off by default
 //   xsph_velocity         -m_j / rhobar W_ij v_ij (Monaghan 1989)
+// (gather_pair_grad_h: the same steps with the summation density's grad-h pressure and energy
+// terms in place of pressure_acceleration and energy_rate.)
 // The equations with their sources are in sph_part.cpp's header and docs/theory.md. Every step
 // is inline and forced so (always_inline): the gather is the hot loop of an SPH run, and the
 // steps must cost what the one loop body they replace did. Each step keeps the arithmetic and
@@ -227,6 +229,25 @@ template <class Kernel, int D>
   return (j.m / (0.5 * (i.rho + j.rho))) * Kernel::w(k.r, k.hbar) * a.vij;
 }
 
+/// The terms that are off by default, for both forms of the pair terms, in the order listed
+/// above: the laminar viscosity, the conductivity and XSPH, each when on.
+template <class Kernel, int D>
+[[gnu::always_inline]] inline void optional_terms(const RateParams& c, const Centre<D>& i,
+                                                  const Neighbour<D>& j, const PairKernel<D>& k,
+                                                  const Approach<D>& a, PairSums<D>& s) {
+  if (c.viscosity_pa_s > 0) {
+    const ViscousTerms<D> vt = physical_viscosity(c, i, j, k, a);
+    s.acc += vt.acc;
+    s.de -= vt.heating;
+  }
+  if (c.alpha_u > 0) {
+    const HeatFlux hf = artificial_conductivity(c, i, j, k);
+    s.de += hf.heat;
+    s.vsig_u_max = std::max(s.vsig_u_max, hf.vsig);
+  }
+  if (c.eps_xsph > 0) s.xsph -= xsph_velocity<Kernel>(i, j, k, a);
+}
+
 /// The pair terms of neighbour j, found within the support by pair_kernel (k), added to
 /// particle i's sums in the order listed above. The caller tests the support first and reads
 /// the rest of the neighbour's state only then (most list candidates lie beyond it).
@@ -243,17 +264,7 @@ template <class Kernel, int D>
   s.acc -= pressure_acceleration(i, j, k, vol_j, visc, tensile);
   s.drho += continuity_rate(vol_j, vdotgw);
   s.de += energy_rate(i, j, vol_j, visc, vdotgw);
-  if (c.viscosity_pa_s > 0) {
-    const ViscousTerms<D> vt = physical_viscosity(c, i, j, k, a);
-    s.acc += vt.acc;
-    s.de -= vt.heating;
-  }
-  if (c.alpha_u > 0) {
-    const HeatFlux hf = artificial_conductivity(c, i, j, k);
-    s.de += hf.heat;
-    s.vsig_u_max = std::max(s.vsig_u_max, hf.vsig);
-  }
-  if (c.eps_xsph > 0) s.xsph -= xsph_velocity<Kernel>(i, j, k, a);
+  optional_terms<Kernel>(c, i, j, k, a, s);
 }
 
 /// The pair terms with the summation density's own pressure terms (density = "summation";
@@ -295,17 +306,7 @@ template <class Kernel, int D>
   s.de += j.wall ? j.m * (a.vij.dot(gp) + visc * vdotgw)
                  : j.m * (i.p_omega * a.vij.dot(gwi) + 0.5 * visc * vdotgw);
   if (!k.within) return;
-  if (c.viscosity_pa_s > 0) {
-    const ViscousTerms<D> vt = physical_viscosity(c, i, j, k, a);
-    s.acc += vt.acc;
-    s.de -= vt.heating;
-  }
-  if (c.alpha_u > 0) {
-    const HeatFlux hf = artificial_conductivity(c, i, j, k);
-    s.de += hf.heat;
-    s.vsig_u_max = std::max(s.vsig_u_max, hf.vsig);
-  }
-  if (c.eps_xsph > 0) s.xsph -= xsph_velocity<Kernel>(i, j, k, a);
+  optional_terms<Kernel>(c, i, j, k, a, s);
 }
 
 }  // namespace crater::sph
