@@ -17,7 +17,9 @@
 // semi-discrete equations (the energy equation is the one that balances the momentum
 // equation's pressure work pair by pair), and by the wall terms (energy_rate, pair_terms.hpp).
 // Each particle gathers over its own neighbour list (ascending j), so the sums are evaluated in
-// the same order for any number of threads (bit-identical results).
+// the same order for any number of threads (bit-identical results). With density = "summation"
+// the density is summed and h solved with it (summation.hpp), and the pressure terms take their
+// grad-h form (pair_terms.hpp, gather_pair_grad_h).
 #include "sph/sph_part.hpp"
 
 #include <fmt/format.h>
