@@ -1,4 +1,5 @@
 # ctest-timeout: 300
+# ctest-cost: 10
 """A catalogue of wrong or hostile scenario files, meshes and command lines (the issue's
 acceptance list: "all exit 2 or 3 with the key or entity named, none exit 1 or crash, none
 allocate more than 1 GB before refusing").

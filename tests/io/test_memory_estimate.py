@@ -1,3 +1,4 @@
+# ctest-fixtures: bundled_bed
 """The memory estimate (src/solver/memory_estimate.cpp): `crater check` prints it for every
 bundled scenario; it is within 30 % of the peak resident set size of the bundled demo-level
 runs (setup and the first 50 steps, which reach 87-97 % of the whole runs' peak:

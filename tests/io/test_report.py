@@ -1,3 +1,4 @@
+# ctest-cost: 36
 """`crater report DIR`: figures and report.md for a run directory (tools/report/crater_report.py,
 embedded in the binary). A small charge + plate + grains scene and the demo are run and
 reported; every figure report.md links must exist and be a real picture (a PNG over 200 px

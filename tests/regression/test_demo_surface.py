@@ -1,5 +1,7 @@
 # ctest-processors: 2
 # ctest-timeout: 1500
+# ctest-fixtures: bundled_bed
+# ctest-cost: 90
 """The surface probe on `make run`'s result (paper-20cm at its demo level, to 10 ms; issue 24):
 the ground it reports in every column is never higher than the top of that column's settled
 grains plus two grain diameters. A settled column is the issue's: the grains standing on the

@@ -1,4 +1,5 @@
 # ctest-processors: 2
+# ctest-fixtures: bundled_bed
 """The bundled paper scenarios at their demo level, run to the end (10 ms): they complete, write
 every metric of issue 6 and surface_profile.csv, the energy balance stays within 5 %, and
 paper-20cm gives bit-identical outputs on 1 and 2 threads. About 2 minutes per run on 2 cores;

@@ -1,5 +1,7 @@
 # ctest-processors: 2
 # ctest-timeout: 1500
+# ctest-fixtures: bundled_bed
+# ctest-cost: 49
 """Same input, same binary => bit-identical outputs on 1 and 2 threads (every VTU, PVD,
 history.csv, and summary.json except its "run" block): SPH in 2D (the demo) and 3D, a
 settling DEM bed in 2D and an agitated one in 3D (on one thread the DEM pair loop sums the

@@ -1,4 +1,5 @@
 # ctest-timeout: 600
+# ctest-cost: 25
 """Contacts between parts in 3D (issue 26): the 2D cases of test_contact_conservation.py, in 3D,
 with the same references and tolerances.
 

@@ -1,4 +1,5 @@
 # ctest-timeout: 1200
+# ctest-cost: 143
 """Plane-strain biaxial test of the paper's sand, three packings (issue 24's soil calibration;
 the case, its stages and the reduction: biaxial_case.py; docs/validation.md).
 

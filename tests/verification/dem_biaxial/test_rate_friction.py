@@ -1,4 +1,5 @@
 # ctest-timeout: 1200
+# ctest-cost: 206
 """Rate-dependent friction in a run (issue 24's acceptance: "a shear/biaxial test at two strain
 rates shows the friction rise the law predicts (within 10 %)"; paper section III-C; the case,
 its parameters and the method: rate_study.py; docs/validation.md, "DEM: biaxial test").

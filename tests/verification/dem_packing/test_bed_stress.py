@@ -1,4 +1,5 @@
 # ctest-timeout: 600
+# ctest-cost: 18
 """The grains' stress (the VTU field `stress_pa`, docs/theory.md §3): each grain's Love-Weber
 stress sigma_i = (1/V_i) sum_c sym((x_c - x_i) (x) f_c) over its contacts, tension positive,
 V_i = pi r_i^2 (x 1 m) / phi its share of the bulk, so that sum_i sigma_i V_i / V over the

@@ -1,5 +1,6 @@
 # ctest-processors: 2
 # ctest-timeout: 600
+# ctest-cost: 55
 """A dense bed ([parts.packing] method = "dense", issue 24): 2D disks of sand, radii 4-10 mm
 (the paper's coarse range, 2.5:1), filling a 0.6 m x 0.3 m box around a buried steel plate,
 then relaxed under gravity with the plate as a fixed body.

@@ -1,4 +1,5 @@
 # ctest-timeout: 1200
+# ctest-cost: 180
 """The P-wave speed of the paper's sand bed from a pulse (issue 24; pwave_case.py has the setup).
 
 Three packings (seeds 1-3) of the paper-20cm demo bed's grains, 1 m x 2 m, settled under

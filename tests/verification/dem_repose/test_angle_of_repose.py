@@ -1,3 +1,4 @@
+# ctest-cost: 28
 """Angle of repose of a poured heap of spheres for mu = 0.84 (the paper's sand friction,
 tan 40 degrees) against the DEM correlation of Zhou, Xu, Yu & Zulli 2002 (Powder Technol. 125,
 45-54, Eq. 5; setup, reference and conversion of the rolling friction in repose_case.py).

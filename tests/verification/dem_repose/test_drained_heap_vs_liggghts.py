@@ -1,5 +1,6 @@
 # ctest-processors: 2
 # ctest-timeout: 1200
+# ctest-cost: 128
 """The heap drained from a plate (drained_heap.py) in crater and in LIGGGHTS: the same heap,
 the same contact law, the same angle.
 

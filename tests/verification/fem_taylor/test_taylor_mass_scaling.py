@@ -1,3 +1,4 @@
+# ctest-cost: 15
 """Selective mass scaling on a crushed element set: the 3D Taylor bar of test_taylor_bar.py (a
 42CrMo4 rod at 287 m/s on a rigid frictionless wall), whose impact-face elements flatten and
 would hold the whole run's step down.

@@ -1,4 +1,6 @@
 # ctest-processors: 2
+# ctest-fixtures: bundled_bed
+# ctest-cost: 18
 """Multi-rate stepping (time.multi_rate, docs/theory.md "Multi-rate stepping", issue 25): two-part
 cases where each part steps at its own stable step, against the same case at one step for all.
 

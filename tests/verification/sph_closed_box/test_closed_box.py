@@ -1,4 +1,5 @@
 # ctest-timeout: 300
+# ctest-cost: 32
 """Energy conservation of SPH with Adami walls: blasts in closed boxes.
 
 Reference: the Euler equations conserve total energy (kinetic + internal) in a closed,

@@ -1,4 +1,5 @@
 # ctest-timeout: 600
+# ctest-cost: 144
 """The Sedov-Taylor point blast in an ideal gas (gamma = 1.4), cylindrical (2D) and spherical
 (3D), against the self-similar solution.
 

@@ -1,4 +1,5 @@
 # ctest-timeout: 300
+# ctest-cost: 14
 """Sod's shock tube in a 2D strip against the exact Riemann solution.
 
 Reference: G. A. Sod, "A survey of several finite difference methods for systems of nonlinear
