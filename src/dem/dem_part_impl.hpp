@@ -229,7 +229,11 @@ class DemPart final : public parts::Part<D> {
   void load_state(parts::StateReader& r) override;
 
   void add_diagnostic(std::string name, Real value) {
-    diagnostics_.push_back({std::move(name), value});
+    // Built in place: GCC 12 warns (-Warray-bounds, a false positive) on copying a braced
+    // temporary's string here.
+    parts::Diagnostic& d = diagnostics_.emplace_back();
+    d.name = std::move(name);
+    d.value = value;
   }
   /// The grains in id order (positions and radii).
   std::vector<Grain<D>> grains() const;

@@ -767,5 +767,4 @@ template void build_cross_list<2>(std::span<const Vec<2>>, std::span<const Vec<2
                                   NeighborList&);
 template void build_cross_list<3>(std::span<const Vec<3>>, std::span<const Vec<3>>, Real,
                                   NeighborList&);
-
 }  // namespace crater::neighbors

@@ -35,10 +35,15 @@ class VerletSkin {
   /// list exists). stale(x, need) is need > reach(x).
   Real reach(std::span<const Vec<D>> x) const {
     if (radius_ <= 0 || x.size() != built_.size()) return 0;
+    return radius_ - 2 * moved(x);
+  }
+
+  /// The largest displacement of a point of x from positions() (x as many points).
+  Real moved(std::span<const Vec<D>> x) const {
     const Real moved_sq = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
       return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).squaredNorm();
     });
-    return radius_ - 2 * std::sqrt(moved_sq);
+    return std::sqrt(moved_sq);
   }
 
   /// stale() for `count` points whose largest squared displacement from positions() the owner

@@ -31,7 +31,7 @@
 #include "fields/field_set.hpp"
 #include "materials/eos/eos.hpp"
 #include "neighbors/cell_grid.hpp"
-#include "neighbors/neighbor_list.hpp"
+#include "neighbors/pair_radius_list.hpp"
 #include "neighbors/verlet_skin.hpp"
 #include "parallel/parallel.hpp"
 #include "parts/contact_points.hpp"
@@ -53,11 +53,10 @@ using fields::kOutput;
 using fields::kRestart;
 using fields::kStateRoles;
 
-constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of the largest support
+constexpr Real kSkin = 0.25;  // neighbour-list margin, as a fraction of a particle's support
 constexpr Real kInf = std::numeric_limits<Real>::infinity();
 // Summation density: h is at most this many times h_factor (m / rho0)^(1/D), the particle's h at
-// the material's reference density (the lists are built for the largest h of the part, so a
-// lone particle must not stretch them without bound).
+// the material's reference density (the wall and image lists are built for the largest h).
 constexpr Real kMaxHGrowth = 3;
 
 using parts::to_vec;
@@ -95,6 +94,9 @@ class SphPart final : public parts::Part<D> {
         eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
         dt_cv_(f_.add_scalar("dt_signal", "s", kNone)),
         omega_(f_.add_scalar("grad_h_omega", "1", kNone)),
+        h_list_(f_.add_scalar("list_smoothing_length", "m", kRestart)),
+        h_wanted_(f_.add_scalar("wanted_smoothing_length", "m", kNone)),
+        list_reach_(f_.add_scalar("list_reach", "m", kNone)),
         fc_(f_.add_vector("contact_force", "N", kRestart)),
         surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)),
         surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)) {
@@ -340,29 +342,16 @@ class SphPart final : public parts::Part<D> {
     return 0;  // Tait: pressure follows from density alone
   }
 
-  // A particle that crosses a walled face in a step is put back by specular reflection (its
-  // normal velocity reversed): at a free-slip wall this is the symmetry condition itself (the
-  // particle and its image trade places); at a no-slip wall it is a safeguard behind the
-  // dummy particles' pressure. Reflection conserves kinetic energy; the wall takes the
-  // momentum. Counted in summary.json: `wall_reflections` and `wall_max_penetration_m`, the
-  // deepest crossing (a particle sliding on a free-slip floor at a free surface, where the
-  // pressure is about zero, can dip below it by round-off-sized amounts: the image's push
-  // vanishes as the kernel gradient does at r = 0).
+  // A particle that crossed a walled face is put back (sph_walls.hpp, reflect_at_walls),
+  // counted in summary.json: `wall_reflections` and `wall_max_penetration_m`.
   void reflect_at_walls(Index i) {
-    for (const parts::Face f : cfg_.walls) {
-      const int axis = static_cast<int>(f) / 2;
-      const bool low = static_cast<int>(f) % 2 == 0;
-      const Real face = low ? domain_lo_[axis] : domain_hi_[axis];
-      const Real depth = low ? face - x_[i][axis] : x_[i][axis] - face;
-      if (depth > 0) {
-        x_[i][axis] = low ? face + depth : face - depth;
-        vh_[i][axis] = -vh_[i][axis];
-        a_[i][axis] = -a_[i][axis];
+    const Reflection r =
+        sph::reflect_at_walls<D>(cfg_.walls, domain_lo_, domain_hi_, x_[i], vh_[i], a_[i]);
+    if (r.faces > 0) {
 #pragma omp critical(crater_sph_reflections)
-        {
-          ++reflections_;
-          max_penetration_ = std::max(max_penetration_, depth);
-        }
+      {
+        reflections_ += r.faces;
+        max_penetration_ = std::max(max_penetration_, r.deepest);
       }
     }
   }
@@ -389,37 +378,50 @@ class SphPart final : public parts::Part<D> {
     });
     outflow_.book(name_, "particles", time_s_, leaving, removed);
     outflow_.compact(f_);
-    // The rates of the state without them (lists rebuilt for the remaining particles, in their
-    // order; pressures and sound speeds are the particles' own), the contact forces added as in
-    // add_contact_forces: the next half kick then owes nothing to a removed particle, and the
-    // pair terms stay equal and opposite (kinetic + internal energy conserved). Without this,
-    // their pressure work over that half kick (first order in dt) went unbooked: 1 % of the
-    // energy of the gas disk of tests/verification/outflow. Costs one more evaluation of the
-    // rates in the steps where particles leave.
-    skin_.built(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
-    build_lists();
+    // The rates of the state without them (lists rebuilt, in their order), the contact forces
+    // added as in add_contact_forces: the next half kick owes nothing to a removed particle and
+    // the pair terms stay equal and opposite. Without this their pressure work over that half
+    // kick went unbooked (1 % of the energy of the gas disk of tests/verification/outflow).
+    rebuild_lists();
     pair_rates();
     parallel::for_each(f_.size(), [&](Index i) { a_[i] += fc_[i] / m_[i]; });
   }
 
-  // Neighbour lists with a skin (Verlet 1967): built for the radius (1 + kSkin) x the largest
-  // kernel support and kept while no particle has moved more than half the margin beyond what
-  // the current supports need. Particles are re-sorted by cell at each rebuild (locality).
-  // The pair loops test the true support, so a longer list only costs rejected candidates.
+  // Verlet lists (1967) per particle: i's serve h up to h_list_i, a pair is listed when within
+  // (1 + kSkin) x the support of the larger h_list at the rebuild, and they are kept while no
+  // support plus twice the largest displacement outgrows that. Re-sorted at rebuilds (locality).
   void update_neighbors() {
-    const Real need = WendlandC2<D>::support * h_max_;
-    if (!skin_.stale(std::span<const Vec<D>>(x_), need)) return;
+    if (!lists_stale()) return;
     resort();
-    skin_.built(std::span<const Vec<D>>(x_), need);
+    rebuild_lists();
+  }
+
+  bool lists_stale() const {
+    const Index n = f_.size();
+    if (skin_.radius() <= 0 || skin_.positions().size() != static_cast<std::size_t>(n)) return true;
+    const Real excess =
+        parallel::max_over(n, -kInf, [&](Index i) { return h_[i] - (1 + kSkin) * h_list_[i]; });
+    return WendlandC2<D>::support * excess + 2 * skin_.moved(std::span<const Vec<D>>(x_)) > 0;
+  }
+
+  void rebuild_lists() {  // each particle's lists serve its h, or the larger one it asked for
+    parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = std::max(h_[i], h_wanted_[i]); });
+    h_max_ =
+        std::max(h_max_, parallel::max_over(f_.size(), 0.0, [&](Index i) { return h_list_[i]; }));
+    skin_.built(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
     build_lists();
   }
 
-  // The lists for the positions of the last rebuild (the current ones right after it; the
-  // saved ones after a restart, which rebuilds the very same lists).
+  // The lists at the last rebuild's positions (the same after a restart). Fluid pairs: within
+  // either one's list_reach (a NaN h: a blow-up check() reports); walls and images: the largest.
   void build_lists() {
     const std::span<const Vec<D>> xb = skin_.positions();
     const Real radius = skin_.radius();
-    neighbors::build_neighbor_list<D>(xb, radius, neighbors::Pairs::Full, list_);
+    parallel::for_each(f_.size(), [&](Index i) {
+      const Real r = (1 + kSkin) * WendlandC2<D>::support * h_list_[i];
+      list_reach_[i] = r > 0 && r <= radius ? r : radius;
+    });
+    neighbors::build_pair_radius_list<D>(xb, std::span<const Real>(list_reach_), list_, levels_);
     if (!wall_x_.empty()) {
       neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), xb, radius, wall_to_fluid_);
       neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(wall_x_), radius, fluid_to_wall_);
@@ -507,8 +509,8 @@ class SphPart final : public parts::Part<D> {
   }
 
   // density = "summation" (summation.hpp): each particle's rho, h and Omega from its lists.
-  // A particle that needs a larger h than the lists serve asks for a rebuild; the lists are
-  // rebuilt for twice the largest such h and the whole pass repeats from the h reached. Each
+  // A particle that needs a larger h than its lists serve asks for a rebuild, where its lists
+  // serve twice that h (capped), and the whole pass repeats from the h reached. Each
   // particle reads only positions, masses and its own h, in its lists' order: the same numbers
   // for any thread count.
   template <class Kernel>
@@ -516,30 +518,30 @@ class SphPart final : public parts::Part<D> {
     const Index n = f_.size();
     const Real hf = cfg_.h_factor;
     const Real inv_d = Real(1) / D;
-    const Real m_max = parallel::max_over(n, 0.0, [&](Index i) { return m_[i]; });
-    const Real largest_cap = kMaxHGrowth * hf * std::pow(m_max / rho_material_, inv_d);
     for (int pass = 0;; ++pass) {
-      const Real reach_h = skin_.reach(std::span<const Vec<D>>(x_)) / Kernel::support;
+      const Real moved = skin_.moved(std::span<const Vec<D>>(x_));
       if (!ghosts_.empty()) ghosts_.place(std::span<const Vec<D>>(x_));
       const Real wanted = parallel::max_over(
           n, 0.0,
           [&](Index i) {
             const Real cap = kMaxHGrowth * hf * std::pow(m_[i] / rho_material_, inv_d);
+            const Real reach_h =
+                ((1 + kSkin) * WendlandC2<D>::support * h_list_[i] - 2 * moved) / Kernel::support;
             const DensitySolve s = solve_density<Kernel>(
                 m_[i], h_[i], std::min(cap, reach_h), cap, hf, cfg_.variable_h,
                 [&](Real h) { return kernel_sum<Kernel>(i, h); });
             rho_[i] = s.rho;
             h_[i] = s.h;
             omega_[i] = s.omega;
+            h_wanted_[i] = s.want > 0 ? std::min(2 * s.want, cap) : 0;
             return s.want;
           },
           parallel::Cost::heavy);
       if (wanted <= 0 || pass >= 8) break;
-      h_max_ = std::max(h_max_, std::min(2 * wanted, largest_cap));
       resort();
-      skin_.built(std::span<const Vec<D>>(x_), Kernel::support * h_max_);
-      build_lists();
+      rebuild_lists();
     }
+    std::fill(h_wanted_.begin(), h_wanted_.end(), Real(0));
     h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
   }
 
@@ -745,8 +747,11 @@ class SphPart final : public parts::Part<D> {
   std::vector<Real>& rhoh_;
   std::vector<Real>& eh_;
   std::vector<Real>& dt_cv_;
-  std::vector<Real>& omega_;  // summation density: Omega_i of the grad-h terms (1 otherwise)
-  std::vector<Vec<D>>& fc_;   // force of the contacts with other parts (in a_ too)
+  std::vector<Real>& omega_;       // summation density: Omega_i of the grad-h terms (1 otherwise)
+  std::vector<Real>& h_list_;      // the h its lists serve (rebuild_lists); saved: same lists
+  std::vector<Real>& h_wanted_;    // summation density: a larger h than the lists serve, or 0
+  std::vector<Real>& list_reach_;  // build_lists: (1 + kSkin) x the support of h_list
+  std::vector<Vec<D>>& fc_;        // force of the contacts with other parts (in a_ too)
   parts::LaggedPositions<D> lagged_;          // positions the contacts see (multi-rate stepping)
   parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
   /// Multi-rate: the next step starts with other contact forces than the last one ended with.
@@ -768,6 +773,7 @@ class SphPart final : public parts::Part<D> {
   Ghosts<D> ghosts_;  // mirror images behind free-slip walls
 
   neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_, fluid_to_ghost_;
+  std::vector<neighbors::NeighborList> levels_;  // build_pair_radius_list's scratch
   Real h_max_ = 0;
   Real external_work_ = 0;
   bool has_walls_ = false;

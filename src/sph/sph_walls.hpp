@@ -4,6 +4,7 @@
 // (SphPart::wall_state, SphPart::ghost_state).
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -63,6 +64,37 @@ struct Ghosts {
 };
 
 /// The fluid particles' arrays the wall state is averaged from.
+/// Puts a particle at x that crossed walled faces of the box [lo, hi] back by specular
+/// reflection (its normal velocity vh and acceleration a reversed): at a free-slip wall this is
+/// the symmetry condition itself (the particle and its image trade places); at a no-slip wall a
+/// safeguard behind the dummy particles' pressure. Conserves kinetic energy; the wall takes
+/// the momentum. Returns the faces crossed and the deepest crossing (a particle sliding on a
+/// free-slip floor at a free surface, where the pressure is about zero, can dip below it by
+/// round-off: the image's push vanishes as the kernel gradient does at r = 0).
+struct Reflection {
+  int faces = 0;     // faces crossed
+  Real deepest = 0;  // the deepest crossing [m]
+};
+template <int D>
+Reflection reflect_at_walls(const std::vector<parts::Face>& walls, const Vec<D>& lo,
+                            const Vec<D>& hi, Vec<D>& x, Vec<D>& vh, Vec<D>& a) {
+  Reflection r;
+  for (const parts::Face f : walls) {
+    const int axis = static_cast<int>(f) / 2;
+    const bool low = static_cast<int>(f) % 2 == 0;
+    const Real face = low ? lo[axis] : hi[axis];
+    const Real depth = low ? face - x[axis] : x[axis] - face;
+    if (depth > 0) {
+      x[axis] = low ? face + depth : face - depth;
+      vh[axis] = -vh[axis];
+      a[axis] = -a[axis];
+      ++r.faces;
+      r.deepest = std::max(r.deepest, depth);
+    }
+  }
+  return r;
+}
+
 template <int D>
 struct FluidArrays {
   const std::vector<Vec<D>>& x;

@@ -12,6 +12,7 @@
 
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/neighbor_list.hpp"
+#include "neighbors/pair_radius_list.hpp"
 
 namespace crater::neighbors {
 namespace {
@@ -533,6 +534,103 @@ void check_sort_order(std::size_t n, Real cell_size, Real lo, Real hi, std::uint
     }
   }
   EXPECT_GT(changes, 0);
+}
+
+// --- Lists with a radius per point: pair (i, j) when within max(reach_i, reach_j).
+
+template <int D>
+Rows brute_pair_radius(const std::vector<Vec<D>>& x, const std::vector<Real>& reach) {
+  Rows rows(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      const Real r = std::max(reach[i], reach[j]);
+      if (j != i && dist2<D>(x[i], x[j]) <= r * r) rows[i].push_back(static_cast<Index>(j));
+    }
+  return rows;
+}
+
+template <int D>
+Rows pair_radius_rows(const std::vector<Vec<D>>& x, const std::vector<Real>& reach) {
+  NeighborList nl;
+  std::vector<NeighborList> scratch;
+  build_pair_radius_list<D>(sp(x), std::span<const Real>(reach), nl, scratch);
+  EXPECT_EQ(nl.size(), static_cast<Index>(x.size()));
+  return rows_of(nl);
+}
+
+// Radii spread over 1:spread (several levels), the largest ones few, as hot SPH particles are.
+template <int D>
+void check_pair_radius_against_brute_force() {
+  std::uint64_t seed = 77 + D;
+  for (std::size_t n : {1u, 2u, 9u, 300u, 1500u}) {
+    for (Real spread : {1.0, 1.5, 8.0, 40.0}) {
+      const auto x = random_points<D>(n, -0.5, 0.5, seed++);
+      std::mt19937_64 rng(seed++);
+      std::uniform_real_distribution<Real> u(0, 1);
+      std::vector<Real> reach(n);
+      for (auto& r : reach)
+        r = 0.02 * std::pow(spread, u(rng) * u(rng) * u(rng));
+      SCOPED_TRACE(::testing::Message() << "D=" << D << " n=" << n << " spread=" << spread);
+      const Rows expected = brute_pair_radius<D>(x, reach);
+      EXPECT_EQ(pair_radius_rows<D>(x, reach), expected);
+      EXPECT_EQ(pair_radius_rows<D>(resorted<D>(x, 0.04), reach),
+                brute_pair_radius<D>(resorted<D>(x, 0.04), reach));
+    }
+  }
+}
+
+TEST(PairRadiusList, MatchesBruteForce2D) {
+  check_pair_radius_against_brute_force<2>();
+}
+TEST(PairRadiusList, MatchesBruteForce3D) {
+  check_pair_radius_against_brute_force<3>();
+}
+
+TEST(PairRadiusList, OneRadiusIsTheFullList) {
+  const auto x = random_points<3>(2000, 0, 1, 5);
+  const std::vector<Real> reach(x.size(), 0.07);
+  EXPECT_EQ(pair_radius_rows<3>(x, reach), cell_self<3>(x, 0.07, Pairs::Full));
+  // A radius exactly at a lattice spacing: the boundary pairs are in, as in the fixed list.
+  std::vector<Vec<2>> lattice;
+  for (int a = 0; a < 20; ++a)
+    for (int b = 0; b < 20; ++b)
+      lattice.emplace_back(0.25 * a, 0.25 * b);
+  std::vector<Real> r(lattice.size(), 0.25);
+  r[7] = 1.0;  // one large radius: its level's pairs reach 4 spacings
+  EXPECT_EQ(pair_radius_rows<2>(lattice, r), brute_pair_radius<2>(lattice, r));
+}
+
+TEST(PairRadiusList, RejectsBadRadiiAndTakesEmptySets) {
+  const auto x = random_points<2>(10, 0, 1, 3);
+  std::vector<Real> reach(x.size(), 0.1);
+  reach[4] = 0;
+  NeighborList nl;
+  std::vector<NeighborList> scratch;
+  EXPECT_THROW(build_pair_radius_list<2>(sp(x), std::span<const Real>(reach), nl, scratch),
+               std::invalid_argument);
+  reach[4] = std::numeric_limits<Real>::infinity();
+  EXPECT_THROW(build_pair_radius_list<2>(sp(x), std::span<const Real>(reach), nl, scratch),
+               std::invalid_argument);
+  reach[4] = std::numeric_limits<Real>::quiet_NaN();
+  EXPECT_THROW(build_pair_radius_list<2>(sp(x), std::span<const Real>(reach), nl, scratch),
+               std::invalid_argument);
+  const std::vector<Vec<2>> none;
+  build_pair_radius_list<2>(sp(none), std::span<const Real>(), nl, scratch);
+  EXPECT_EQ(nl.size(), 0);
+}
+
+TEST(PairRadiusList, SameResultForOneAndTwoThreads) {
+  const auto x = random_points<3>(40000, 0, 1, 44);
+  std::vector<Real> reach(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    reach[i] = 0.03 * (1 + 3 * (x[i].norm() < 0.3));  // a hot core
+  NeighborList a, b;
+  std::vector<NeighborList> s1, s2;
+  with_threads(1, [&] { build_pair_radius_list<3>(sp(x), std::span<const Real>(reach), a, s1); });
+  with_threads(2, [&] { build_pair_radius_list<3>(sp(x), std::span<const Real>(reach), b, s2); });
+  EXPECT_EQ(a.offsets, b.offsets);
+  EXPECT_EQ(a.indices, b.indices);
+  EXPECT_GT(a.total_pairs(), 0);
 }
 
 TEST(CellSortOrder, PermutationGroupedByCell2D) {

@@ -1,0 +1,25 @@
+// Neighbour lists with a radius per point (SPH with variable h), on top of the fixed-radius
+// cross lists of neighbor_list.hpp.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/types.hpp"
+#include "neighbors/neighbor_list.hpp"
+
+namespace crater::neighbors {
+
+/// For each i, all j != i with |x_i - x_j| <= max(reach[i], reach[j]) (squared distances
+/// compared), ascending: the pairs either point's own radius takes in, for a set whose radii
+/// differ (SPH with variable h: one list radius for all would let a few hot particles' supports
+/// set every particle's list). The points are put in levels of doubling radius; each level is
+/// searched at its own radius against the points of its level and below (cross lists), so a
+/// point meets the few large-radius points near it without scanning the dense small-radius
+/// points at their radius. Deterministic for any thread count; `scratch` keeps its capacity.
+/// Same errors as build_neighbor_list (a radius not positive and finite).
+template <int D>
+void build_pair_radius_list(std::span<const Vec<D>> x, std::span<const Real> reach,
+                            NeighborList& out, std::vector<NeighborList>& scratch);
+
+}  // namespace crater::neighbors
