@@ -398,28 +398,28 @@ class SphPart final : public parts::Part<D> {
 
   bool lists_stale() const {
     const Index n = f_.size();
-    if (skin_.radius() <= 0 || skin_.positions().size() != static_cast<std::size_t>(n)) return true;
+    if (skin_.radius() <= 0 || skin_.positions().size() != at(n)) return true;
     const Real excess =
         parallel::max_over(n, -kInf, [&](Index i) { return h_[i] - (1 + kSkin) * h_list_[i]; });
     return WendlandC2<D>::support * excess + 2 * skin_.moved(std::span<const Vec<D>>(x_)) > 0;
   }
 
-  void rebuild_lists() {  // each particle's lists serve its h, or the larger one it asked for
+  void rebuild_lists() {  // i's lists serve h_i or more (asked); all the largest within 2x
     parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = std::max(h_[i], h_wanted_[i]); });
+    const Real lo = -parallel::max_over(f_.size(), -kInf, [&](Index i) { return -h_list_[i]; });
     h_max_ =
         std::max(h_max_, parallel::max_over(f_.size(), 0.0, [&](Index i) { return h_list_[i]; }));
+    if (h_max_ <= 2 * lo) std::fill(h_list_.begin(), h_list_.end(), h_max_);
     skin_.built(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
     build_lists();
   }
 
-  // The lists at the last rebuild's positions (the same after a restart). Fluid pairs: within
-  // either one's list_reach (a NaN h: a blow-up check() reports); walls and images: the largest.
+  // Lists at the last rebuild's positions (a restart: the same); walls/images: the largest h.
   void build_lists() {
     const std::span<const Vec<D>> xb = skin_.positions();
     const Real radius = skin_.radius();
-    parallel::for_each(f_.size(), [&](Index i) {
-      const Real r = (1 + kSkin) * WendlandC2<D>::support * h_list_[i];
-      list_reach_[i] = r > 0 && r <= radius ? r : radius;
+    parallel::for_each(f_.size(), [&](Index i) {  // std::min(radius, NaN) is radius
+      list_reach_[i] = std::min(radius, (1 + kSkin) * WendlandC2<D>::support * h_list_[i]);
     });
     neighbors::build_pair_radius_list<D>(xb, std::span<const Real>(list_reach_), list_, levels_);
     if (!wall_x_.empty()) {
