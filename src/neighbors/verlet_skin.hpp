@@ -22,29 +22,11 @@ class VerletSkin {
   /// radius the owner needs now).
   bool stale(std::span<const Vec<D>> x, Real need) const {
     if (radius_ <= 0 || x.size() != built_.size()) return true;
-    // The largest squared displacement, then one root (the same number: sqrt is monotonic and
-    // correctly rounded).
-    const Real moved_sq = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
-      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).squaredNorm();
-    });
-    return stale_given(moved_sq, static_cast<Index>(x.size()), need);
-  }
-
-  /// The interaction radius the lists built at the last rebuild still hold every pair within,
-  /// for the points now at x: the built radius less twice the largest displacement (0 when no
-  /// list exists). stale(x, need) is need > reach(x).
-  Real reach(std::span<const Vec<D>> x) const {
-    if (radius_ <= 0 || x.size() != built_.size()) return 0;
-    return radius_ - 2 * moved(x);
+    return stale_given(moved_sq(x), static_cast<Index>(x.size()), need);
   }
 
   /// The largest displacement of a point of x from positions() (x as many points).
-  Real moved(std::span<const Vec<D>> x) const {
-    const Real moved_sq = parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
-      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).squaredNorm();
-    });
-    return std::sqrt(moved_sq);
-  }
+  Real moved(std::span<const Vec<D>> x) const { return std::sqrt(moved_sq(x)); }
 
   /// stale() for `count` points whose largest squared displacement from positions() the owner
   /// measured already (the max of |x_i - positions()_i|^2 from 0, NaNs skipped as std::max
@@ -90,6 +72,14 @@ class VerletSkin {
   Index builds() const { return builds_; }
 
  private:
+  // The largest squared displacement (then one root where a length is wanted: the same number,
+  // sqrt being monotonic and correctly rounded).
+  Real moved_sq(std::span<const Vec<D>> x) const {
+    return parallel::max_over(static_cast<Index>(x.size()), 0.0, [&](Index i) {
+      return (x[static_cast<std::size_t>(i)] - built_[static_cast<std::size_t>(i)]).squaredNorm();
+    });
+  }
+
   Real skin_;
   Real radius_ = 0;
   std::vector<Vec<D>> built_;
