@@ -172,7 +172,9 @@ void expect_stable_step_is_a_bound(Real nu) {
     }
   const Eigen::Matrix<Real, dofs, dofs> k = g.volume * bmat.transpose() * c * bmat;
   const Real mass = rho * g.volume / n;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<Real, dofs, dofs>> eig(k / mass);
+  // Dynamic size: a fixed-size solver unrolls for every D and took a minute to compile.
+  const Eigen::MatrixXd k_over_m = (k / mass).template cast<double>();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_over_m);
   const Real omega_max = std::sqrt(eig.eigenvalues().maxCoeff());
   const Real c_d = std::sqrt((lambda + 2 * mu) / rho);
   const Real dt_bound = characteristic_length<D>(g) / c_d;

@@ -47,10 +47,11 @@ SEEDS = (1, 2, 3)
 
 
 def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN, dem=None,
-             ramp_s=RAMP_S, material=SAND, settle=True):
+             ramp_s=RAMP_S, material=SAND, settle=True, frame_s=None):
     """The biaxial test of one packing (seed); `dem` adds [parts.dem] keys, `material` replaces
     the sand block (e.g. another contact friction), settle = False leaves the dense method's
-    bed unsettled (the same grains whatever the contact law: consolidation loads it)."""
+    bed unsettled (the same grains whatever the contact law: consolidation loads it); frames
+    every frame_s (default: half the run; a frame time ends a step, so it changes the run)."""
     end = T_CONS_S + axial_strain / strain_rate
     motion = []
     for face, x in (("left", 0.0), ("right", W_M)):
@@ -70,7 +71,7 @@ def scenario(seed, cache_dir, strain_rate=STRAIN_RATE, axial_strain=AXIAL_STRAIN
         "biaxial", 2, end,
         description="Plane-strain biaxial test of the paper's sand (tests/verification/dem_biaxial)",
         domain=domain([-0.1 * W_M, 0.0], [1.1 * W_M, 1.05 * H_M], [0.0, -9.81]),
-        output=output(end / 2, 50), materials=[material],
+        output=output(frame_s or end / 2, 50), materials=[material],
         parts=[part("soil", "dem", "sand", 0.02, box([0.0, 0.0], [W_M, H_M]), dem=keys,
                     packing={"method": "dense", "settle": settle, "cache_dir": str(cache_dir)})])
 

@@ -51,7 +51,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "lib"))
-from biaxial_case import SEEDS, reduce, scenario  # noqa: E402
+from biaxial_case import SEEDS, T_CONS_S, reduce, scenario  # noqa: E402
 from crater_test import crater, scratch  # noqa: E402
 from scenario_blocks import SAND, material, write_scenario  # noqa: E402
 
@@ -77,34 +77,40 @@ def contact_mu(rate):
 def band_angle(history_csv):
     """Mean mobilised friction angle over PHI_BAND of eps_1 [deg]."""
     r = reduce(history_csv)
+    if r["e1"].max() < PHI_BAND[1]:
+        raise RuntimeError(f"{history_csv}: the run stopped at eps_1 = {r['e1'].max():.4f}, "
+                           f"before the band's end {PHI_BAND[1]}")
     m = (r["e1"] >= PHI_BAND[0]) & (r["e1"] <= PHI_BAND[1])
     return float(r["phi"][m].mean())
 
 
-def run(work, seed, rate, mu, law):
-    """One biaxial run; returns its PHI_BAND angle [deg]."""
+def run(work, seed, rate, mu, law, strain=STRAIN):
+    """One biaxial run to eps_1 = strain; returns its PHI_BAND angle [deg]. The frames stay
+    where a run to STRAIN has them (a frame time ends a step), so that a shorter run that still
+    passes PHI_BAND's end gives the same angle, bit for bit."""
     name = f"seed{seed}_{'law' if law else 'off'}_mu{mu:.4f}_rate{rate:g}"
     dem = {"rate_dependent_friction": True, "friction_rate_beta": BETA,
            "friction_reference_strain_rate": RATE0} if law else None
     write_scenario(work / f"{name}.toml",
-                   scenario(seed, work / "cache", strain_rate=rate, axial_strain=STRAIN, dem=dem,
+                   scenario(seed, work / "cache", strain_rate=rate, axial_strain=strain, dem=dem,
                             ramp_s=RAMP_STRAIN / rate, material=material(SAND, friction=MU_S if
                                                                          law else mu),
-                            settle=False))
+                            settle=False, frame_s=(T_CONS_S + STRAIN / rate) / 2))
     crater("run", work / f"{name}.toml", "--out", work / name, "--force", "--quiet",
            timeout=1200)
     return band_angle(work / name / "history.csv")
 
 
-def study_seed(work, seed, static=True):
-    """The runs of one packing; returns their angles, the rises and the effective rates."""
+def study_seed(work, seed, static=True, strain=STRAIN):
+    """The runs of one packing (to eps_1 = strain); returns their angles, the rises and the
+    effective rates."""
     lo, hi = RATES
     out = {"law": {}, "pred": {}, "static": {}}
     for rate in RATES:
-        out["law"][rate] = run(work, seed, rate, MU_S, True)
-        out["pred"][rate] = run(work, seed, rate, contact_mu(rate), False)
+        out["law"][rate] = run(work, seed, rate, MU_S, True, strain)
+        out["pred"][rate] = run(work, seed, rate, contact_mu(rate), False, strain)
         if static:
-            out["static"][rate] = run(work, seed, rate, MU_S, False)
+            out["static"][rate] = run(work, seed, rate, MU_S, False, strain)
     res = {"seed": seed,
            "phi": {k: {f"{r:g}": v for r, v in d.items()} for k, d in out.items()},
            "rise_measured": out["law"][hi] - out["law"][lo],

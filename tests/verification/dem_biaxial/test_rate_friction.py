@@ -1,5 +1,5 @@
 # ctest-timeout: 1200
-# ctest-cost: 206
+# ctest-cost: 180
 """Rate-dependent friction in a run (issue 24's acceptance: "a shear/biaxial test at two strain
 rates shows the friction rise the law predicts (within 10 %)"; paper section III-C; the case,
 its parameters and the method: rate_study.py; docs/validation.md, "DEM: biaxial test").
@@ -26,8 +26,11 @@ Asserted:
 Runs are deterministic (the same binary gives the same numbers), so the test does not flake; a
 change of the DEM's arithmetic redraws the trajectories, and a failure just outside 10 % should
 be judged on the twelve-packing study, not by widening the tolerance.
-Wall time: 3.1 minutes on one core beside other jobs (twelve runs, six of about 25 s and six of
-about 6 s).
+The runs stop at eps_1 = 1.15 % (STRAIN_TEST), not the study's 1.5 %: the angle is the mean
+over eps_1 <= 1 % (the top reaches it 0.125 % of strain late, after its ramp), an explicit run
+does not look ahead, and the frames stay at the study's times (rate_study.run), so every angle
+is the study's bit for bit (checked: seed 1, 0.1 /s, 24.867758 deg either way) at 20 % less
+cost. Wall time: 3.1 minutes alone on one core (twelve runs).
 Writes CRATER_TEST_TMP/biaxial_rate_friction_test/rates.json.
 """
 import json
@@ -41,13 +44,14 @@ from crater_test import scratch  # noqa: E402
 from rate_study import study_seed, summarise  # noqa: E402
 
 TOLERANCE = 0.10
+STRAIN_TEST = 0.0115  # past PHI_BAND's end (eps_1 = 1 %) with the ramp's lag
 
 
 class RateDependentFriction(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         work = scratch("biaxial_rate_friction_test")
-        cls.seeds = [study_seed(work, seed, static=False) for seed in SEEDS]
+        cls.seeds = [study_seed(work, seed, static=False, strain=STRAIN_TEST) for seed in SEEDS]
         cls.summary = summarise(cls.seeds)
         out = {"seeds": cls.seeds, "summary": cls.summary}
         (work / "rates.json").write_text(json.dumps(out, indent=1))
