@@ -95,16 +95,31 @@ inline int DemPart<D>::find_bond(Index owner, std::int64_t partner) const {
   return -1;
 }
 
-// The law's parameters with the friction of paper section III-C at this contact's strain
-// rate |v_n| / (r_1 + r_2) (rate_dependent_friction.hpp; a wall: r_2 = 0).
+// The contact force with the friction of paper section III-C at this contact's strain rate
+// |v_n| / (r_1 + r_2) (rate_dependent_friction.hpp; a wall: r_2 = 0). mu_dyn >= mu_s, and mu
+// acts only where the Coulomb limit decides the tangential force (ContactForce::limited): the
+// force is taken first at a bound just below mu_s (tan(atan(mu_s)) may round below mu_s), and
+// only a contact that reaches it pays for mu_dyn's logarithm and tangent. The result is the
+// force at mu_dyn, bit for bit: below the limit it does not depend on mu.
 template <int D>
-template <class Params>
-inline Params DemPart<D>::at_rate(const Params& p, const RateDependentFriction& rate,
-                                  Real normal_velocity, Real r1, Real r2) const {
-  if (!cfg_.rate_dependent_friction) return p;
-  Params q = p;
-  q.friction = dynamic_friction_coefficient(rate, contact_strain_rate(normal_velocity, r1, r2));
-  return q;
+template <class Law>
+inline ContactForce<D> DemPart<D>::rate_contact(typename Law::Params p,
+                                                const RateDependentFriction& rate,
+                                                const ContactGeometry<D>& g,
+                                                const RelativeVelocity<D>& rel,
+                                                const PreparedContact<D>& prep, Real dt, Real r1,
+                                                Real r2) const {
+  if (!cfg_.rate_dependent_friction) return finish_contact<D, Law>(p, g, rel, prep, dt);
+  const Real strain_rate = contact_strain_rate(rel.normal, r1, r2);
+  // beta >= 0 (the schema) and the static angle below the cap: mu_dyn >= tan(phi_s).
+  if (strain_rate > rate.reference_strain_rate &&
+      rate.static_angle_rad < kMaxDynamicFrictionAngle) {
+    p.friction = rate.static_friction * Real(1 - 1e-12);
+    const ContactForce<D> below = finish_contact<D, Law>(p, g, rel, prep, dt);
+    if (!below.limited) return below;
+  }
+  p.friction = dynamic_friction_coefficient(rate, strain_rate);
+  return finish_contact<D, Law>(p, g, rel, prep, dt);
 }
 
 // Counts a live contact of grain i (kMaxContacts at most: the packed history's capacity).
@@ -222,8 +237,8 @@ inline void DemPart<D>::pair_law(Index i, std::size_t k, const Candidate<Law>& c
     }
   }
   if (g.touching()) {
-    const ContactForce<D> cf = finish_contact<D, Law>(
-        at_rate(laws.grain, grain_rate_, rel.normal, r_i, r_[j]), g, rel, cand.prep, dt);
+    const ContactForce<D> cf =
+        rate_contact<Law>(laws.grain, grain_rate_, g, rel, cand.prep, dt, r_i, r_[j]);
     RollingTorque<D> rt;
     if (rolling)
       rt = rolling_resistance<D>(
@@ -341,11 +356,14 @@ inline int DemPart<D>::gather_shares(Index i, const PairTally& tally, Vec<D>& fo
     torque = from.torque;
     from = Received{m_[i] * gravity_, angular_zero<D>()};
   } else if (cache_.bond_f1.empty()) {
-    // No bonds: every pair adds its share, zero when not in contact, with no branch. A sum
-    // that starts at +0 or a non-zero value never becomes -0, so adding +-0 leaves it as
-    // skipping would.
+    // No bonds: the pairs in contact add their shares. The flags are 1 byte a pair against a
+    // result's 6 words, so the listed pairs not in contact (most of them where radii spread)
+    // cost no load of their zero result. Skipping those zeros changes no bit: a sum that starts
+    // at +0 or a non-zero value never becomes -0.
     for (std::size_t e = first; e < last; ++e) {
-      const ContactResult& c = cache_.contact[static_cast<std::size_t>(recv_pair_[e])];
+      const auto k = static_cast<std::size_t>(recv_pair_[e]);
+      if (!(cache_.flags[k] & kContactOn)) continue;
+      const ContactResult& c = cache_.contact[k];
       force -= c.f1;
       torque += c.t2;
     }
@@ -410,11 +428,13 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
     }
     const RelativeVelocity<D> rel =
         relative_velocity<D>(g, BodyMotion<D>{v_[i], w_[i]}, BodyMotion<D>{wall.velocity});
-    typename Law::Params law = at_rate(laws.wall, wall_rate_, rel.normal, r_[i], Real(0));
+    typename Law::Params law = laws.wall;
     if (wall.symmetry) law.friction = 0;  // the grain slides along a plane of symmetry
     const PreparedContact<D> prep =
         prepare_contact<D, Law>(law, g, m_[i], row_pitch(r_[i], r_[i]), wall_xi_[at]);
-    const ContactForce<D> cf = finish_contact<D, Law>(law, g, rel, prep, dt);
+    const ContactForce<D> cf =
+        wall.symmetry ? finish_contact<D, Law>(law, g, rel, prep, dt)
+                      : rate_contact<Law>(law, wall_rate_, g, rel, prep, dt, r_[i], Real(0));
     RollingTorque<D> rt;
     if (rolling && !wall.symmetry)
       rt = rolling_resistance<D>(rolling_, g, rel,

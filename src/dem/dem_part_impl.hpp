@@ -477,9 +477,13 @@ class DemPart final : public parts::Part<D> {
   // The force stage (dem_pair_loop.cpp): declared inline, as the loop's steps are inlined into
   // it there.
   inline int find_bond(Index owner, std::int64_t partner) const;
-  template <class Params>
-  inline Params at_rate(const Params& p, const RateDependentFriction& rate, Real normal_velocity,
-                        Real r1, Real r2) const;
+  template <class Law>
+  [[gnu::always_inline]] inline ContactForce<D> rate_contact(typename Law::Params p,
+                                                             const RateDependentFriction& rate,
+                                                             const ContactGeometry<D>& g,
+                                                             const RelativeVelocity<D>& rel,
+                                                             const PreparedContact<D>& prep,
+                                                             Real dt, Real r1, Real r2) const;
   inline void count_contact(Index i, PairTally& tally);
   template <class Law>
   inline void pair_pass(Index first, Index last, Real dt, const LawPair<Law>& laws);

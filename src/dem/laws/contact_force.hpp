@@ -58,6 +58,7 @@ struct ContactForce {
   Real elastic_energy = 0;                        // normal + tangential spring energy [J]
   Real dissipated_power = 0;                      // dashpots + sliding, >= 0 [W]
   bool sliding = false;                           // at the Coulomb limit, spring cut back
+  bool limited = false;  // the Coulomb limit decided F_t (TangentialForce::limited)
 };
 
 /// Combine the normal and tangential parts at the contact point of g.
@@ -79,6 +80,7 @@ template <int D>
   out.elastic_energy = n.elastic_energy + t.elastic_energy;
   out.dissipated_power = n.dissipated_power + t.dissipated_power;
   out.sliding = t.sliding;
+  out.limited = t.limited;
   return out;
 }
 

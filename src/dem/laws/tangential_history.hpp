@@ -67,6 +67,8 @@ struct TangentialForce {
   Real elastic_energy = 0;          // (1/2) k_t |\xi|^2 [J]
   Real dissipated_power = 0;        // P_diss [W] (see the file comment)
   bool sliding = false;             // the spring was cut back to the Coulomb limit
+  bool limited = false;  // the limit decided the force (sliding, or the dashpot's sum cut back):
+                         // only then does the result depend on \mu
 };
 
 /// The history spring with Coulomb limit (see the file comment), from the previous step's
@@ -93,6 +95,7 @@ template <int D>
     out.history = scale * trial;
     out.force = scale * spring_force;
     out.sliding = true;
+    out.limited = true;
     // The bodies feel the mean of the step's first and last spring force (velocity Verlet):
     // its work over the step's displacement, less what the spring now holds more. At dt = 0
     // (the forces of t = 0, e.g. a settled packing's springs under the run's laws) a spring
@@ -104,8 +107,8 @@ template <int D>
     out.history = trial;
     const Vec<D> total = spring_force - spring.damping * tangential_velocity;
     const Real total_sq = total.squaredNorm();
-    out.force =
-        root_exceeds(total_sq, limit) ? Vec<D>((limit / std::sqrt(total_sq)) * total) : total;
+    out.limited = root_exceeds(total_sq, limit);
+    out.force = out.limited ? Vec<D>((limit / std::sqrt(total_sq)) * total) : total;
     out.dissipated_power = -(out.force - spring_force).dot(tangential_velocity);
   }
   out.elastic_energy = Real(0.5) * spring.stiffness * out.history.squaredNorm();

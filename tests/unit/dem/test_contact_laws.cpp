@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -328,6 +329,49 @@ TEST(DemTangentialSpring, CoulombBoundHoldsWithDashpot) {
     }
   }
   EXPECT_TRUE(capped_while_sticking);  // the case the cap exists for did occur
+}
+
+// The rate-dependent friction's pair loop takes a contact's force at mu_s first and pays for
+// mu_dyn >= mu_s only where the Coulomb limit decided it (ContactForce::limited): below it the
+// force must not depend on mu at all, bit for bit, and must not be limited at the larger mu.
+TEST(DemTangentialSpring, UnlimitedForceDoesNotDependOnFriction) {
+  const HertzMindlinParams low = hertz_mindlin_params(sand(), sand(), 0.3, 0.3);
+  const HertzMindlinParams high = hertz_mindlin_params(sand(), sand(), 0.3, 0.45);
+  ContactGeometry<3> g;
+  g.normal = Vec<3>(0, 0, 1);
+  g.overlap = 1e-6;
+  g.radius_eff = kSandRadius / 2;
+  g.arm1 = g.arm2 = kSandRadius;
+  const Real m = 0.5 * sphere_mass(kSandRadius);
+  int sliding = 0, capped = 0, free = 0;
+  // A slow drag that slides, reversed; then a fast one whose dashpot the limit cuts back while
+  // the spring sticks (CoulombBoundHoldsWithDashpot).
+  for (const auto& [speed, dt] : {std::pair{0.02, 1e-7}, std::pair{3.0, 1e-9}}) {
+    RelativeVelocity<3> v;
+    v.at_contact = v.tangential = Vec<3>(speed, -speed / 2, 0);
+    Vec<3> xi = Vec<3>::Zero();
+    for (int k = 0; k < 400; ++k) {
+      v.normal = 0.01 * std::sin(0.05 * k);  // the dashpot pushes and pulls
+      if (k == 200) v.at_contact = v.tangential = -v.tangential;
+      const ContactForce<3> a = hertz_mindlin<3>(low, g, v, m, xi, dt);
+      const ContactForce<3> b = hertz_mindlin<3>(high, g, v, m, xi, dt);
+      xi = b.shear_history;
+      if (a.limited) {
+        ++(a.sliding ? sliding : capped);
+        continue;
+      }
+      EXPECT_FALSE(a.sliding) << "step " << k;
+      ++free;
+      EXPECT_FALSE(b.limited) << "step " << k;
+      EXPECT_EQ(a.force_on_1, b.force_on_1) << "step " << k;
+      EXPECT_EQ(a.shear_history, b.shear_history) << "step " << k;
+      EXPECT_EQ(a.elastic_energy, b.elastic_energy) << "step " << k;
+      EXPECT_EQ(a.dissipated_power, b.dissipated_power) << "step " << k;
+    }
+  }
+  EXPECT_GT(sliding, 0);  // every case occurred
+  EXPECT_GT(capped, 0);
+  EXPECT_GT(free, 0);
 }
 
 TEST(DemTangentialSpring, SlidingDissipatesFrictionTimesSlipSpeed) {
