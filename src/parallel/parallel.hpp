@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdlib>
+#include <utility>
 #include <vector>
 
 #include "core/types.hpp"
@@ -71,15 +72,17 @@ void for_each_block(Index n, Index block, F&& f, Cost cost = Cost::light) {
     f(b * block, std::min(n, (b + 1) * block));
 }
 
-/// Sum of f(i) over [0, n) with a fixed association order (bit-identical for any thread count).
-/// T must support T{} + T and +=.
-template <class T, class F>
-T deterministic_sum(Index n, F&& f) {
+/// Sum of f(i) over the i in [0, n) with keep(i), in deterministic_sum's fixed association
+/// order (bit-identical for any thread count). Where f(i) would be T{} (all +0) for the i left
+/// out, the result is deterministic_sum's bit for bit: a sum that starts at +0 never becomes -0,
+/// and adding +0 to it changes nothing. T must support T{} + T and +=.
+template <class T, class Keep, class F>
+T deterministic_sum_if(Index n, Keep&& keep, F&& f) {
   const Index blocks = (n + kReduceBlock - 1) / kReduceBlock;
   if (blocks <= 1) {
     T s{};
     for (Index i = 0; i < n; ++i)
-      s += f(i);
+      if (keep(i)) s += f(i);
     return s;
   }
   std::vector<T> partial(static_cast<std::size_t>(blocks), T{});
@@ -88,13 +91,21 @@ T deterministic_sum(Index n, F&& f) {
     T s{};
     const Index end = std::min(n, (b + 1) * kReduceBlock);
     for (Index i = b * kReduceBlock; i < end; ++i)
-      s += f(i);
+      if (keep(i)) s += f(i);
     partial[static_cast<std::size_t>(b)] = s;
   }
   T s{};
   for (const T& p : partial)
     s += p;
   return s;
+}
+
+/// Sum of f(i) over [0, n) with a fixed association order (bit-identical for any thread count).
+/// T must support T{} + T and +=.
+template <class T, class F>
+T deterministic_sum(Index n, F&& f) {
+  return deterministic_sum_if<T>(
+      n, [](Index) { return true; }, std::forward<F>(f));
 }
 
 /// The indices i in [0, n) with keep(i), ascending (a stream compaction: each fixed block counts

@@ -6,7 +6,7 @@ bundled yet) at its demo level: it runs to 10 ms, writes every metric (the 2D on
 plate_perforated_area_m2 and the crater's axis) and the ring profile, its energy balance is
 within 2 %, and its first 0.5 ms (the products through the plate: 728 elements eroded, peak von
 Mises 503 MPa) is bit-identical on 1 and 2 threads (47 s and 22 s, 2026-11-26). The bed settles
-once per clone (scenarios/drafts/.crater-cache; about 95 minutes of a shared 2-core machine),
+once per clone (scenarios/drafts/.crater-cache; 757 s on 2 threads alone, 2026-11-27),
 hence the label slow (`make test-slow`)."""
 import csv
 import sys
