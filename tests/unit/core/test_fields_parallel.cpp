@@ -111,6 +111,27 @@ TEST(Parallel, DeterministicSumIsBitIdenticalAcrossThreadCounts) {
   EXPECT_NEAR(s1, static_cast<Real>(ref), 1e-9 * std::abs(static_cast<Real>(ref)) + 1e3);
 }
 
+TEST(Parallel, SumIfSkipsZerosBitForBit) {
+  // Two thirds of the terms are +0 (a wall's load on the grains not touching it): summing only
+  // the others gives deterministic_sum's bits, on any thread count. One term is -0, kept.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<Real> u(-1, 1);
+  std::vector<Real> v(100003, 0.0);
+  for (std::size_t i = 0; i < v.size(); i += 3)
+    v[i] = u(rng) * std::pow(10.0, 12 * u(rng));
+  v[3] = -0.0;
+  const auto n = static_cast<Index>(v.size());
+  const auto term = [&](Index i) { return v[static_cast<std::size_t>(i)]; };
+  const auto kept = [](Index i) { return i % 3 == 0; };
+  omp_set_num_threads(1);
+  const Real all = crater::parallel::deterministic_sum<Real>(n, term);
+  for (const int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    const Real some = crater::parallel::deterministic_sum_if<Real>(n, kept, term);
+    EXPECT_EQ(std::memcmp(&all, &some, sizeof all), 0) << threads << " threads";
+  }
+}
+
 TEST(Parallel, SelectKeepsTheIndicesInOrderForAnyThreadCount) {
   // Several reduction blocks, a ragged last one, runs of kept and dropped indices.
   std::mt19937_64 rng(11);
