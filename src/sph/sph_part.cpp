@@ -409,7 +409,7 @@ class SphPart final : public parts::Part<D> {
     const Real lo = -parallel::max_over(f_.size(), -kInf, [&](Index i) { return -h_list_[i]; });
     h_max_ =
         std::max(h_max_, parallel::max_over(f_.size(), 0.0, [&](Index i) { return h_list_[i]; }));
-    if (h_max_ <= 2 * lo) std::fill(h_list_.begin(), h_list_.end(), h_max_);
+    if (h_max_ <= 2 * lo) parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = h_max_; });
     skin_.built(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
     build_lists();
   }
