@@ -28,17 +28,20 @@ struct ExplicitMesh {
 
   // ---- elements (one entry per element)
   std::vector<ElementNodes<D>> elements;
-  std::vector<materials::Mat3> stress;       // Cauchy stress, without bulk viscosity [Pa]
-  std::vector<Real> plastic_strain;          // equivalent plastic strain [-]
-  std::vector<Real> temperature_k;           // [K]
-  std::vector<Real> damage;                  // Johnson-Cook damage D [-]
-  std::vector<Real> reference_volume;        // V_0 [m^3]
-  std::vector<Real> volume;                  // V [m^3] at the last force evaluation
-  std::vector<Real> internal_energy_j;       // work of the stress and bulk viscosity [J]
-  std::vector<Real> hourglass_energy_j;      // work of the hourglass forces [J]
-  std::vector<HourglassState<D>> hourglass;  // stiffness-form generalised forces
-  std::vector<std::uint8_t> eroded;          // 1 once the element has failed
-  std::vector<Real> added_mass_kg;           // mass scaling: added to the element so far [kg]
+  std::vector<materials::Mat3> stress;  // Cauchy stress, without bulk viscosity [Pa]
+  std::vector<Real> plastic_strain;     // equivalent plastic strain [-]
+  std::vector<Real> temperature_k;      // [K]
+  std::vector<Real> damage;             // Johnson-Cook or HJC damage D [-]
+  // Holmquist-Johnson-Cook compaction (HjcState; zero for the other laws):
+  std::vector<Real> mu_max;                     // largest \mu = \rho/\rho_0 - 1 reached [-]
+  std::vector<Real> plastic_volumetric_strain;  // \mu_p [-]
+  std::vector<Real> reference_volume;           // V_0 [m^3]
+  std::vector<Real> volume;                     // V [m^3] at the last force evaluation
+  std::vector<Real> internal_energy_j;          // work of the stress and bulk viscosity [J]
+  std::vector<Real> hourglass_energy_j;         // work of the hourglass forces [J]
+  std::vector<HourglassState<D>> hourglass;     // stiffness-form generalised forces
+  std::vector<std::uint8_t> eroded;             // 1 once the element has failed
+  std::vector<Real> added_mass_kg;              // mass scaling: added to the element so far [kg]
 
   // ---- node -> (element, local node) adjacency, CSR in element order (set by initialise).
   // Entry = element * kElementNodes + local node. Forces are gathered per node in this fixed

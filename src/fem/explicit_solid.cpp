@@ -7,6 +7,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -45,6 +46,65 @@ Real scaled_step_factor(const ExplicitMesh<D>& mesh, const SolidMaterial& materi
   const Real added = mesh.added_mass_kg[ue];
   if (added == 0) return 1;
   return std::sqrt(1 + added / (material.density_kg_m3 * mesh.reference_volume[ue]));
+}
+
+template <class Law>
+constexpr bool kIsHjc = std::is_same_v<Law, materials::HolmquistJohnsonCookLaw>;
+
+/// Dilatational wave speed of an element at density rho [m/s]: \sqrt{M/\rho} with the law's
+/// constant P-wave modulus M, or for HJC with the bound at the element's compression
+/// (materials::hjc_wave_bulk_modulus).
+template <class Law>
+Real element_wave_speed(const Law& law, Real modulus, Real rho, Real rho0) {
+  if constexpr (kIsHjc<Law>) {
+    const Real bulk = materials::hjc_wave_bulk_modulus(law, rho / rho0 - Real(1));
+    return std::sqrt((bulk + Real(4) / Real(3) * law.params.shear_modulus_pa) / rho);
+  } else {
+    return std::sqrt(modulus / rho);
+  }
+}
+
+/// The stress update of element ue through its law, with its state (plastic strain, temperature,
+/// damage; HJC: also \mu_{max}, \mu_p) carried forward. Returns the new stress and whether the
+/// element's damage has failed it: Johnson-Cook damage ([materials.damage]) at D >= 1, HJC
+/// damage at D >= 1 when the material's erode_at_full_damage is set.
+struct PointUpdate {
+  Mat3 stress;
+  bool failed = false;
+};
+template <int D, class Law>
+PointUpdate update_point(ExplicitMesh<D>& mesh, const SolidMaterial& material, const Law& law,
+                         std::size_t ue, const Mat3& rotated, const Mat3& strain_increment, Real dt,
+                         Real rho) {
+  if constexpr (kIsHjc<Law>) {
+    const materials::HjcStressUpdate up = materials::update_stress_of(
+        law.params, law.eos, rotated, strain_increment,
+        materials::HjcState{.damage = mesh.damage[ue],
+                            .mu_max = mesh.mu_max[ue],
+                            .plastic_volumetric_strain = mesh.plastic_volumetric_strain[ue],
+                            .plastic_strain = mesh.plastic_strain[ue]},
+        dt, rho);
+    mesh.damage[ue] = up.state.damage;
+    mesh.mu_max[ue] = up.state.mu_max;
+    mesh.plastic_volumetric_strain[ue] = up.state.plastic_volumetric_strain;
+    mesh.plastic_strain[ue] = up.state.plastic_strain;
+    return {up.stress, material.erode_at_full_damage && up.state.damage >= Real(1)};
+  } else {
+    const materials::StressUpdate up = materials::update_stress_of(
+        law, rotated, strain_increment,
+        materials::MaterialPointState{.plastic_strain = mesh.plastic_strain[ue],
+                                      .temperature_k = mesh.temperature_k[ue]},
+        dt, rho);
+    const Real d_eps = up.plastic_strain_increment;
+    if (material.damage && d_eps > 0) {
+      mesh.damage[ue] += materials::johnson_cook_damage_increment(
+          *material.damage, d_eps, materials::stress_triaxiality(up.stress), d_eps / dt,
+          mesh.temperature_k[ue]);
+    }
+    mesh.plastic_strain[ue] += d_eps;
+    mesh.temperature_k[ue] += up.temperature_increment_k;
+    return {up.stress, material.damage && materials::johnson_cook_failed(mesh.damage[ue])};
+  }
 }
 
 /// The element loop for one strength law (resolved at compile time: no dispatch per element).
@@ -91,7 +151,7 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
           return;
         }
         const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
-        const Real c = std::sqrt(modulus / rho);
+        const Real c = element_wave_speed(law, modulus, rho, rho0);
         const Mat3 l = velocity_gradient<D>(v, g);
         const Mat3 d = rate_of_deformation(l);
         const Mat3 old_stress = mesh.stress[ue];
@@ -99,20 +159,8 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
         if (dt > 0) {
           const Mat3 rotated = D == 2 ? jaumann_rotate_plane(old_stress, spin(l)(0, 1), dt)
                                       : jaumann_rotate(old_stress, spin(l), dt);
-          const materials::StressUpdate up = materials::update_stress_of(
-              law, rotated, d * dt,
-              materials::MaterialPointState{.plastic_strain = mesh.plastic_strain[ue],
-                                            .temperature_k = mesh.temperature_k[ue]},
-              dt, rho);
+          const PointUpdate up = update_point<D>(mesh, material, law, ue, rotated, d * dt, dt, rho);
           sigma = up.stress;
-          const Real d_eps = up.plastic_strain_increment;
-          if (material.damage && d_eps > 0) {
-            mesh.damage[ue] += materials::johnson_cook_damage_increment(
-                *material.damage, d_eps, materials::stress_triaxiality(sigma), d_eps / dt,
-                mesh.temperature_k[ue]);
-          }
-          mesh.plastic_strain[ue] += d_eps;
-          mesh.temperature_k[ue] += up.temperature_increment_k;
           // A crushed element's step shrinks with its thickness; below the floor it erodes
           // rather than hold the whole model's step down (bulk viscosity of this step included).
           const bool too_small_a_step =
@@ -121,8 +169,8 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
                                   d.trace()) *
                       scaled_step_factor(mesh, material, ue) <
                   material.erosion_min_step_s;
-          if ((material.damage && materials::johnson_cook_failed(mesh.damage[ue])) ||
-              mesh.plastic_strain[ue] >= material.erosion_plastic_strain || too_small_a_step) {
+          if (up.failed || mesh.plastic_strain[ue] >= material.erosion_plastic_strain ||
+              too_small_a_step) {
             erode();
             mesh.volume[ue] = g.volume;
             return;
@@ -187,6 +235,8 @@ void initialise(ExplicitMesh<D>& mesh, const SolidMaterial& material) {
   mesh.plastic_strain.assign(at(ne), 0);
   mesh.temperature_k.assign(at(ne), material.initial_temperature_k);
   mesh.damage.assign(at(ne), 0);
+  mesh.mu_max.assign(at(ne), 0);
+  mesh.plastic_volumetric_strain.assign(at(ne), 0);
   mesh.reference_volume.assign(at(ne), 0);
   mesh.volume.assign(at(ne), 0);
   mesh.internal_energy_j.assign(at(ne), 0);
@@ -299,18 +349,24 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
 
 template <int D>
 Real stable_time_step(const ExplicitMesh<D>& mesh, const SolidMaterial& material) {
-  const Real modulus = materials::p_wave_modulus(materials::elastic_of(material.strength));
-  return parallel::min_over(
-      mesh.element_count(), std::numeric_limits<Real>::infinity(), [&](Index e) {
-        if (mesh.eroded.size() == mesh.elements.size() && mesh.eroded[at(e)]) {
-          return std::numeric_limits<Real>::infinity();
-        }
-        const UniformStrainGradients<D> g = uniform_strain_gradients<D>(mesh.element_positions(e));
-        const Real rho = mesh.reference_volume.empty()
-                             ? material.density_kg_m3
-                             : material.density_kg_m3 * mesh.reference_volume[at(e)] / g.volume;
-        return characteristic_length<D>(g) / std::sqrt(modulus / rho);
-      });
+  return std::visit(
+      [&](const auto& law) {
+        const Real modulus = materials::p_wave_modulus(materials::elastic_of(law));
+        const Real rho0 = material.density_kg_m3;
+        return parallel::min_over(
+            mesh.element_count(), std::numeric_limits<Real>::infinity(), [&](Index e) {
+              if (mesh.eroded.size() == mesh.elements.size() && mesh.eroded[at(e)]) {
+                return std::numeric_limits<Real>::infinity();
+              }
+              const UniformStrainGradients<D> g =
+                  uniform_strain_gradients<D>(mesh.element_positions(e));
+              const Real rho = mesh.reference_volume.empty()
+                                   ? rho0
+                                   : rho0 * mesh.reference_volume[at(e)] / g.volume;
+              return characteristic_length<D>(g) / element_wave_speed(law, modulus, rho, rho0);
+            });
+      },
+      material.strength);
 }
 
 template <int D>

@@ -1,7 +1,8 @@
 // The element loop of the explicit Lagrangian solid (paper §III-B): per element, uniform
-// strain kinematics, objective stress update through the block's strength law, Johnson-Cook
-// damage and erosion, bulk viscosity, Flanagan-Belytschko hourglass control; then nodal
-// internal forces gathered per node; lumped masses; stable step.
+// strain kinematics, objective stress update through the block's strength law (Holmquist-
+// Johnson-Cook with its compaction state per element), Johnson-Cook or HJC damage and erosion,
+// bulk viscosity, Flanagan-Belytschko hourglass control; then nodal internal forces gathered
+// per node; lumped masses; stable step.
 //
 // Central-difference step as the caller runs it (Algorithm 1 of the paper):
 //   a^n = (f_ext^n + f_int^n) / m,   v^{n+1/2} = v^{n-1/2} + \Delta t a^n   (boundary conditions)
@@ -29,7 +30,10 @@ namespace crater::fem {
 struct SolidMaterial {
   materials::StrengthParams strength = materials::ElasticParams{};
   std::optional<materials::JohnsonCookDamageParams> damage;  // none: no damage, no erosion
-  Real density_kg_m3 = 0;                                    // reference density \rho_0
+  // Holmquist-Johnson-Cook: an element whose HJC damage reaches 1 erodes (as Johnson-Cook damage
+  // with `damage` set); false: it stays, with the strength of comminuted concrete (B P*^N).
+  bool erode_at_full_damage = false;
+  Real density_kg_m3 = 0;  // reference density \rho_0
   Real initial_temperature_k = 293.15;
   HourglassParams hourglass;
   BulkViscosityParams bulk_viscosity;

@@ -20,6 +20,7 @@
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
+#include "fem/mesh_state_layout.hpp"
 #include "parallel/parallel.hpp"
 #include "parts/contact_points.hpp"
 #include "parts/region.hpp"
@@ -36,6 +37,7 @@ SolidMaterial solid_material(const PartSettings& settings) {
   SolidMaterial s;
   s.strength = settings.material.strength;
   s.damage = settings.material.damage;
+  s.erode_at_full_damage = settings.material.erode_at_full_damage;
   s.density_kg_m3 = settings.rho0_kg_m3;
   s.initial_temperature_k = f.initial_temperature_k;
   s.hourglass.form = f.hourglass_stiffness ? HourglassForm::kStiffness : HourglassForm::kViscous;
@@ -375,7 +377,9 @@ class FemPart final : public parts::Part<D> {
         scalar_view(kPlasticStrainInfo, mesh_.plastic_strain),
         scalar_view(kDensityInfo, density_),
     };
-    if (material_.damage) out.push_back(scalar_view(kDamageInfo, mesh_.damage));
+    if (material_.damage || is_hjc()) out.push_back(scalar_view(kDamageInfo, mesh_.damage));
+    if (is_hjc())
+      out.push_back(scalar_view(kPlasticVolumetricStrainInfo, mesh_.plastic_volumetric_strain));
     out.push_back(fields::FieldView{&kErodedInfo, 1, true, nullptr, eroded_flag_.data(), ne});
     if (const auto* jc = std::get_if<materials::JohnsonCookParams>(&material_.strength);
         jc && jc->thermal_softening)
@@ -385,21 +389,8 @@ class FemPart final : public parts::Part<D> {
 
   void save_state(parts::StateWriter& w) const override {
     w.tag("fem");
-    w.vector(mesh_.position);
-    w.vector(mesh_.velocity);
-    w.vector(mesh_.internal_force);
-    w.vector(mesh_.mass);
-    w.vector(mesh_.stress);
-    w.vector(mesh_.plastic_strain);
-    w.vector(mesh_.temperature_k);
-    w.vector(mesh_.damage);
-    w.vector(mesh_.volume);
-    w.vector(mesh_.internal_energy_j);
-    w.vector(mesh_.hourglass_energy_j);
-    w.vector(mesh_.hourglass);
-    w.vector(mesh_.element_force);  // an element failing next books their work (explicit_solid)
-    w.vector(mesh_.eroded);
-    w.vector(mesh_.added_mass_kg);
+    for_each_mesh_state_vector(mesh_, is_hjc(),
+                               [&](const auto& v, std::size_t, const char*) { w.vector(v); });
     w.vector(acceleration_);
     w.vector(external_force_);
     w.vector(dashpot_force_);
@@ -429,21 +420,7 @@ class FemPart final : public parts::Part<D> {
       if (v.size() != n)
         r.fail(fmt::format("part '{}': {} has {} entries, the mesh {}", name_, what, v.size(), n));
     };
-    sized(mesh_.position, nn, "positions");
-    sized(mesh_.velocity, nn, "velocities");
-    sized(mesh_.internal_force, nn, "forces");
-    sized(mesh_.mass, nn, "masses");
-    sized(mesh_.stress, ne, "stresses");
-    sized(mesh_.plastic_strain, ne, "plastic strains");
-    sized(mesh_.temperature_k, ne, "temperatures");
-    sized(mesh_.damage, ne, "damage");
-    sized(mesh_.volume, ne, "volumes");
-    sized(mesh_.internal_energy_j, ne, "internal energies");
-    sized(mesh_.hourglass_energy_j, ne, "hourglass energies");
-    sized(mesh_.hourglass, ne, "hourglass forces");
-    sized(mesh_.element_force, ne, "element forces");
-    sized(mesh_.eroded, ne, "erosion flags");
-    sized(mesh_.added_mass_kg, ne, "added masses");
+    for_each_mesh_state_vector(mesh_, is_hjc(), sized);
     sized(acceleration_, nn, "accelerations");
     sized(external_force_, nn, "external forces");
     sized(dashpot_force_, nn, "dashpot forces");
@@ -498,6 +475,8 @@ class FemPart final : public parts::Part<D> {
   static inline const fields::FieldInfo kPlasticStrainInfo{"plastic_strain", "1", fields::kOutput};
   static inline const fields::FieldInfo kDensityInfo{"density", "kg/m^3", fields::kOutput};
   static inline const fields::FieldInfo kDamageInfo{"damage", "1", fields::kOutput};
+  static inline const fields::FieldInfo kPlasticVolumetricStrainInfo{"plastic_volumetric_strain",
+                                                                     "1", fields::kOutput};
   static inline const fields::FieldInfo kErodedInfo{"eroded", "1", fields::kOutput};
   static inline const fields::FieldInfo kTemperatureInfo{"temperature", "K", fields::kOutput};
 
@@ -518,6 +497,11 @@ class FemPart final : public parts::Part<D> {
       return pred(i) ? static_cast<Real>(i) : std::numeric_limits<Real>::infinity();
     });
     return std::isfinite(found) ? static_cast<Index>(found) : Index{-1};
+  }
+
+  /// A Holmquist-Johnson-Cook part (its compaction state is saved and written).
+  bool is_hjc() const {
+    return std::holds_alternative<materials::HolmquistJohnsonCookLaw>(material_.strength);
   }
 
   /// Acceleration of the part's own forces plus the contacts' (zero on frozen nodes).
@@ -703,7 +687,7 @@ class FemPart final : public parts::Part<D> {
 
   /// Lysmer-Kuhlemeyer dashpots on the boundary faces of `set` (reference configuration).
   void add_dashpots(const NodeSet<D>& set) {
-    const materials::ElasticParams& el = materials::elastic_of(material_.strength);
+    const materials::ElasticParams el = materials::at_rest_elastic_of(material_.strength);
     const Real rho = material_.density_kg_m3;
     const Real cp = std::sqrt(materials::p_wave_modulus(el) / rho);
     const Real cs = std::sqrt(materials::shear_modulus(el) / rho);

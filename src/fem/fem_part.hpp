@@ -12,10 +12,13 @@
 // Boundary conditions act on node sets (a face of the part's bounding box or a mesh group):
 // fixed and symmetry zero velocity components, velocity imposes them, and non_reflecting adds
 // Lysmer-Kuhlemeyer dashpots f = -A (rho c_p (v.n) n + rho c_s (v - (v.n) n)) with A the
-// node's share of the boundary face [LK69]. Reactions (the forces holding imposed components)
-// and gravity do external work; the dashpots dissipate (damping_j).
+// node's share of the boundary face [LK69] (c_p of the material at rest: for
+// Holmquist-Johnson-Cook the elastic bulk modulus P_c/mu_c, materials::at_rest_elastic_of).
+// Reactions (the forces holding imposed components) and gravity do external work; the dashpots
+// dissipate (damping_j).
 //
-// Erosion: an element that fails (Johnson-Cook D >= 1) leaves the force loop; its mass share
+// Erosion: an element that fails (Johnson-Cook D >= 1; Holmquist-Johnson-Cook D >= 1 with
+// erode_at_full_damage; the [parts.fem] erosion options) leaves the force loop; its mass share
 // rho_0 V_0 / n leaves each of its nodes (with that share's kinetic energy), and its internal
 // and hourglass energy leave the part's sums; all of it is reported as eroded (eroded_j, and
 // the diagnostics eroded_elements and eroded_mass_kg). A node left without elements is frozen.

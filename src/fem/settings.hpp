@@ -20,10 +20,12 @@
 
 namespace crater::fem {
 
-/// Solid material of an FEM part (models "elastic", "johnson_cook", "drucker_prager").
+/// Solid material of an FEM part (models "elastic", "johnson_cook", "drucker_prager",
+/// "holmquist_johnson_cook").
 struct MaterialSettings {
   materials::StrengthParams strength{};
   std::optional<materials::JohnsonCookDamageParams> damage;  // [materials.damage]; none: no erosion
+  bool erode_at_full_damage{};  // holmquist_johnson_cook: elements erode when D reaches 1
 };
 
 /// How the nodes of an FEM boundary condition are chosen and what is imposed on them.

@@ -45,6 +45,7 @@ CraterSize crater_of_profile(const std::vector<Ring>& rings, Real threshold_m) {
   if (!(rings[deepest].drop_m() > threshold_m)) return c;
   c.depth_m = rings[deepest].drop_m();
   c.radius_m = rings.back().r_m;
+  c.reaches_end = true;
   for (std::size_t j = deepest + 1; j < rings.size(); ++j) {
     if (rings[j].drop_m() > threshold_m) continue;
     // Ring j - 1 dropped by more than the threshold, ring j not: the crossing lies between.
@@ -52,6 +53,7 @@ CraterSize crater_of_profile(const std::vector<Ring>& rings, Real threshold_m) {
     const Ring& out = rings[j];
     const Real f = (in.drop_m() - threshold_m) / (in.drop_m() - out.drop_m());
     c.radius_m = in.r_m + f * (out.r_m - in.r_m);
+    c.reaches_end = false;
     break;
   }
   return c;

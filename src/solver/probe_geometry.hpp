@@ -29,6 +29,8 @@ std::vector<Ring> ring_profile(const std::vector<Real>& r_m, const std::vector<R
 struct CraterSize {
   Real depth_m = 0;   // the largest drop of the rings; 0 when it is not above the threshold
   Real radius_m = 0;  // where the drop falls below the threshold, outward; 0 without a crater
+  bool reaches_end = false;  // the drop never falls below it: radius_m is the last ring's, a
+                             // lower bound set by the profile's (the domain's) extent
 };
 
 /// The crater of a ring profile (rings outward). Its depth is the largest drop of a ring, a

@@ -73,7 +73,10 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
   // model's horizontal area is twice the modelled one, whether a hole meets the plane (it is
   // doubled) or not (it has a twin).
   for (const parts::Face f : c.domain.symmetry_planes)
-    if (static_cast<int>(f) / 2 != D - 1) mirror_factor_ *= 2;
+    if (static_cast<int>(f) / 2 != D - 1) {
+      mirror_factor_ *= 2;
+      if (static_cast<int>(f) / 2 == 0) mirror_side_[static_cast<std::size_t>(f) % 2] = true;
+    }
   if (!cfg_.soil) return;
   for (int d = 0; d < D; ++d)
     lo_[d] = c.domain.min_m[d];
@@ -469,6 +472,11 @@ void Probes<D>::column_crater_metrics(const std::vector<Real>& now, const std::v
   }
   m.push_back({"crater_depth_m", depth});
   m.push_back({"crater_radius_m", crater_radius});
+  // The crater's columns reach a side of the domain that is not a plane of symmetry: its width
+  // is the domain's, a lower bound.
+  const bool at_side =
+      nc > 0 && ((crater[0] && !mirror_side_[0]) || (crater[nc - 1] && !mirror_side_[1]));
+  m.push_back({"crater_radius_lower_bound", at_side ? 1.0 : 0.0});
 }
 
 // 3D: the surface averaged in rings about the crater's axis, the crater read off that profile
@@ -507,6 +515,7 @@ void Probes<D>::ring_crater_metrics(const std::vector<Real>& now, const std::fil
     }
     m.push_back({"crater_depth_m", crater.depth_m});
     m.push_back({"crater_radius_m", crater.radius_m});
+    m.push_back({"crater_radius_lower_bound", crater.reaches_end ? 1.0 : 0.0});
     m.push_back({"crater_axis_x_m", cfg_.axis_m[0]});
     m.push_back({"crater_axis_y_m", cfg_.axis_m[1]});
   }

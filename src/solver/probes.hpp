@@ -25,6 +25,8 @@
 //   2D: surface_profile.csv: per column, the surface at t = 0 and at the end, and their
 //   difference. crater_depth_m: the largest drop; crater_radius_m: half the width of the
 //   connected columns around it that dropped by more than the largest grain radius;
+//   crater_radius_lower_bound = 1 when those columns reach a side of the domain (the radius is
+//   then the domain's, a lower bound), else 0;
 //   surface_settlement_max_m (and _x_m): the largest drop of the other columns, outside the
 //   crater and the column next to it (negative: they all rose).
 //   3D: the surface averaged in rings about the crater's axis (probes.axis_m, else the first
@@ -37,7 +39,8 @@
 //   surface_initial_m, surface_m, dz_m. crater_depth_m: the largest drop of a ring (0 when not
 //   above the largest grain radius); crater_radius_m: going outward from that ring (the axis
 //   ring of a bowl), the radius at which the drop first falls below the largest grain radius,
-//   linear between the rings (the last ring's radius when it never does);
+//   linear between the rings (the last ring's radius when it never does: then
+//   crater_radius_lower_bound = 1, the radius is the domain's, a lower bound; else 0);
 //   surface_settlement_max_m (and _r_m): the largest drop of the rings outside the crater and
 //   the ring next to it (r > crater_radius_m + w); crater_axis_x_m, _y_m: the axis used.
 // Plate. plate_peak_von_mises_pa: the largest von Mises stress over the live elements at the
@@ -57,6 +60,7 @@
 // The vertical axis is the last one (y in 2D, z in 3D).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -139,7 +143,8 @@ class Probes {
   // 2 per vertical plane of symmetry: what a horizontal measure of the modelled part is
   // multiplied by for the full model's.
   Real mirror_factor_ = 1;
-  std::vector<Real> surface0_;  // per column; NaN where there is no ground
+  std::array<bool, 2> mirror_side_{};  // 2D: the low / high x side is a plane of symmetry
+  std::vector<Real> surface0_;         // per column; NaN where there is no ground
   // Per column, per cell: it reaches into a region the soil was laid around (the charge's,
   // the plate's), where a column's ground may have a gap.
   std::vector<std::vector<char>> hole_;

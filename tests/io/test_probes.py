@@ -124,7 +124,7 @@ class Probes(unittest.TestCase):
         for k in ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa",
                   "surface_settlement_max_m", "surface_settlement_max_x_m", "crater_depth_m",
                   "crater_radius_m", "plate_eroded_elements", "plate_perforated",
-                  "delamination_gap_max_m"]:
+                  "delamination_gap_max_m", "crater_radius_lower_bound"]:
             self.assertIn(k, self.m)
             self.assertTrue(np.isfinite(self.m[k]), k)
 
@@ -171,6 +171,22 @@ class Probes(unittest.TestCase):
         else:
             self.assertLessEqual(self.m["surface_settlement_max_m"], deepest)
         self.assertGreaterEqual(self.m["crater_radius_m"], 0)
+        # The crater: the columns around the deepest one that dropped by more than R_MAX; its
+        # radius is a lower bound (flag 1) when they reach a side of the domain (no plane of
+        # symmetry here).
+        raw = np.array([float(r["vertical_displacement_m"]) for r in rows])
+        sunk = np.isfinite(raw) & (-raw > R_MAX)
+        reaches = False
+        if self.m["crater_depth_m"] > 0:
+            lo = hi = int(np.nanargmin(raw))
+            while lo > 0 and sunk[lo - 1]:
+                lo -= 1
+            while hi < len(raw) - 1 and sunk[hi + 1]:
+                hi += 1
+            reaches = lo == 0 or hi == len(raw) - 1
+            self.assertAlmostEqual(self.m["crater_radius_m"], (hi - lo + 1) * 4.0 / len(raw) / 2,
+                                   delta=1e-12)
+        self.assertEqual(self.m["crater_radius_lower_bound"], 1.0 if reaches else 0.0)
 
 
 if __name__ == "__main__":

@@ -268,6 +268,7 @@ class CraterFromErodedPlug(unittest.TestCase):
               file=sys.stderr)
         self.assertLess(abs(self.m["crater_depth_m"] - PH), 2 * R)
         self.assertLess(abs(self.m["crater_radius_m"] - radius), tol)
+        self.assertEqual(self.m["crater_radius_lower_bound"], 0.0)  # it ends inside the domain
         # Outside the crater and the ring next to it nothing moved.
         self.assertLess(abs(self.m["surface_settlement_max_m"]), 2 * R)
         self.assertGreater(self.m["surface_settlement_max_r_m"], self.m["crater_radius_m"] + W)

@@ -124,13 +124,14 @@ class Checkpoints(unittest.TestCase):
     def test_restart_from_mid_run_checkpoints(self):
         # Every part type, restarted from checkpoints the uninterrupted run wrote (kept): DEM
         # with contact histories (a settling bed) and with bonds breaking, SPH in 3D, FEM with
-        # plasticity, damage and erosion.
+        # plasticity, damage and erosion, and Holmquist-Johnson-Cook concrete (its compaction
+        # state per element).
         # SPH also with the summation density (h solved at each force stage from the saved h).
         cases = [("dem_bed_2d.toml", 5000, []), ("dem_bonded_2d.toml", 100, []),
                  ("sph3d_small.toml", 5, []),
                  ("sph3d_small.toml", 5, ["--set", "parts.charge.sph.density=\"summation\"",
                                           "--set", "scenario.end_time_s=2e-5"]),
-                 ("fem_plate_2d.toml", 150, [])]
+                 ("fem_plate_2d.toml", 150, []), ("fem_concrete_2d.toml", 100, [])]
         for k, (name, every, extra) in enumerate(cases):
             with self.subTest(scenario=name, extra=extra):
                 scen = SOURCE / "tests" / "data" / name

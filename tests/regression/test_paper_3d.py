@@ -19,6 +19,7 @@ SCENARIO = SOURCE_DIR / "scenarios/drafts/paper-3d.toml"
 METRICS = ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa", "crater_depth_m",
            "crater_radius_m", "plate_eroded_elements", "plate_perforated",
            "plate_perforated_area_m2", "delamination_gap_max_m", "crater_axis_x_m",
+           "crater_radius_lower_bound",
            "crater_axis_y_m"]
 
 

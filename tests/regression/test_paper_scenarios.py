@@ -16,7 +16,7 @@ from crater_test import assert_bit_identical_runs, run_scenario, scratch
 # its neighbours (docs/theory.md section 6): at the demo level the blast empties the bed.
 METRICS = ["plate_peak_von_mises_pa", "plate_peak_von_mises_max_pa", "crater_depth_m",
            "crater_radius_m", "plate_eroded_elements", "plate_perforated",
-           "delamination_gap_max_m"]
+           "delamination_gap_max_m", "crater_radius_lower_bound"]
 
 
 class PaperScenarios(unittest.TestCase):

@@ -298,6 +298,103 @@ MaterialLaw drucker_prager() {
       read_drucker_prager);
 }
 
+// Holmquist-Johnson-Cook concrete (materials/strength/holmquist_johnson_cook.hpp): its own
+// constants (no youngs_modulus_pa/poisson_ratio: the bulk response is the compaction EOS),
+// named as HolmquistJohnsonCookParams; every default is the 48 MPa concrete of [HJC93], so
+// `model = "holmquist_johnson_cook"` alone is that concrete.
+void read_holmquist_johnson_cook(const LawInput& in, MaterialConfig& m) {
+  const materials::HolmquistJohnsonCookParams p{.rho0_kg_m3 = m.rho0_kg_m3,
+                                                .shear_modulus_pa = in.num("shear_modulus_pa"),
+                                                .a = in.num("a"),
+                                                .b = in.num("b"),
+                                                .c = in.num("c"),
+                                                .n = in.num("n"),
+                                                .fc_pa = in.num("fc_pa"),
+                                                .t_pa = in.num("t_pa"),
+                                                .s_max = in.num("s_max"),
+                                                .eps0_per_s = in.num("eps0_per_s"),
+                                                .ef_min = in.num("ef_min"),
+                                                .d1 = in.num("d1"),
+                                                .d2 = in.num("d2"),
+                                                .p_crush_pa = in.num("p_crush_pa"),
+                                                .mu_crush = in.num("mu_crush"),
+                                                .k1_pa = in.num("k1_pa"),
+                                                .k2_pa = in.num("k2_pa"),
+                                                .k3_pa = in.num("k3_pa"),
+                                                .p_lock_pa = in.num("p_lock_pa"),
+                                                .mu_lock = in.num("mu_lock")};
+  m.solid.strength = materials::holmquist_johnson_cook_law(p);
+  m.solid.erode_at_full_damage = in.boolean("erode_at_full_damage");
+  in.report(materials::strength_check(m.solid.strength));
+}
+
+MaterialLaw holmquist_johnson_cook() {
+  auto dimensionless = [](const char* key, const char* doc) { return real(key, "1", doc); };
+  return {
+      .model = "holmquist_johnson_cook",
+      .method = Method::Fem,
+      .keys =
+          {
+              with_default(positive(real("rho0_kg_m3", "kg/m^3",
+                                         "Initial density rho_0. Every default of this model is "
+                                         "the 48 MPa concrete of Holmquist, Johnson & Cook "
+                                         "(1993).")),
+                           "2440.0"),
+              with_default(positive(real("shear_modulus_pa", "Pa", "Shear modulus G.")), "14.86e9"),
+              with_default(positive(dimensionless("a", "Normalized cohesive strength A.")), "0.79"),
+              with_default(
+                  at_least(dimensionless("b", "Normalized pressure hardening coefficient B."), 0),
+                  "1.60"),
+              with_default(at_least(dimensionless("c", "Strain-rate coefficient C."), 0), "0.007"),
+              with_default(positive(dimensionless("n", "Pressure hardening exponent N.")), "0.61"),
+              with_default(positive(real("fc_pa", "Pa",
+                                         "Quasi-static uniaxial compressive strength f_c "
+                                         "(normalizes pressure and strength).")),
+                           "48e6"),
+              with_default(positive(real("t_pa", "Pa", "Maximum tensile hydrostatic pressure T.")),
+                           "4e6"),
+              with_default(positive(dimensionless("s_max", "Normalized maximum strength S_max.")),
+                           "7.0"),
+              with_default(positive(real("eps0_per_s", "1/s",
+                                         "Reference strain rate (no rate effect below it).")),
+                           "1.0"),
+              with_default(
+                  positive(dimensionless("ef_min", "Minimum plastic strain to fracture EF_min.")),
+                  "0.01"),
+              with_default(at_least(dimensionless("d1", "Damage constant D_1."), 0), "0.04"),
+              with_default(at_least(dimensionless("d2", "Damage constant D_2."), 0), "1.0"),
+              with_default(positive(real("p_crush_pa", "Pa",
+                                         "Crushing pressure P_c (end of the elastic region; "
+                                         "K_e = P_c/mu_c).")),
+                           "16e6"),
+              with_default(positive(dimensionless(
+                               "mu_crush", "Crushing volumetric strain mu_c = rho/rho_0 - 1.")),
+                           "0.001"),
+              with_default(positive(real("k1_pa", "Pa", "Fully dense pressure constant K_1.")),
+                           "85e9"),
+              with_default(real("k2_pa", "Pa",
+                                "Fully dense pressure constant K_2; with K_1 and K_3 the fully "
+                                "dense curve must rise monotonically to p_lock_pa."),
+                           "-171e9"),
+              with_default(real("k3_pa", "Pa", "Fully dense pressure constant K_3."), "208e9"),
+              with_default(positive(real("p_lock_pa", "Pa",
+                                         "Locking pressure P_l (end of compaction); must exceed "
+                                         "p_crush_pa.")),
+                           "800e6"),
+              with_default(positive(dimensionless(
+                               "mu_lock",
+                               "Locking volumetric strain mu_l (rho_grain/rho_0 - 1, where the "
+                               "fully dense curve has zero pressure); must exceed mu_crush.")),
+                           "0.1"),
+              with_default(flag("erode_at_full_damage",
+                                "Elements erode when the HJC damage D reaches 1 (as Johnson-Cook "
+                                "damage does). Off: a fully damaged element stays, carrying "
+                                "pressure and the strength B P*^N of comminuted concrete."),
+                           "false"),
+          },
+      .read = read_holmquist_johnson_cook};
+}
+
 // What each method's parts take, in words: for the `model` key's help and the error of a part
 // given a material of another method. {} stands for the method's models.
 struct MethodWords {
@@ -337,7 +434,8 @@ std::string help_of(Method method) {
 // The table: adding a law is one entry here (and its header in materials/).
 const std::vector<MaterialLaw>& material_laws() {
   static const std::vector<MaterialLaw> laws = {
-      jwl(), ideal_gas(), tait(), granular(), elastic(), johnson_cook(), drucker_prager(),
+      jwl(),     ideal_gas(),    tait(),           granular(),
+      elastic(), johnson_cook(), drucker_prager(), holmquist_johnson_cook(),
   };
   return laws;
 }

@@ -932,7 +932,8 @@ TableSchema make_probes() {
       text("soil",
            "The dem part whose surface (with the plate's) is the ground: surface_profile.csv, "
            "surface_settlement_max_m, surface_settlement_max_x_m (3D: _r_m), crater_depth_m, "
-           "crater_radius_m, delamination_gap_max_m."),
+           "crater_radius_m, crater_radius_lower_bound (1: the crater reaches the domain's side, "
+           "its radius is a lower bound), delamination_gap_max_m."),
       with_default(at_least(real("stress_time_s", "s",
                                  "Time of plate_peak_von_mises_pa (the paper's figures: 0.6 ms)."),
                             0),

@@ -1,8 +1,9 @@
 // Holmquist-Johnson-Cook (HJC) concrete [HJC93] (LS-DYNA *MAT_JOHNSON_HOLMQUIST_CONCRETE,
 // *MAT_111) as a material-point law: a compaction equation of state, a pressure- and
 // rate-dependent strength surface softened by damage, and damage from plastic shear and pore
-// crushing. Not yet selectable in scenarios: its state (HjcState) needs per-element fields that
-// MaterialPointState does not hold, so it is not an alternative of StrengthParams.
+// crushing. In scenarios as `model = "holmquist_johnson_cook"` for FEM parts: StrengthParams
+// holds it as a HolmquistJohnsonCookLaw (the constants with their derived EOS constants,
+// computed once), and the FEM element loop keeps HjcState per element (fem/explicit_solid.cpp).
 //
 // Signs as stress_tensor.hpp: tension positive, p = -tr(\sigma)/3 > 0 in compression;
 // \mu = \rho/\rho_0 - 1 > 0 in compression. P^* = p/f_c, T^* = T/f_c.
@@ -64,6 +65,7 @@
 
 #include "core/types.hpp"
 #include "materials/eos/constant_problem.hpp"
+#include "materials/strength/elastic.hpp"
 #include "materials/strength/stress_tensor.hpp"
 
 namespace crater::materials {
@@ -284,11 +286,12 @@ struct HjcStressUpdate {
 
 /// One step of the HJC material point (header comment, steps 1-4): stress at the start of the
 /// step (already rotated) [Pa], strain increment [-], state, step dt [s] (dt <= 0: quasi-static,
-/// no rate effect) and the density at the end of the step [kg/m^3].
-inline HjcStressUpdate update_stress_of(const HolmquistJohnsonCookParams& law, const Mat3& stress,
+/// no rate effect) and the density at the end of the step [kg/m^3]; eos = hjc_eos_constants(law),
+/// computed once by the caller (it bisects).
+inline HjcStressUpdate update_stress_of(const HolmquistJohnsonCookParams& law,
+                                        const HjcEosConstants& eos, const Mat3& stress,
                                         const Mat3& strain_increment, const HjcState& state,
                                         Real dt, Real density) {
-  const HjcEosConstants eos = hjc_eos_constants(law);
   HjcStressUpdate out;
   out.state = state;
   // 1. Pressure, compaction history and plastic volumetric strain.
@@ -324,6 +327,14 @@ inline HjcStressUpdate update_stress_of(const HolmquistJohnsonCookParams& law, c
   out.state.damage = d_new;
   out.stress = s - out.pressure_pa * Mat3::Identity();
   return out;
+}
+
+/// The same, deriving the EOS constants on each call (tests, single points).
+inline HjcStressUpdate update_stress_of(const HolmquistJohnsonCookParams& law, const Mat3& stress,
+                                        const Mat3& strain_increment, const HjcState& state,
+                                        Real dt, Real density) {
+  return update_stress_of(law, hjc_eos_constants(law), stress, strain_increment, state, dt,
+                          density);
 }
 
 /// Problems with the constants, in words; empty when usable.
@@ -389,6 +400,68 @@ inline std::vector<ConstantProblem> holmquist_johnson_cook_check(
 
 inline std::vector<ConstantProblem> strength_check_of(const HolmquistJohnsonCookParams& law) {
   return holmquist_johnson_cook_check(law);
+}
+
+// ---- The law as FEM parts use it (an alternative of StrengthParams, strength.hpp) ------------
+
+/// The constants with what is derived from them once per material: the EOS constants (the
+/// bisection for \mu_{pl}) and two sets of elastic constants, both with the shear modulus G:
+///   elastic: bulk modulus K_{max} = \max(K_e, K_{crush}, K_1), the stiffest slope of the EOS
+///            below the cubic's own rise (region II unloads with \bar K in [K_e, K_1], loads
+///            with K_{crush} = (P_l - P_c)/(\mu_{pl} - \mu_c); region III starts at slope
+///            K_1/(1 + \mu_l)). The stable step, contact stiffness and surface springs use it:
+///            conservative for every state (the element loop adds the cubic's tangent and the
+///            (1 + \mu) of dp/d\rho, hjc_wave_bulk_modulus).
+///   at_rest: bulk modulus K_e = P_c/\mu_c, the material at rest (impedance of non-reflecting
+///            boundaries: K_{max} would reflect part of an incoming elastic wave).
+/// E = 9KG/(3K + G), \nu = (3K - 2G)/(2(3K + G)).
+struct HolmquistJohnsonCookLaw {
+  HolmquistJohnsonCookParams params;
+  HjcEosConstants eos;
+  Real max_bulk_modulus_pa = 0;  // K_{max} [Pa]
+  ElasticParams elastic;
+  ElasticParams at_rest;
+};
+
+/// Elastic constants from a bulk and a shear modulus [Pa].
+inline ElasticParams hjc_elastic_from(Real bulk_pa, Real shear_pa) {
+  return ElasticParams{
+      .youngs_modulus_pa = Real(9) * bulk_pa * shear_pa / (Real(3) * bulk_pa + shear_pa),
+      .poisson_ratio =
+          (Real(3) * bulk_pa - Real(2) * shear_pa) / (Real(2) * (Real(3) * bulk_pa + shear_pa))};
+}
+
+inline HolmquistJohnsonCookLaw holmquist_johnson_cook_law(const HolmquistJohnsonCookParams& p) {
+  HolmquistJohnsonCookLaw law;
+  law.params = p;
+  law.eos = hjc_eos_constants(p);
+  law.max_bulk_modulus_pa = std::max({law.eos.k_elastic_pa, law.eos.k_crush_pa, p.k1_pa});
+  law.elastic = hjc_elastic_from(law.max_bulk_modulus_pa, p.shear_modulus_pa);
+  law.at_rest = hjc_elastic_from(law.eos.k_elastic_pa, p.shear_modulus_pa);
+  return law;
+}
+
+/// Bulk modulus of the dilatational wave speed [Pa] at compression \mu [-], bounding every state
+/// a point at \mu can be in: c^2 = dp/d\rho + 4G/(3\rho) = ((1 + \mu) dp/d\mu + 4G/3)/\rho, so
+///   K_{wave} = (1 + \max(\mu, 0)) \max(K_{max}, dp/d\mu|_{dense}(\mu)),
+///   dp/d\mu|_{dense} = (K_1 + 2 K_2 \bar\mu + 3 K_3 \bar\mu^2)/(1 + \mu_l) (\bar\mu > 0).
+/// The cubic's slope passes K_1 only at large compression (\bar\mu > 0.55, 29 GPa, for the
+/// 48 MPa set); below that K_{wave} = (1 + \mu) K_{max}.
+inline Real hjc_wave_bulk_modulus(const HolmquistJohnsonCookLaw& law, Real mu) {
+  const HolmquistJohnsonCookParams& p = law.params;
+  const Real x = (mu - p.mu_lock) / (Real(1) + p.mu_lock);
+  const Real dense =
+      x > 0 ? (p.k1_pa + x * (Real(2) * p.k2_pa + Real(3) * p.k3_pa * x)) / (Real(1) + p.mu_lock)
+            : Real(0);
+  return (Real(1) + std::max(mu, Real(0))) * std::max(law.max_bulk_modulus_pa, dense);
+}
+
+inline const ElasticParams& elastic_of(const HolmquistJohnsonCookLaw& law) {
+  return law.elastic;
+}
+
+inline std::vector<ConstantProblem> strength_check_of(const HolmquistJohnsonCookLaw& law) {
+  return holmquist_johnson_cook_check(law.params);
 }
 
 }  // namespace crater::materials

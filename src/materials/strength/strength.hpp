@@ -26,18 +26,29 @@
 #include "materials/eos/constant_problem.hpp"
 #include "materials/strength/drucker_prager.hpp"
 #include "materials/strength/elastic.hpp"
+#include "materials/strength/holmquist_johnson_cook.hpp"
 #include "materials/strength/johnson_cook.hpp"
 #include "materials/strength/stress_tensor.hpp"
 #include "materials/strength/stress_update.hpp"
 
 namespace crater::materials {
 
-using StrengthParams = std::variant<ElasticParams, JohnsonCookParams, DruckerPragerParams>;
+// HolmquistJohnsonCookLaw carries its own state (HjcState): the FEM element loop treats it
+// apart (fem/explicit_solid.cpp); the others share MaterialPointState.
+using StrengthParams =
+    std::variant<ElasticParams, JohnsonCookParams, DruckerPragerParams, HolmquistJohnsonCookLaw>;
 
 /// The elastic constants of whichever law `params` holds (wave speed, stable step).
 inline const ElasticParams& elastic_of(const StrengthParams& params) {
   return std::visit([](const auto& law) -> const ElasticParams& { return elastic_of(law); },
                     params);
+}
+
+/// The elastic constants of the material at rest: the impedance of non-reflecting boundaries.
+/// Those of elastic_of for every law but HJC, whose elastic_of is its stiffest state.
+inline ElasticParams at_rest_elastic_of(const StrengthParams& params) {
+  if (const auto* hjc = std::get_if<HolmquistJohnsonCookLaw>(&params)) return hjc->at_rest;
+  return elastic_of(params);
 }
 
 /// Problems with the constants of whichever law `params` holds; empty when usable.

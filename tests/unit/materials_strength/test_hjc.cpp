@@ -299,5 +299,41 @@ TEST(HolmquistJohnsonCookCheck, PublishedSetPassesAndImpossibleConstantsAreNamed
   EXPECT_EQ(first_key(bad), "k2_pa");
 }
 
+TEST(HolmquistJohnsonCookLaw, PrecomputedEosGivesTheSameBits) {
+  // The FEM loop passes the EOS constants derived once; the one-shot overload derives them.
+  const HolmquistJohnsonCookParams p = holmquist_johnson_cook_48mpa_concrete();
+  const HolmquistJohnsonCookLaw law = holmquist_johnson_cook_law(p);
+  Mat3 strain = Mat3::Zero();
+  strain(0, 0) = -2e-3;
+  const HjcState state{.damage = 0.1, .mu_max = 0.02, .plastic_volumetric_strain = 0.01};
+  const HjcStressUpdate a = update_stress_of(p, Mat3::Zero(), strain, state, 1e-6, 2440 * 1.03);
+  const HjcStressUpdate b =
+      update_stress_of(law.params, law.eos, Mat3::Zero(), strain, state, 1e-6, 2440 * 1.03);
+  EXPECT_EQ(a.stress, b.stress);
+  EXPECT_EQ(a.state.damage, b.state.damage);
+  EXPECT_EQ(a.state.mu_max, b.state.mu_max);
+  EXPECT_EQ(a.state.plastic_volumetric_strain, b.state.plastic_volumetric_strain);
+  EXPECT_TRUE(strength_check_of(law).empty());
+}
+
+TEST(HolmquistJohnsonCookLaw, ElasticConstantsAndWaveModulus) {
+  // K_max = max(K_e, K_crush, K_1) = max(16, 784e6/(mu_plock - 0.001) = 7.156, 85) GPa = K_1.
+  const HolmquistJohnsonCookLaw law =
+      holmquist_johnson_cook_law(holmquist_johnson_cook_48mpa_concrete());
+  expect_rel(law.max_bulk_modulus_pa, 85e9);
+  expect_rel(bulk_modulus(law.elastic), 85e9);
+  expect_rel(shear_modulus(law.elastic), kG);
+  expect_rel(bulk_modulus(law.at_rest), kKe);
+  expect_rel(shear_modulus(law.at_rest), kG);
+  // (1 + mu) K_1 below the dense cubic's own rise past K_1; beyond it (1 + mu) dp/dmu with
+  // dp/dmu = (85 - 342 x + 624 x^2) GPa / 1.1, x = (mu - 0.1)/1.1 (x = 0.7/1.1 at mu = 0.8).
+  expect_rel(hjc_wave_bulk_modulus(law, 0), 85e9);
+  expect_rel(hjc_wave_bulk_modulus(law, -0.01), 85e9);
+  expect_rel(hjc_wave_bulk_modulus(law, 0.05), 1.05 * 85e9);
+  expect_rel(hjc_wave_bulk_modulus(law, 0.3), 1.3 * 85e9);  // x = 0.18: slope 43 GPa / 1.1
+  const Real x = 0.7 / 1.1;
+  expect_rel(hjc_wave_bulk_modulus(law, 0.8), 1.8 * (85e9 - 342e9 * x + 624e9 * x * x) / 1.1);
+}
+
 }  // namespace
 }  // namespace crater::materials

@@ -35,6 +35,7 @@ TEST(CraterOfProfile, RadiusWhereTheDropCrossesTheThresholdBetweenRings) {
   const CraterSize c = crater_of_profile(rings, 0.2);
   EXPECT_DOUBLE_EQ(c.depth_m, 0.5);
   EXPECT_NEAR(c.radius_m, 1 + 2.0 / 3.0, 1e-12);
+  EXPECT_FALSE(c.reaches_end);
 }
 
 TEST(CraterOfProfile, StartsAtTheDeepestRingAndStopsAtTheProfilesEnd) {
@@ -44,10 +45,12 @@ TEST(CraterOfProfile, StartsAtTheDeepestRingAndStopsAtTheProfilesEnd) {
   const CraterSize c = crater_of_profile(rings, 0.2);
   EXPECT_DOUBLE_EQ(c.depth_m, 0.6);
   EXPECT_DOUBLE_EQ(c.radius_m, 3.0);
+  EXPECT_TRUE(c.reaches_end);
   // No ring dropped by more than the threshold: no crater.
   const CraterSize none = crater_of_profile({{0, 0, -0.1}, {1, 0, 0.0}}, 0.2);
   EXPECT_EQ(none.depth_m, 0.0);
   EXPECT_EQ(none.radius_m, 0.0);
+  EXPECT_FALSE(none.reaches_end);
 }
 
 /// A box-meshed plate of nx x ny x nz hexahedra of size h (nodes numbered x fastest, then y,
