@@ -20,6 +20,7 @@
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
+#include "fem/geostatic.hpp"
 #include "fem/mesh_state_layout.hpp"
 #include "parallel/parallel.hpp"
 #include "parts/contact_points.hpp"
@@ -73,6 +74,8 @@ class FemPart final : public parts::Part<D> {
           name_, source.reordered, settings.fem.mesh_file);
     mesh_ = std::move(source.mesh);
     initialise(mesh_, material_);
+    if (const auto& g = settings.fem.geostatic)  // the stress at t = 0 (a restart loads its own)
+      apply_geostatic_stress(mesh_, material_, *g, pc.domain.gravity_m_s2, name_);
     // The erosion floor follows from the mesh at rest (the same on a restart).
     if (settings.fem.erosion_step_ratio > 0)
       material_.erosion_min_step_s =

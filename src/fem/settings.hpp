@@ -55,6 +55,14 @@ struct LoadSettings {
   SourceLocation where;
 };
 
+/// The initial geostatic stress of an FEM part ([parts.fem] geostatic; fem/geostatic.hpp): at
+/// t = 0 each element's stress is \sigma_v = -\rho_0 g\,depth on gravity's axis and
+/// \sigma_h = K_0 \sigma_v on the others (tension positive), zero above the surface.
+struct GeostaticSettings {
+  Real surface_m{};        // coordinate of the free ground surface on gravity's axis [m]
+  std::optional<Real> k0;  // lateral earth pressure coefficient K_0 [-]; unset: \nu / (1 - \nu)
+};
+
 /// Numerics, boundaries and mesh of an FEM part ([parts.fem]).
 struct Settings {
   bool hourglass_stiffness{};  // false: viscous form
@@ -72,6 +80,7 @@ struct Settings {
   Real mass_scaling_limit{};
   std::vector<BoundarySettings> boundaries;
   std::vector<LoadSettings> loads;
+  std::optional<GeostaticSettings> geostatic;  // unset: the part starts unstressed
   std::string mesh_file;   // Gmsh .msh 4.1; empty: structured mesh of the region box
   std::string mesh_group;  // physical group of the elements in mesh_file; empty: all
   // The part's elements in mesh_file, taken from it once when the scenario was read.

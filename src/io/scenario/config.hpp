@@ -91,6 +91,7 @@ using FemBoundaryType = fem::BoundaryType;
 using FemBoundaryConfig = fem::BoundarySettings;
 using FemLoadType = fem::LoadType;
 using FemLoadConfig = fem::LoadSettings;
+using GeostaticConfig = fem::GeostaticSettings;
 using FemConfig = fem::Settings;
 using parts::DetonationPoint;
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <variant>
 
 #include "core/file_kind.hpp"
 #include "io/scenario/reader.hpp"
@@ -62,6 +63,59 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
     read_fem_boundaries(*bn->as_array(), fw, key, dim, f);
   if (!f.mesh_file.empty()) read_fem_mesh(c, ft, fw, key, p);
   if (const toml::node* ln = ft.get("loads")) read_fem_loads(*ln->as_array(), fw, key, dim, p);
+  if (const toml::node* gn = ft.get("geostatic"))
+    read_fem_geostatic(c, *gn->as_table(), fw, key, p);
+}
+
+// [parts.fem.geostatic]: the initial stress of a ground at rest (fem/geostatic.hpp). It needs
+// gravity along one axis, and a law whose pressure an initial stress can set.
+void Builder::read_fem_geostatic(const Config& c, const toml::table& gt, const SourceLocation& fw,
+                                 const std::string& key, PartConfig& p) {
+  const SourceLocation gw = where_of(gt, fw);
+  const std::string gk = key + ".fem.geostatic";
+  int axes = 0, axis = 0;
+  for (int d = 0; d < c.dimension; ++d)
+    if (c.domain.gravity_m_s2[static_cast<std::size_t>(d)] != 0) {
+      ++axes;
+      axis = d;
+    }
+  if (axes != 1) {
+    error(gw, gk,
+          fmt::format("a geostatic stress needs [domain] gravity_m_s2 along exactly one axis, "
+                      "got {}",
+                      vec_text(c.domain.gravity_m_s2, c.dimension)));
+    return;
+  }
+  if (p.material < c.materials.size() && std::holds_alternative<materials::HolmquistJohnsonCookLaw>(
+                                             c.materials[p.material].solid.strength)) {
+    error(gw, gk,
+          "not for holmquist_johnson_cook materials: their pressure follows from the density "
+          "(the compaction EOS), so an initial stress would not hold");
+    return;
+  }
+  GeostaticConfig g;
+  g.surface_m = num(gt, "surface_m");
+  g.k0 = opt_num(gt, "k0");
+  p.fem().geostatic = g;
+  if (p.region.type != RegionType::Box) return;
+  // Depths of the part's two extents on gravity's axis: a part wholly above the surface stays
+  // unstressed; one whose top lies below it misses the overburden (not in equilibrium).
+  const auto u = static_cast<std::size_t>(axis);
+  const Real down = c.domain.gravity_m_s2[u] < 0 ? -1 : 1;
+  const Real d_lo = (p.region.min_m[u] - g.surface_m) * down;
+  const Real d_hi = (p.region.max_m[u] - g.surface_m) * down;
+  const Real tol = 1e-9 * (p.region.max_m[u] - p.region.min_m[u]);
+  if (std::max(d_lo, d_hi) <= tol)
+    c_warnings_.push_back(fmt::format(
+        "part '{}': fem.geostatic.surface_m = {} m lies below the whole part, which starts "
+        "unstressed",
+        p.name, g.surface_m));
+  else if (std::min(d_lo, d_hi) > tol)
+    c_warnings_.push_back(fmt::format(
+        "part '{}': fem.geostatic.surface_m = {} m lies above the part's top ({} m deep): the "
+        "overburden is not there, and the top is not in equilibrium (a pressure load of "
+        "rho0 g x that depth on it would stand for the overburden)",
+        p.name, g.surface_m, std::min(d_lo, d_hi)));
 }
 
 // [[parts.fem.boundary]]: a face of the part's box or a group of its mesh file, and what is

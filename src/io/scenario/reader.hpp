@@ -194,6 +194,8 @@ class Builder {
                       int dim, PartConfig& p);
   void read_fem_mesh(const Config& c, const toml::table& ft, const SourceLocation& fw,
                      const std::string& key, PartConfig& p);
+  void read_fem_geostatic(const Config& c, const toml::table& gt, const SourceLocation& fw,
+                          const std::string& key, PartConfig& p);
 
   // read_contacts_probes.cpp
   void read_contacts(Config& c, const SourceLocation& top);

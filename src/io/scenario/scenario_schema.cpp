@@ -759,6 +759,36 @@ const TableSchema& fem_load_schema() {
   return s;
 }
 
+TableSchema make_fem_geostatic() {
+  TableSchema t{"parts.fem.geostatic",
+                "An initial geostatic stress (docs/theory.md, section 4): at t = 0 each "
+                "element's stress at its centre, at depth d below the surface, is sigma_v = "
+                "-rho0 g d on gravity's axis and sigma_h = k0 sigma_v on the other axes (2D: "
+                "also the plane-strain z), no shear, tension positive; zero above the surface. "
+                "Needs [domain] gravity_m_s2 along one axis; not for holmquist_johnson_cook "
+                "materials. In equilibrium with the weight when the base is supported and the "
+                "sides are held normal to themselves (symmetry); a state outside the material's "
+                "yield surface is returned onto it in the first step (with a warning).",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(real("surface_m", "m",
+                    "The free ground surface: its coordinate on the axis gravity acts along "
+                    "(e.g. y = 0 for gravity (0, -9.81)); depth is measured from it in the "
+                    "direction of gravity.")),
+      positive(real("k0", "1",
+                    "Coefficient of lateral earth pressure at rest K_0 = sigma_h / sigma_v (e.g. "
+                    "Jaky's 1 - sin(phi) for a normally consolidated sand). Unset: nu / (1 - nu) "
+                    "of the material's Poisson's ratio (an elastic layer in uniaxial strain).")),
+  };
+  return t;
+}
+const TableSchema& fem_geostatic_schema() {
+  static const TableSchema s = make_fem_geostatic();
+  return s;
+}
+
 TableSchema make_fem() {
   TableSchema t{"parts.fem",
                 "Explicit finite-element numerics of the part (paper section III-B): one-point "
@@ -827,6 +857,10 @@ TableSchema make_fem() {
           "Boundary conditions. Faces without one are free (traction-free)."),
       sub("loads", KeyType::TableArray, fem_load_schema(),
           "Loads on boundary faces (an equivalent blast pressure, a surcharge)."),
+      absent_means_unset(sub("geostatic", KeyType::Table, fem_geostatic_schema(),
+                             "Start from the geostatic stress of a ground at rest, e.g. "
+                             "geostatic = { surface_m = 0.0, k0 = 0.5 }. Unset: the part "
+                             "starts unstressed.")),
   };
   return t;
 }
