@@ -1,6 +1,8 @@
-"""The triaxial test of several packings at 4-10 mm and at 30-75 mm (x 7.5, g / 7.5), the
-means and scatters of docs/validation.md's table ("DEM: the bed's properties do not depend on
-grain size"); test_grain_size.py runs seed 1 only. Not a test:
+"""The triaxial test of several packings at 4-10 mm, at 30-75 mm (x 7.5, g / 7.5; the coarse
+level's grains of paper-3d) and at 45-112.5 mm (x 11.25; its demo level's), the means and
+scatters of docs/validation.md's table ("DEM: the bed's properties do not depend on grain
+size"); test_grain_size.py runs seed 1 only. Not a test (--scales=1,11.25 runs only those;
+study.json keeps the scales of earlier invocations):
 
     CRATER_BIN=build/release/bin/crater CRATER_SOURCE_DIR=$PWD PYTHONPATH=tests/lib \\
       CRATER_TEST_TMP=/tmp/crater-grain-size OMP_NUM_THREADS=1 \\
@@ -23,10 +25,13 @@ KEYS = ("phi_peak", "e1_peak", "phi_residual", "psi", "dilation_rate", "solid_fr
         "solid_fraction_interior", "grains")
 
 if __name__ == "__main__":
-    seeds = [int(a) for a in sys.argv[1:]] or [1, 2, 3]
+    args = [a for a in sys.argv[1:] if not a.startswith("--scales=")]
+    scales = [a for a in sys.argv[1:] if a.startswith("--scales=")]
+    LAMS = [float(x) for x in scales[-1][9:].split(",")] if scales else [1.0, 7.5, 11.25]
+    seeds = [int(a) for a in args] or [1, 2, 3]
     work = scratch("grain_size_study")
     table = {}
-    for lam in (1.0, 7.5):
+    for lam in LAMS:
         rows = {seed: triaxial(work, lam, seed)[0] for seed in seeds}
         for seed, a in rows.items():
             print(f"x{lam:g} seed {seed}: " + ", ".join(f"{k} {a[k]:.4g}" for k in KEYS))
@@ -37,4 +42,7 @@ if __name__ == "__main__":
         table[f"x{lam:g}"] = {"seeds": {str(s): a for s, a in rows.items()},
                               "mean": dict(zip(KEYS, mean.tolist())),
                               "sd": dict(zip(KEYS, np.atleast_1d(sd).tolist()))}
-    (work / "study.json").write_text(json.dumps(table, indent=1))
+    old = work / "study.json"
+    if old.exists():  # keep the scales of an earlier invocation (--scales=...)
+        table = {**json.loads(old.read_text()), **table}
+    old.write_text(json.dumps(table, indent=1))
