@@ -73,15 +73,34 @@ class Disks final : public detail::Deposition<2, Disks, 16> {
   std::optional<V2> lowest_next_to(std::size_t a, Real r) const {
     const Grain<2>& ga = grains_[a];
     const Real ra = ga.r + r;
-    std::optional<V2> best;
-    std::array<V2, 2> pts;
+    // The grains within reach, and of them those that can be in the way of a place touching a
+    // (one in the way of x, |x - ga.x| = ga.r + r, is within ga.r + g.r + 2 r of a): the test
+    // that a place is free looks at these (and a) alone, the one last in the way first.
+    std::vector<std::size_t> reach, in_way{a};
     for_near(ga.x, ga.r + 2 * r + in_.r_max, [&](std::int64_t j) {
       if (static_cast<std::size_t>(j) == a) return;
-      const Grain<2>& gb = grains_[static_cast<std::size_t>(j)];
-      consider(pts, circle_circle(ga.x, ra, gb.x, gb.r + r, pts), r, best);
+      const Grain<2>& g = grains_[static_cast<std::size_t>(j)];
+      reach.push_back(static_cast<std::size_t>(j));
+      if ((g.x - ga.x).norm() <= ga.r + g.r + 2 * r) in_way.push_back(static_cast<std::size_t>(j));
     });
+    std::size_t last_in_way = 0;
+    auto free_at = [&](const V2& x) {
+      if (!clear_of(in_way[last_in_way], x, r)) return false;
+      for (std::size_t k = 0; k < in_way.size(); ++k)
+        if (!clear_of(in_way[k], x, r)) {
+          last_in_way = k;
+          return false;
+        }
+      return fits_box(x, r);
+    };
+    std::optional<V2> best;
+    std::array<V2, 2> pts;
+    for (const std::size_t j : reach) {
+      const Grain<2>& gb = grains_[j];
+      consider(pts, circle_circle(ga.x, ra, gb.x, gb.r + r, pts), best, free_at);
+    }
     for (const Support& s : supports_)
-      consider(pts, cross_support(s, ga.x, ra, r, pts), r, best);
+      consider(pts, cross_support(s, ga.x, ra, r, pts), best, free_at);
     return best;
   }
 

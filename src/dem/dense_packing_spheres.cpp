@@ -157,8 +157,12 @@ class Spheres final : public Deposition<3, Spheres, 8> {
     Locus la;
     la.p = ga.x;
     la.R = ga.r + r;
-    // The other supports within reach of a grain touching a: grains, then the rest.
+    // The other supports within reach of a grain touching a: grains, then the rest. The
+    // grains are also all that can be in the way of a place touching a (one in the way of x,
+    // |x - ga.x| = ga.r + r, is within ga.r + g.r + 2 r of a), so the test that a place is
+    // free looks at them (and a) alone, the one last in the way first.
     std::vector<Locus> near;
+    std::vector<std::size_t> in_way{a};
     for_near(ga.x, ga.r + 2 * r + in_.r_max, [&](std::int64_t j) {
       if (static_cast<std::size_t>(j) == a) return;
       const Grain<3>& g = grains_[static_cast<std::size_t>(j)];
@@ -167,7 +171,18 @@ class Spheres final : public Deposition<3, Spheres, 8> {
       l.p = g.x;
       l.R = g.r + r;
       near.push_back(l);
+      in_way.push_back(static_cast<std::size_t>(j));
     });
+    std::size_t last_in_way = 0;
+    auto free_at = [&](const V3& x) {
+      if (!clear_of(in_way[last_in_way], x, r)) return false;
+      for (std::size_t k = 0; k < in_way.size(); ++k)
+        if (!clear_of(in_way[k], x, r)) {
+          last_in_way = k;
+          return false;
+        }
+      return fits_box(x, r);
+    };
     for (const Support& s : supports_) {
       const Locus l = locus(s, r);
       const Real gap = l.plane ? std::abs(l.n.dot(ga.x) - l.c) : (l.p - ga.x).norm() - l.R;
@@ -180,7 +195,7 @@ class Spheres final : public Deposition<3, Spheres, 8> {
         const Locus &b = near[i], &c = near[j];
         // Two grains further apart than a grain of radius r can bridge: no common touch.
         if (!b.plane && !c.plane && (b.p - c.p).norm() > b.R + c.R) continue;
-        consider(pts, cross(la, b, c, pts), r, best);
+        consider(pts, cross(la, b, c, pts), best, free_at);
       }
     return best;
   }

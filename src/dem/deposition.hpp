@@ -164,17 +164,27 @@ class Deposition {
     return false;
   }
 
-  // Whether a grain of radius r fits at x: wholly in the box, clear of the bodies and of every
-  // grain (touching allowed, to eps).
-  bool fits(const V& x, Real r) const {
+  // Whether a grain of radius r at x is wholly in the box and clear of the bodies.
+  bool fits_box(const V& x, Real r) const {
     for (int d = 0; d < D; ++d)
       if (x[d] < in_.lo[d] + r - eps_ || x[d] > in_.hi[d] - r + eps_) return false;
     for (const parts::RegionConfig& k : in_.keep_clear)
       if (parts::region_distance<D>(k, x) < r - eps_) return false;
-    return !any_near(x, r + in_.r_max, [&](std::int64_t j) {
-      const Grain<D>& g = grains_[static_cast<std::size_t>(j)];
-      return (x - g.x).squaredNorm() < (r + g.r - eps_) * (r + g.r - eps_);
-    });
+    return true;
+  }
+
+  // Whether grain j leaves room for a grain of radius r at x (touching allowed, to eps).
+  bool clear_of(std::size_t j, const V& x, Real r) const {
+    const Grain<D>& g = grains_[j];
+    return !((x - g.x).squaredNorm() < (r + g.r - eps_) * (r + g.r - eps_));
+  }
+
+  // Whether a grain of radius r fits at x: wholly in the box, clear of the bodies and of every
+  // grain.
+  bool fits(const V& x, Real r) const {
+    return fits_box(x, r) && !any_near(x, r + in_.r_max, [&](std::int64_t j) {
+             return !clear_of(static_cast<std::size_t>(j), x, r);
+           });
   }
 
   // Whether pred(j) holds for a grain j in the cells within `reach` of x (the first axis
@@ -211,11 +221,15 @@ class Deposition {
     });
   }
 
-  // The fitting points of pts[0..n), the lowest kept in best.
+  // The fitting points of pts[0..n), the lowest kept in best; fit(x) says whether x fits.
+  template <class Points, class Fit>
+  void consider(const Points& pts, int n, std::optional<V>& best, Fit&& fit) const {
+    for (int q = 0; q < n; ++q)
+      if ((!best || lower(pts[q], *best)) && fit(pts[q])) best = pts[q];
+  }
   template <class Points>
   void consider(const Points& pts, int n, Real r, std::optional<V>& best) const {
-    for (int q = 0; q < n; ++q)
-      if ((!best || lower(pts[q], *best)) && fits(pts[q], r)) best = pts[q];
+    consider(pts, n, best, [&](const V& x) { return fits(x, r); });
   }
 
   const DensePackingInput<D>& in_;
