@@ -139,16 +139,24 @@ std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
   const FaceCentres<D> fc = face_centres(faces_of);
   const std::vector<Vec<D>>& centre = fc.centre;
   const Real half_size = fc.half_size;
-  std::vector<Real> size(at(nf));
+  std::vector<Real> size(at(nf)), reach2(at(nf));
   for (Index f = 0; f < nf; ++f) {
     std::array<Vec<D>, kF> fx;
-    for (int k = 0; k < kF; ++k)
+    Real own_half = 0;
+    for (int k = 0; k < kF; ++k) {
       fx[at(k)] = xb[at(faces[at(f)][at(k)])];
+      own_half = std::max(own_half, (fx[at(k)] - centre[at(f)]).norm());
+    }
     if constexpr (D == 2) {
       size[at(f)] = (fx[1] - fx[0]).norm();
     } else {
       size[at(f)] = std::sqrt(Real(0.5) * (fx[2] - fx[0]).cross(fx[3] - fx[1]).norm());
     }
+    // A node the face takes (below) is within 0.51 of its size of the face's closest point,
+    // which lies within the face's own half size of its centre: the candidates of a large
+    // neighbour's reach that are further off are passed over (the same hits, less work).
+    const Real r = own_half + Real(0.51) * size[at(f)];
+    reach2[at(f)] = r * r;
   }
   std::vector<Vec<D>> x(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -165,6 +173,7 @@ std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
         best.body = nodes[at(i)];
         const Vec<D>& p = x[at(i)];
         for (Index f : candidates.of(i)) {
+          if ((p - centre[at(f)]).squaredNorm() > reach2[at(f)]) continue;
           std::array<Vec<D>, kF> fx;
           for (int k = 0; k < kF; ++k)
             fx[at(k)] = xb[at(faces[at(f)][at(k)])];

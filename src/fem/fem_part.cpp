@@ -122,7 +122,7 @@ class FemPart final : public parts::Part<D> {
       apply_boundary_config(source, b);
     apply_symmetry_planes(pc);
     for (const auto& l : settings.fem.loads)
-      add_pressure_load(l);
+      add_pressure_load(source, l);
     if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
     impose_velocities();
 
@@ -576,10 +576,10 @@ class FemPart final : public parts::Part<D> {
   }
 
   /// The surface faces of a pressure load: those of the live mesh (outward numbering, as the
-  /// contact surface) with every node on the chosen face of the bounding box and the centre
-  /// in the load's box (along the other axes).
-  void add_pressure_load(const LoadSettings& l) {
-    const NodeSet<D> set = face_node_set(mesh_, l.face);
+  /// contact surface) with every node on the chosen face of the bounding box (or in the mesh
+  /// group) and the centre in the load's box (along the other axes).
+  void add_pressure_load(const MeshSource<D>& source, const LoadSettings& l) {
+    const NodeSet<D> set = l.group.empty() ? face_node_set(mesh_, l.face) : source.group(l.group);
     std::vector<std::uint8_t> on_face(at(mesh_.node_count()), 0);
     for (Index n : set.nodes)
       on_face[at(n)] = 1;
@@ -610,7 +610,8 @@ class FemPart final : public parts::Part<D> {
     if (load.faces.empty())
       throw std::runtime_error(fmt::format(
           "{}: line {}: part '{}': the pressure load selects no boundary face (none of the "
-          "part's faces on its bounding box's side has its centre in the load's box)",
+          "part's faces in its group, or on its bounding box's side with its centre in the "
+          "load's box)",
           l.where.file, l.where.line, name_));
     loads_.push_back(std::move(load));
   }

@@ -49,6 +49,7 @@ enum class LoadType { Pressure };
 struct LoadSettings {
   LoadType type{};
   parts::Face face{};
+  std::string group;                          // a physical group of the mesh file instead of face
   std::optional<parts::RegionConfig> region;  // a box; unset: the whole face
   std::vector<Real> time_s;                   // strictly increasing
   std::vector<Real> pressure_pa;              // same length

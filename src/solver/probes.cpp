@@ -77,6 +77,7 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
       mirror_factor_ *= 2;
       if (static_cast<int>(f) / 2 == 0) mirror_side_[static_cast<std::size_t>(f) % 2] = true;
     }
+  if (cfg_.lining) lining_ = std::make_unique<LiningProbe<D>>(c, parts);
   if (!cfg_.soil) return;
   for (int d = 0; d < D; ++d)
     lo_[d] = c.domain.min_m[d];
@@ -265,20 +266,31 @@ Real Probes<D>::plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>&
 
 template <int D>
 std::vector<std::string> Probes<D>::history_columns() const {
-  if (!cfg_.plate) return {};
-  return {"plate_max_von_mises_pa"};
+  std::vector<std::string> out;
+  if (cfg_.plate) out.push_back("plate_max_von_mises_pa");
+  if (lining_)
+    for (std::string& n : lining_->history_columns())
+      out.push_back(std::move(n));
+  return out;
 }
 
 template <int D>
 std::vector<Real> Probes<D>::history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) {
-  if (!cfg_.plate) return {};
-  const Real m = plate_max_von_mises(parts);
-  peak_max_ = std::max(peak_max_, m);
-  return {m};
+  std::vector<Real> out;
+  if (cfg_.plate) {
+    const Real m = plate_max_von_mises(parts);
+    peak_max_ = std::max(peak_max_, m);
+    out.push_back(m);
+  }
+  if (lining_)
+    for (const Real v : lining_->history_values(parts))
+      out.push_back(v);
+  return out;
 }
 
 template <int D>
 void Probes<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s) {
+  if (lining_) lining_->after_step(parts);
   if (!cfg_.plate || peak_time_s_ >= 0 || t_s < cfg_.stress_time_s) return;
   peak_at_time_ = plate_max_von_mises(parts);
   peak_time_s_ = t_s;
@@ -291,6 +303,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
   std::vector<Diagnostic> m;
   if (cfg_.plate) plate_metrics(parts, m);
   if (cfg_.soil) ground_metrics(parts, dir, m);
+  if (lining_) lining_->metrics(parts, m);
   return m;
 }
 
@@ -578,6 +591,7 @@ void Probes<D>::save(parts::StateWriter& w) const {
   w.value(peak_at_time_);
   w.value(peak_time_s_);
   w.value(peak_max_);
+  if (lining_) lining_->save(w);
 }
 
 template <int D>
@@ -588,6 +602,7 @@ void Probes<D>::load(parts::StateReader& r) {
   r.value(peak_at_time_);
   r.value(peak_time_s_);
   r.value(peak_max_);
+  if (lining_) lining_->load(r);
 }
 
 template class Probes<2>;

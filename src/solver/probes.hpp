@@ -58,6 +58,7 @@
 // cell above the plate); the largest over the columns. At t = 0 it is the packing's own gap at
 // the plate's faces (up to about a grain radius).
 // The vertical axis is the last one (y in 2D, z in 3D).
+// Tunnel lining: lining_probe.hpp.
 #pragma once
 
 #include <array>
@@ -67,6 +68,7 @@
 #include <vector>
 
 #include "io/scenario/config.hpp"
+#include "solver/lining_probe.hpp"
 #include "solver/part_names.hpp"
 
 namespace crater::solver {
@@ -151,6 +153,8 @@ class Probes {
   Index gap_cells_ = 0;  // the longest gap in a column's ground, in cells
   // Plate samples.
   Real peak_at_time_ = -1, peak_time_s_ = -1, peak_max_ = 0;
+  // A tunnel's lining ([probes] lining), when measured.
+  std::unique_ptr<LiningProbe<D>> lining_;
 };
 
 }  // namespace crater::solver

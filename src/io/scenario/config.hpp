@@ -180,7 +180,12 @@ struct ProbesConfig {
   // that has one, else the full model's horizontal centre (on the symmetry planes the domain
   // has). Unused in 2D.
   std::array<Real, 2> axis_m{};
-  bool any() const { return plate || soil; }
+  // A tunnel's lining (an fem part; src/solver/lining_probe.hpp), its axis through
+  // lining_axis_point_m along lining_axis_direction (3D; 2D: perpendicular to the plane).
+  std::optional<std::size_t> lining;
+  std::array<Real, 3> lining_axis_point_m{};
+  std::array<Real, 3> lining_axis_direction{0, 1, 0};
+  bool any() const { return plate || soil || lining; }
 };
 
 struct Config {

@@ -68,6 +68,45 @@ void Builder::read_contacts(Config& c, const SourceLocation& top) {
   }
 }
 
+// [probes] lining_axis_point_m and lining_axis_direction: the tunnel's axis.
+void Builder::read_lining_axis(Config& c, const toml::table& t, const SourceLocation& w) {
+  const int dim = c.dimension;
+  if (!c.probes.lining) {
+    for (const char* key : {"lining_axis_point_m", "lining_axis_direction"})
+      if (t.get(key))
+        error(loc(t, key, w), std::string("probes.") + key, "only used with probes.lining");
+    return;
+  }
+  if (t.get("lining_axis_point_m")) {
+    const std::vector<Real> p = reals(t, "lining_axis_point_m");
+    if (static_cast<int>(p.size()) != dim) {
+      error(loc(t, "lining_axis_point_m", w), "probes.lining_axis_point_m",
+            fmt::format("expected {} numbers (a point), got {}", dim, p.size()));
+      return;
+    }
+    for (std::size_t d = 0; d < p.size(); ++d)
+      c.probes.lining_axis_point_m[d] = p[d];
+  } else {
+    error(loc(t, "lining", w), "probes.lining_axis_point_m",
+          "expected the tunnel's axis: a point on it, e.g. lining_axis_point_m = [0.0, 0.0, 0.0]"
+          " (the charge's centre)");
+  }
+  if (!t.get("lining_axis_direction")) return;
+  const SourceLocation dw = loc(t, "lining_axis_direction", w);
+  if (dim != 3) {
+    error(dw, "probes.lining_axis_direction",
+          "3D only: in 2D the axis is perpendicular to the plane");
+    return;
+  }
+  const std::vector<Real> a = reals(t, "lining_axis_direction");
+  if (a.size() != 3 || !(std::abs(a[2]) < 1e-12) || !(std::hypot(a[0], a[1]) > 0)) {
+    error(dw, "probes.lining_axis_direction",
+          "expected a horizontal direction [x, y, 0] (z is vertical), not zero");
+    return;
+  }
+  c.probes.lining_axis_direction = {a[0], a[1], a[2]};
+}
+
 void Builder::read_probes(Config& c, const SourceLocation& top) {
   const toml::node* pn = root_.get("probes");
   if (!pn) return;
@@ -94,6 +133,8 @@ void Builder::read_probes(Config& c, const SourceLocation& top) {
   };
   c.probes.plate = part("plate", Method::Fem);
   c.probes.soil = part("soil", Method::Dem);
+  c.probes.lining = part("lining", Method::Fem);
+  read_lining_axis(c, t, w);
   read_probe_axis(c, t, w);
   if (c.probes.plate && c.probes.stress_time_s > c.end_time_s)
     c_warnings_.push_back(

@@ -185,7 +185,31 @@ void Builder::read_fem_loads(const toml::array& la, const SourceLocation& fw,
     FemLoadConfig l;
     l.where = lw;
     l.type = FemLoadType::Pressure;
-    const std::string face = str(lt, "face");
+    if ((lt.get("face") != nullptr) == (lt.get("group") != nullptr)) {
+      error(lw, lk, "expected exactly one of face or group");
+      continue;
+    }
+    if (lt.get("group")) {
+      l.group = str(lt, "group");
+      const auto& mesh = p.fem().elements;
+      if (p.fem().mesh_file.empty() || lt.get("region")) {
+        error(loc(lt, "group", lw), lk + ".group",
+              p.fem().mesh_file.empty()
+                  ? "mesh groups need fem.mesh_file; on a structured mesh give face"
+                  : "a load on a group takes all its faces: region is only used with face");
+        continue;
+      }
+      if (mesh && !mesh->groups.count(l.group)) {
+        std::string known;
+        for (const auto& [name, g] : mesh->groups)
+          known += (known.empty() ? "'" : ", '") + name + "'";
+        error(loc(lt, "group", lw), lk + ".group",
+              fmt::format("no physical group '{}' with nodes of the part in {} (groups: {})",
+                          l.group, p.fem().mesh_file, known.empty() ? "none" : known));
+        continue;
+      }
+    }
+    const std::string face = l.group.empty() ? str(lt, "face") : "left";
     const int fi = face_index(face);
     if (fi / 2 >= dim) {
       error(loc(lt, "face", lw), lk + ".face",

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 
 #include "io/scenario/material_laws.hpp"
 #include "io/scenario/reader.hpp"
+#include "mesh/solid_mesh.hpp"
 
 namespace crater::io::reader {
 
@@ -251,10 +253,79 @@ void Builder::check_overlaps(const Config& c) {
     return std::find(k.begin(), k.end(), b) != k.end();
   };
 
+  // A part's mesh from a file: its bounding box is no measure of its body (a ring around a
+  // charge), so against a region it overlaps when one of its nodes or element centres lies
+  // inside that region by more than a millionth of the region's size; two such meshes (the parts
+  // of one file share their interfaces) are not checked against each other.
+  auto mesh_of = [&](std::size_t i) -> const mesh::SolidElements* {
+    const PartConfig& p = c.parts[i];
+    return p.is(Method::Fem) ? p.fem().elements.get() : nullptr;
+  };
+  auto mesh_in_region = [&](const mesh::SolidElements& m, const RegionConfig& r) {
+    Real size = r.radius_m;
+    if (r.type == RegionType::Box)
+      for (int d = 0; d < dim; ++d)
+        size = std::max(
+            size, r.max_m[static_cast<std::size_t>(d)] - r.min_m[static_cast<std::size_t>(d)]);
+    const Real tol = 1e-6 * size;
+    auto inside = [&](const Vec3& x) {
+      if (r.type != RegionType::Box) {
+        Real s = 0;
+        for (int d = 0; d < dim; ++d)
+          s += (x[d] - r.center_m[d]) * (x[d] - r.center_m[d]);
+        return std::sqrt(s) < r.radius_m - tol;
+      }
+      for (int d = 0; d < dim; ++d)
+        if (!(x[d] > r.min_m[static_cast<std::size_t>(d)] + tol &&
+              x[d] < r.max_m[static_cast<std::size_t>(d)] - tol))
+          return false;
+      return true;
+    };
+    for (const auto& n : m.nodes)
+      if (inside(n)) return true;
+    // An element larger than the region may hold it with no node inside: the ball about the
+    // element's centre that reaches to the nearest of its faces' centres is inside the element
+    // (for the usual, near-convex ones); the region meets the element if it meets that ball.
+    const auto npe = static_cast<std::size_t>(m.nodes_per_element);
+    const std::vector<std::vector<std::size_t>> faces =
+        npe == 8 ? std::vector<std::vector<std::size_t>>{{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                                         {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}
+                 : std::vector<std::vector<std::size_t>>{{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+    for (std::size_t e = 0; npe > 0 && e + npe <= m.connectivity.size(); e += npe) {
+      auto node = [&](std::size_t k) {
+        return m.nodes[static_cast<std::size_t>(m.connectivity[e + k])];
+      };
+      Vec3 x{0, 0, 0};
+      for (std::size_t k = 0; k < npe; ++k)
+        for (int d = 0; d < 3; ++d)
+          x[d] += node(k)[d] / Real(npe);
+      Real reach = std::numeric_limits<Real>::infinity();
+      for (const auto& f : faces) {
+        Real s = 0;
+        for (int d = 0; d < dim; ++d) {
+          Real centre = 0;
+          for (const std::size_t k : f)
+            centre += node(k)[d] / Real(f.size());
+          s += (centre - x[d]) * (centre - x[d]);
+        }
+        reach = std::min(reach, std::sqrt(s));
+      }
+      if (inside(x) || distance_to_region(x, r, dim) < reach - tol) return true;
+    }
+    return false;
+  };
+  auto bodies_overlap = [&](std::size_t a, std::size_t b) {
+    const mesh::SolidElements *ma = mesh_of(a), *mb = mesh_of(b);
+    if (ma && mb) return false;
+    if (ma) return mesh_in_region(*ma, c.parts[b].region);
+    if (mb) return mesh_in_region(*mb, c.parts[a].region);
+    return overlap(c.parts[a].region, c.parts[b].region, dim);
+  };
+
   // Bodies must not overlap (e.g. the plate "at 0.5 m depth" read as its top face).
   for (std::size_t a = 0; a < c.parts.size(); ++a)
     for (std::size_t b = a + 1; b < c.parts.size(); ++b)
-      if (!carves(a, b) && !carves(b, a) && overlap(c.parts[a].region, c.parts[b].region, dim)) {
+      if (!carves(a, b) && !carves(b, a) && bodies_overlap(a, b)) {
         if (errors_.full()) {
           errors_.suppress();  // counted, not formatted: thousands of parts give millions
           continue;

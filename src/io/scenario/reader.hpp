@@ -201,6 +201,7 @@ class Builder {
   void read_contacts(Config& c, const SourceLocation& top);
   void read_probes(Config& c, const SourceLocation& top);
   void read_probe_axis(Config& c, const toml::table& t, const SourceLocation& w);
+  void read_lining_axis(Config& c, const toml::table& t, const SourceLocation& w);
 
   toml::table& root_;
   std::string file_;

@@ -726,9 +726,10 @@ const TableSchema& fem_boundary_schema() {
 
 TableSchema make_fem_load() {
   TableSchema t{"parts.fem.loads",
-                "A load on the boundary faces of one face of the part's bounding box, applied as "
-                "nodal forces on the current (deformed) faces every step; its work is the part's "
-                "external work. Faces of eroded elements are no longer loaded.",
+                "A load on the boundary faces of one face of the part's bounding box (or of a "
+                "mesh group), applied as nodal forces on the current (deformed) faces every "
+                "step; its work is the part's external work. Faces of eroded elements are no "
+                "longer loaded.",
                 {},
                 {},
                 {}};
@@ -737,9 +738,13 @@ TableSchema make_fem_load() {
                       "pressure: a pressure history p(t), positive pushing into the body, on "
                       "each loaded face: f = -p A n (A the face's current area, 2D: length x "
                       "1 m; n its outward normal), shared equally by the face's nodes.")),
-      required(choice("face", {"left", "right", "bottom", "top", "back", "front"},
-                      "The face of the part's bounding box whose boundary faces are loaded: "
-                      "left/right = x min/max, bottom/top = y min/max, back/front = z min/max.")),
+      choice("face", {"left", "right", "bottom", "top", "back", "front"},
+             "The face of the part's bounding box whose boundary faces are loaded: "
+             "left/right = x min/max, bottom/top = y min/max, back/front = z min/max. Give "
+             "face or group."),
+      text("group",
+           "A physical group of the mesh file (lines in 2D, surfaces in 3D): its boundary "
+           "faces are loaded, curved or not (a tunnel's wall). Not with region."),
       absent_means_unset(sub("region", KeyType::Table, region_schema(),
                              "Only the faces whose centre (at t = 0) lies in this box are "
                              "loaded; the box's extent along the face normal is not used. "
@@ -982,6 +987,24 @@ TableSchema make_probes() {
                    "Unset: the first detonation point of the first sph part that has one, else "
                    "the full model's horizontal centre (on the domain's symmetry planes: the "
                    "corner of a quarter model)."),
+              KeyType::RealArray),
+      text("lining",
+           "The fem part measured as a tunnel's lining (src/solver/lining_probe.hpp): history.csv "
+           "columns lining_crown_radial_m, lining_springline_radial_m, lining_invert_radial_m "
+           "(the inner wall's displacement away from the axis, at the nodes nearest the cross-"
+           "section through lining_axis_point_m: the highest, the one furthest across, the "
+           "lowest); summary.json lining_crown_displacement_max_m (the largest outward radial "
+           "displacement of the crown over the steps) and _min_m (the largest inward), the same "
+           "for springline and invert, lining_damage_max, lining_damaged_volume_m3 (elements "
+           "with damage >= 0.5 or eroded, volume at t = 0, the full model's: x 2 per plane of "
+           "symmetry), lining_eroded_elements."),
+      of_type(real("lining_axis_point_m", "m",
+                   "A point on the tunnel's axis, where the gauges' cross-section is (e.g. the "
+                   "charge's centre). Required with lining."),
+              KeyType::RealArray),
+      of_type(real("lining_axis_direction", "1",
+                   "3D: the direction of the tunnel's axis, horizontal ([x, y, 0]). Unset: "
+                   "[0, 1, 0], along y. In 2D the axis is perpendicular to the plane."),
               KeyType::RealArray),
   };
   return t;

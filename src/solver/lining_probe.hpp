@@ -1,0 +1,61 @@
+// A tunnel lining's measurements ([probes] lining; docs/theory.md "Probes"): the radial
+// displacement of its inner wall at the crown, springline and invert, its damage and erosion.
+//
+// The tunnel's axis is a line (probes.lining_axis_point_m, along probes.lining_axis_direction in
+// 3D; in 2D perpendicular to the plane through the point). The gauges sit in the cross-section
+// through the axis point: of the lining's nodes nearest that section (at t = 0; 2D: all), those
+// on the inner wall (within 1e-3 of the smallest distance from the axis), the crown being the
+// highest, the invert the lowest and the springline the one furthest across (the last axis is
+// vertical; across: the horizontal direction perpendicular to the axis, the side the model
+// has, +x when it has both). A gauge's value is the node's displacement along its outward
+// radial direction at t = 0 (positive: the wall moves away from the axis).
+//
+// history.csv: lining_crown_radial_m, lining_springline_radial_m, lining_invert_radial_m.
+// summary.json: lining_crown_displacement_max_m (the largest outward radial displacement of the
+// crown over the steps; the paper's "maximum radial deformation at the crown"),
+// lining_crown_displacement_min_m (the largest inward, negative), the same for springline and
+// invert, lining_damage_max (over the live elements), lining_damaged_volume_m3 (the volume at
+// t = 0 of the elements whose damage is at least 0.5, eroded ones included, the full model's:
+// x 2 per plane of symmetry of the domain) and lining_eroded_elements (of the model).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "io/scenario/config.hpp"
+#include "solver/part_names.hpp"
+
+namespace crater::solver {
+
+template <int D>
+class LiningProbe {
+ public:
+  /// Finds the gauges' nodes from the lining's state at t = 0.
+  LiningProbe(const io::Config& config, const std::vector<std::unique_ptr<Part<D>>>& parts);
+
+  std::vector<std::string> history_columns() const;
+  std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  /// After each step: the gauges' extremes.
+  void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts);
+  void metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+               std::vector<Diagnostic>& m) const;
+
+  void save(parts::StateWriter& w) const;
+  void load(parts::StateReader& r);
+
+ private:
+  static constexpr int kGauges = 3;  // crown, springline, invert
+  // Gauge g's radial displacement now (NaN: no node).
+  Real radial(const Part<D>& lining, int g) const;
+
+  std::size_t part_ = 0;
+  Real mirror_factor_ = 1;
+  std::array<Index, kGauges> node_{-1, -1, -1};
+  std::array<Vec<D>, kGauges> outward_{};
+  std::array<Real, kGauges> max_{}, min_{};
+  std::vector<Real> volume0_;  // per element, at t = 0
+};
+
+}  // namespace crater::solver
