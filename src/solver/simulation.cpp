@@ -254,6 +254,7 @@ class Run {
     if (!(dt > 0) || !std::isfinite(dt))
       throw NumericalError(lim.part.empty() ? "?" : lim.part, lim.detail.entity_id, t,
                            fmt::format("stable time step is {} ({})", lim.dt_s, lim.detail.reason));
+    below_min_dt(dt, lim);
     // Land exactly on output times and on the end time.
     bool at_frame = false;
     if (t + dt >= st_.next_frame_t - t_eps) {
@@ -264,6 +265,15 @@ class Run {
     st_.dt_min = std::min(st_.dt_min, dt);
     st_.dt_max = std::max(st_.dt_max, dt);
     return {dt, at_frame};
+  }
+
+  // time.min_dt_s: a step below it ends the run, naming what limits it.
+  void below_min_dt(Real dt, const StepLimit<D>& lim) const {
+    if (!c_.time.min_dt_s || !(dt < *c_.time.min_dt_s)) return;
+    throw NumericalError(lim.part.empty() ? "?" : lim.part, lim.detail.entity_id, st_.t,
+                         fmt::format("the time step {:.4g} s fell below time.min_dt_s = {:.4g} s "
+                                     "(stable step {:.4g} s: {})",
+                                     dt, *c_.time.min_dt_s, lim.dt_s, lim.detail.reason));
   }
 
   // Multi-rate stepping: the plan of the first cycle from the initial state, and the share of
@@ -287,6 +297,10 @@ class Run {
       throw NumericalError(lim.part.empty() ? "?" : lim.part, lim.detail.entity_id, st_.t,
                            fmt::format("stable time step is {} ({})", lim.dt_s, lim.detail.reason));
     }
+    // The plan's step, not the cycle's (shortened to land on an output time).
+    if (c_.time.min_dt_s && st_.rate_base_step_s < *c_.time.min_dt_s)
+      below_min_dt(st_.rate_base_step_s,
+                   smallest_stable_step(parts_, &coupling_, c_.time.safety_factor));
     // The output time after this cycle's end, as record_step will set it.
     const Real frame_after =
         cy.at_frame

@@ -29,6 +29,11 @@ KEEP = {
         ("[[parts.fem.boundary]]", "components",
          "unset means every component is imposed (the schema's help says so); the reader sets "
          "them only when the key is given"),
+    ("src/io/scenario/config.hpp", "ProbesConfig", "lining_axis_direction"):
+        ("[probes]", "lining_axis_direction",
+         "unset means along y (the schema's help says so): a schema default would put the key "
+         "into every scenario's [probes], where the reader refuses it without probes.lining; "
+         "the reader sets it only when the key is given"),
 }
 
 

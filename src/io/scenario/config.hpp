@@ -32,7 +32,10 @@ struct TimeConfig {
   Real safety_factor{};
   std::optional<Real> fixed_dt_s;
   SourceLocation fixed_dt_where;  // for the "step above the stable limit" error
-  Index max_steps{};              // 0: no limit
+  // The run stops (exit 3, the limiting part and entity named) when the step falls below this
+  // (a collapsing element or particle would otherwise hold the run at a crawl); unset: never.
+  std::optional<Real> min_dt_s;
+  Index max_steps{};  // 0: no limit
   // Multi-rate stepping (solver/multi_rate.hpp): on, and the largest ratio of a part's step
   // to the smallest (a power of two).
   bool multi_rate{};

@@ -152,6 +152,7 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.time.safety_factor = num(tt, "safety_factor");
   c.time.fixed_dt_s = opt_num(tt, "fixed_dt_s");
   c.time.fixed_dt_where = loc(tt, "fixed_dt_s", top);
+  c.time.min_dt_s = opt_num(tt, "min_dt_s");
   c.time.max_steps = tt.get("max_steps")->as_integer()->get();
   c.time.multi_rate = tt.get("multi_rate")->as_boolean()->get();
   c.time.multi_rate_max_ratio = tt.get("multi_rate_max_ratio")->as_integer()->get();

@@ -39,6 +39,11 @@ TableSchema make_time() {
       positive(real("fixed_dt_s", "s",
                     "Use this step instead of the computed one. Rejected if it exceeds the "
                     "stable step (the limiting part is named). Unset: computed every step.")),
+      positive(real("min_dt_s", "s",
+                    "Stop the run (exit 3, the last state written, the part and entity that "
+                    "limit the step named) when the step falls below this: an element or "
+                    "particle that collapses would otherwise hold the whole run at a crawl "
+                    "(LS-DYNA's TSMIN). With multi_rate: the finest part's step. Unset: never.")),
       with_default(at_least(whole("max_steps", "Stop after this many steps (0: no limit)."), 0),
                    "0"),
       with_default(flag("multi_rate",
