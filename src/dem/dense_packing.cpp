@@ -84,15 +84,7 @@ class Disks final : public detail::Deposition<2, Disks, 16> {
       if ((g.x - ga.x).norm() <= ga.r + g.r + 2 * r) in_way.push_back(static_cast<std::size_t>(j));
     });
     std::size_t last_in_way = 0;
-    auto free_at = [&](const V2& x) {
-      if (!clear_of(in_way[last_in_way], x, r)) return false;
-      for (std::size_t k = 0; k < in_way.size(); ++k)
-        if (!clear_of(in_way[k], x, r)) {
-          last_in_way = k;
-          return false;
-        }
-      return fits_box(x, r);
-    };
+    auto free_at = [&](const V2& x) { return fits_among(in_way, last_in_way, x, r); };
     std::optional<V2> best;
     std::array<V2, 2> pts;
     for (const std::size_t j : reach) {

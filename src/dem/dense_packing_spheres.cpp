@@ -174,15 +174,7 @@ class Spheres final : public Deposition<3, Spheres, 8> {
       in_way.push_back(static_cast<std::size_t>(j));
     });
     std::size_t last_in_way = 0;
-    auto free_at = [&](const V3& x) {
-      if (!clear_of(in_way[last_in_way], x, r)) return false;
-      for (std::size_t k = 0; k < in_way.size(); ++k)
-        if (!clear_of(in_way[k], x, r)) {
-          last_in_way = k;
-          return false;
-        }
-      return fits_box(x, r);
-    };
+    auto free_at = [&](const V3& x) { return fits_among(in_way, last_in_way, x, r); };
     for (const Support& s : supports_) {
       const Locus l = locus(s, r);
       const Real gap = l.plane ? std::abs(l.n.dot(ga.x) - l.c) : (l.p - ga.x).norm() - l.R;

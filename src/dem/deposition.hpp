@@ -179,6 +179,20 @@ class Deposition {
     return !((x - g.x).squaredNorm() < (r + g.r - eps_) * (r + g.r - eps_));
   }
 
+  // Whether a grain of radius r fits at x, a place touching an open grain: in the box, clear of
+  // the bodies and of the grains `in_way` (all that can overlap such a place), the one that was
+  // last in the way (index `last` into in_way, updated) tried first.
+  bool fits_among(const std::vector<std::size_t>& in_way, std::size_t& last, const V& x,
+                  Real r) const {
+    if (!clear_of(in_way[last], x, r)) return false;
+    for (std::size_t k = 0; k < in_way.size(); ++k)
+      if (!clear_of(in_way[k], x, r)) {
+        last = k;
+        return false;
+      }
+    return fits_box(x, r);
+  }
+
   // Whether a grain of radius r fits at x: wholly in the box, clear of the bodies and of every
   // grain.
   bool fits(const V& x, Real r) const {
