@@ -333,6 +333,8 @@ class FemPart final : public parts::Part<D> {
     return en;
   }
 
+  const std::vector<Vec<D>>& points() const override { return mesh_.position; }
+
   parts::Geometry<D> geometry() const override {
     parts::Geometry<D> g;
     g.points = &mesh_.position;

@@ -147,6 +147,9 @@ class Part {
 
   /// For writers: point/cell geometry and the fields carrying the output role.
   virtual Geometry<D> geometry() const = 0;
+  /// The points' current positions (particles, or nodes) without building the cells: for a
+  /// probe that reads a few entities per step. Valid until the part's next stage.
+  virtual const std::vector<Vec<D>>& points() const { return *geometry().points; }
   virtual std::vector<fields::FieldView> point_fields() const = 0;
   virtual std::vector<fields::FieldView> cell_fields() const { return {}; }
 

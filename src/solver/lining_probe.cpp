@@ -103,6 +103,7 @@ LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_p
     if (node_[at(k)] >= 0) {
       const Vec<D>& o = off[at(node_[at(k)])];
       outward_[at(k)] = o.norm() > 0 ? Vec<D>(o / o.norm()) : Vec<D>::Zero();
+      x0_[at(k)] = ref(node_[at(k)]);
     }
   // Element volumes at t = 0.
   const Index ne = static_cast<Index>(g.offsets.size());
@@ -119,13 +120,14 @@ LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_p
 
 template <int D>
 Real LiningProbe<D>::radial(const Part<D>& lining, int g) const {
+  // The node alone, not the part's displacement field: this runs every step.
   const Index i = node_[at(g)];
-  const auto* disp = field(lining.point_fields(), "displacement");
-  if (i < 0 || !disp) return kNaN;
-  Real u = 0;
+  if (i < 0) return kNaN;
+  const Vec<D> u = lining.points()[at(i)] - x0_[at(g)];
+  Real r = 0;
   for (int d = 0; d < D; ++d)
-    u += disp->real_data[at(i) * D + static_cast<std::size_t>(d)] * outward_[at(g)][d];
-  return u;
+    r += u[d] * outward_[at(g)][d];
+  return r;
 }
 
 template <int D>

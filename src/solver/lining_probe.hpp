@@ -54,6 +54,7 @@ class LiningProbe {
   Real mirror_factor_ = 1;
   std::array<Index, kGauges> node_{-1, -1, -1};
   std::array<Vec<D>, kGauges> outward_{};
+  std::array<Vec<D>, kGauges> x0_{};  // the gauge nodes' positions at t = 0
   std::array<Real, kGauges> max_{}, min_{};
   std::vector<Real> volume0_;  // per element, at t = 0
 };
