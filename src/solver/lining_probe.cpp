@@ -7,9 +7,11 @@
 #include <limits>
 #include <string_view>
 
+#include "core/error.hpp"
 #include "core/index.hpp"
 #include "fem/element_geometry.hpp"
 #include "io/checkpoint/checkpoint.hpp"
+#include "io/output/atomic_file.hpp"
 
 namespace crater::solver {
 namespace {
@@ -27,7 +29,7 @@ const fields::FieldView* field(const std::vector<fields::FieldView>& views, std:
 
 template <int D>
 LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_ptr<Part<D>>>& parts)
-    : part_(*c.probes.lining) {
+    : part_(*c.probes.lining), soil_(c.probes.lining_soil) {
   for (const parts::Face f : c.domain.symmetry_planes) {
     (void)f;
     mirror_factor_ *= 2;
@@ -105,6 +107,7 @@ LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_p
       outward_[at(k)] = o.norm() > 0 ? Vec<D>(o / o.norm()) : Vec<D>::Zero();
       x0_[at(k)] = ref(node_[at(k)]);
     }
+  if (soil_ && node_[0] >= 0) find_crown_line(c, *parts[*soil_], x0_[0], r_in);
   // Element volumes at t = 0.
   const Index ne = static_cast<Index>(g.offsets.size());
   volume0_.assign(at(ne), 0);
@@ -116,6 +119,41 @@ LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_p
       xe[at(k)] = ref(static_cast<Index>(g.connectivity[at(first + k)]));
     volume0_[at(e)] = std::max(Real(0), fem::uniform_strain_gradients<D>(xe).volume);
   }
+}
+
+template <int D>
+void LiningProbe<D>::find_crown_line(const io::Config& c, const Part<D>& soil, const Vec<D>& c0,
+                                     Real r_in) {
+  const auto* disp = field(soil.point_fields(), "displacement");
+  const auto& xn = soil.points();
+  const Real tol = Real(1e-3) * r_in;
+  std::vector<std::pair<Real, Index>> found;  // (height above the crown, node)
+  for (Index i = 0; i < static_cast<Index>(xn.size()); ++i) {
+    Vec<D> r = xn[at(i)] - c0;
+    if (disp)
+      for (int d = 0; d < D; ++d)
+        r[d] -= disp->real_data[at(i) * D + static_cast<std::size_t>(d)];
+    const Real h = r[D - 1];
+    r[D - 1] = 0;
+    if (h >= -tol && r.norm() <= tol) found.emplace_back(h, i);
+  }
+  if (found.empty())
+    throw InputError({c.file, 0, 0}, "probes.lining_soil",
+                     fmt::format("part '{}' has no node on the crown line (the vertical through "
+                                 "the lining's crown gauge, above it, within {:g} m): its mesh "
+                                 "needs a column of nodes there",
+                                 soil.name(), tol));
+  std::sort(found.begin(), found.end());
+  for (const auto& [h, i] : found) {
+    line_node_.push_back(i);
+    Vec<D> x = xn[at(i)];
+    if (disp)
+      for (int d = 0; d < D; ++d)
+        x[d] -= disp->real_data[at(i) * D + static_cast<std::size_t>(d)];
+    line_x0_.push_back(x);
+  }
+  line_max_.assign(line_node_.size(), 0);
+  line_min_.assign(line_node_.size(), 0);
 }
 
 template <int D>
@@ -135,6 +173,10 @@ std::vector<std::string> LiningProbe<D>::history_columns() const {
   std::vector<std::string> out;
   for (const char* n : kGaugeNames)
     out.push_back(fmt::format("lining_{}_radial_m", n));
+  if (!line_node_.empty()) {
+    out.emplace_back("soil_crown_line_interface_up_m");
+    out.emplace_back("soil_crown_line_surface_up_m");
+  }
   return out;
 }
 
@@ -144,6 +186,11 @@ std::vector<Real> LiningProbe<D>::history_values(
   std::vector<Real> out;
   for (int g = 0; g < kGauges; ++g)
     out.push_back(radial(*parts[part_], g));
+  if (!line_node_.empty()) {
+    const auto& xs = parts[*soil_]->points();
+    for (const std::size_t k : {std::size_t{0}, line_node_.size() - 1})
+      out.push_back(xs[at(line_node_[k])][D - 1] - line_x0_[k][D - 1]);
+  }
   return out;
 }
 
@@ -155,11 +202,18 @@ void LiningProbe<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& par
     max_[at(g)] = std::max(max_[at(g)], u);
     min_[at(g)] = std::min(min_[at(g)], u);
   }
+  if (line_node_.empty()) return;
+  const auto& xs = parts[*soil_]->points();
+  for (std::size_t k = 0; k < line_node_.size(); ++k) {
+    const Real up = xs[at(line_node_[k])][D - 1] - line_x0_[k][D - 1];
+    line_max_[k] = std::max(line_max_[k], up);
+    line_min_[k] = std::min(line_min_[k], up);
+  }
 }
 
 template <int D>
 void LiningProbe<D>::metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                             std::vector<Diagnostic>& m) const {
+                             const std::filesystem::path& dir, std::vector<Diagnostic>& m) const {
   for (int g = 0; g < kGauges; ++g) {
     if (node_[at(g)] < 0) continue;
     m.push_back({fmt::format("lining_{}_displacement_max_m", kGaugeNames[at(g)]), max_[at(g)]});
@@ -182,6 +236,24 @@ void LiningProbe<D>::metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
       Diagnostic{"lining_damaged_volume_m3", damaged * mirror_factor_},
       Diagnostic{"lining_eroded_elements", static_cast<Real>(eroded_count)}};
   m.insert(m.end(), whole.begin(), whole.end());
+  if (line_node_.empty()) return;
+  const std::size_t last = line_node_.size() - 1;
+  for (const auto& [name, k] : {std::pair<const char*, std::size_t>{"interface", 0},
+                                std::pair<const char*, std::size_t>{"surface", last}}) {
+    m.push_back({fmt::format("soil_crown_line_{}_displacement_max_m", name), line_max_[k]});
+    m.push_back({fmt::format("soil_crown_line_{}_displacement_min_m", name), line_min_[k]});
+  }
+  const auto& xs = parts[*soil_]->points();
+  std::string csv =
+      "node,z_m,depth_m,above_crown_m,up_displacement_max_m,up_displacement_min_m,"
+      "up_displacement_m\n";
+  const Real top = line_x0_[last][D - 1];
+  for (std::size_t k = 0; k <= last; ++k) {
+    const Real z0 = line_x0_[k][D - 1];
+    csv += fmt::format("{},{},{},{},{},{},{}\n", line_node_[k], z0, top - z0, z0 - x0_[0][D - 1],
+                       line_max_[k], line_min_[k], xs[at(line_node_[k])][D - 1] - z0);
+  }
+  io::write_file_atomic(dir / "crown_line.csv", csv);
 }
 
 template <int D>
@@ -191,6 +263,10 @@ void LiningProbe<D>::save(parts::StateWriter& w) const {
     w.value(max_[at(g)]);
     w.value(min_[at(g)]);
   }
+  for (std::size_t k = 0; k < line_node_.size(); ++k) {
+    w.value(line_max_[k]);
+    w.value(line_min_[k]);
+  }
 }
 
 template <int D>
@@ -199,6 +275,10 @@ void LiningProbe<D>::load(parts::StateReader& r) {
   for (int g = 0; g < kGauges; ++g) {
     r.value(max_[at(g)]);
     r.value(min_[at(g)]);
+  }
+  for (std::size_t k = 0; k < line_node_.size(); ++k) {
+    r.value(line_max_[k]);
+    r.value(line_min_[k]);
   }
 }
 

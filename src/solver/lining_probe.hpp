@@ -17,10 +17,18 @@
 // invert, lining_damage_max (over the live elements), lining_damaged_volume_m3 (the volume at
 // t = 0 of the elements whose damage is at least 0.5, eroded ones included, the full model's:
 // x 2 per plane of symmetry of the domain) and lining_eroded_elements (of the model).
+//
+// With probes.lining_soil, the soil along the crown line: its nodes (at t = 0) on the vertical
+// through the crown gauge's node, above it, within 1e-3 of the inner radius (none: exit 2).
+// Per node, the upward displacement's extremes over the steps; crown_line.csv at the end;
+// history.csv soil_crown_line_interface_up_m and _surface_up_m (the lowest and the highest
+// node); summary.json soil_crown_line_{interface,surface}_displacement_{max,min}_m.
 #pragma once
 
 #include <array>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,7 +47,8 @@ class LiningProbe {
   std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
   /// After each step: the gauges' extremes.
   void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts);
-  void metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+  /// Into m, and crown_line.csv into dir (with lining_soil).
+  void metrics(const std::vector<std::unique_ptr<Part<D>>>& parts, const std::filesystem::path& dir,
                std::vector<Diagnostic>& m) const;
 
   void save(parts::StateWriter& w) const;
@@ -49,6 +58,8 @@ class LiningProbe {
   static constexpr int kGauges = 3;  // crown, springline, invert
   // Gauge g's radial displacement now (NaN: no node).
   Real radial(const Part<D>& lining, int g) const;
+  // The soil's nodes on the crown line, from the crown gauge's position at t = 0 (c0).
+  void find_crown_line(const io::Config& c, const Part<D>& soil, const Vec<D>& c0, Real r_in);
 
   std::size_t part_ = 0;
   Real mirror_factor_ = 1;
@@ -57,6 +68,12 @@ class LiningProbe {
   std::array<Vec<D>, kGauges> x0_{};  // the gauge nodes' positions at t = 0
   std::array<Real, kGauges> max_{}, min_{};
   std::vector<Real> volume0_;  // per element, at t = 0
+  // Crown line (lining_soil): the soil's nodes from the lining up, their positions at t = 0
+  // and their upward displacement's extremes.
+  std::optional<std::size_t> soil_;
+  std::vector<Index> line_node_;
+  std::vector<Vec<D>> line_x0_;
+  std::vector<Real> line_max_, line_min_;
 };
 
 }  // namespace crater::solver

@@ -303,7 +303,7 @@ std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part
   std::vector<Diagnostic> m;
   if (cfg_.plate) plate_metrics(parts, m);
   if (cfg_.soil) ground_metrics(parts, dir, m);
-  if (lining_) lining_->metrics(parts, m);
+  if (lining_) lining_->metrics(parts, dir, m);
   return m;
 }
 

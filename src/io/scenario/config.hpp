@@ -186,6 +186,8 @@ struct ProbesConfig {
   // A tunnel's lining (an fem part; src/solver/lining_probe.hpp), its axis through
   // lining_axis_point_m along lining_axis_direction (3D; 2D: perpendicular to the plane).
   std::optional<std::size_t> lining;
+  // The soil around it (an fem part): its displacement along the crown line.
+  std::optional<std::size_t> lining_soil;
   std::array<Real, 3> lining_axis_point_m{};
   std::array<Real, 3> lining_axis_direction{0, 1, 0};
   bool any() const { return plate || soil || lining; }

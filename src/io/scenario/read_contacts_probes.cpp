@@ -134,6 +134,13 @@ void Builder::read_probes(Config& c, const SourceLocation& top) {
   c.probes.plate = part("plate", Method::Fem);
   c.probes.soil = part("soil", Method::Dem);
   c.probes.lining = part("lining", Method::Fem);
+  c.probes.lining_soil = part("lining_soil", Method::Fem);
+  if (c.probes.lining_soil && !c.probes.lining)
+    error(loc(t, "lining_soil", w), "probes.lining_soil",
+          "only used with probes.lining (the crown line starts at the lining's crown)");
+  if (c.probes.lining_soil && c.probes.lining && *c.probes.lining_soil == *c.probes.lining)
+    error(loc(t, "lining_soil", w), "probes.lining_soil",
+          "expected the part around the lining, not the lining itself");
   read_lining_axis(c, t, w);
   read_probe_axis(c, t, w);
   if (c.probes.plate && c.probes.stress_time_s > c.end_time_s)

@@ -1003,6 +1003,15 @@ TableSchema make_probes() {
            "for springline and invert, lining_damage_max, lining_damaged_volume_m3 (elements "
            "with damage >= 0.5 or eroded, volume at t = 0, the full model's: x 2 per plane of "
            "symmetry), lining_eroded_elements."),
+      text("lining_soil",
+           "With lining: the fem part around it, measured along the crown line (the vertical "
+           "through the crown gauge's node, upwards, at t = 0) at the nodes it has on that line "
+           "(within 1e-3 of the lining's inner radius; the run stops with exit 2 if there are "
+           "none): crown_line.csv (per node, from the lining up: height, depth below the "
+           "highest, the largest and smallest upward displacement over the steps, the last); "
+           "history.csv columns soil_crown_line_interface_up_m and soil_crown_line_surface_up_m "
+           "(the lowest and highest of those nodes); summary.json "
+           "soil_crown_line_interface_displacement_max_m / _min_m and the same for surface."),
       of_type(real("lining_axis_point_m", "m",
                    "A point on the tunnel's axis, where the gauges' cross-section is (e.g. the "
                    "charge's centre). Required with lining."),
