@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <stdexcept>
 
 #include "contact/penalty.hpp"
 #include "parallel/parallel.hpp"
@@ -15,7 +16,19 @@ Pairing<D>::Pairing(const ContactSettings& settings, std::size_t points, std::si
     : settings_(settings),
       points_(points),
       other_(other),
-      name_(parts[points]->name() + "-" + parts[other]->name()) {}
+      name_(parts[points]->name() + "-" + parts[other]->name()) {
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::string& group = settings.surface_group[k];
+    if (group.empty()) continue;
+    const std::size_t part = settings.parts[k];
+    const auto* nodes = parts[part]->group_nodes(group);
+    const auto surface = parts[part]->contact_surface();
+    if (!nodes || !surface)  // the scenario reader checks both
+      throw std::logic_error("contact '" + name_ + "': part '" + parts[part]->name() +
+                             "' has no surface group '" + group + "'");
+    filter_[part == points ? 0 : 1] = SurfaceFilter<D>(*nodes, surface->node_position->size());
+  }
+}
 
 template <int D>
 void Pairing<D>::restart(std::size_t n_points, std::size_t n_other) {

@@ -6,13 +6,16 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "contact/settings.hpp"
+#include "contact/surface_filter.hpp"
 #include "core/index.hpp"
 #include "core/types.hpp"
 #include "parts/part.hpp"
@@ -133,8 +136,17 @@ class Pairing {
     load_.known = true;
   }
 
+  /// The surface of side 0 (`points`) or 1 (`other`) as this contact sees it: the part's own,
+  /// or its faces in the contact's group (surface_filter.hpp). None: the part has no surface.
+  std::optional<parts::ContactSurface<D>> surface_of(const PartList<D>& parts, int side) const {
+    const auto s = parts[side == 0 ? points_ : other_]->contact_surface();
+    if (!s) return s;
+    return filter_[at(side)].view(*s);
+  }
+
   ContactSettings settings_;
   std::size_t points_, other_;
+  std::array<SurfaceFilter<D>, 2> filter_;  // of side 0 (points) and 1 (other)
   std::string name_;
   ContactSums<D> last_;      // of the last apply()
   mutable SpringSums load_;  // from the last apply() (load_.known) or found afresh

@@ -99,7 +99,7 @@ void ParticleSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits
   const auto pts = parts[this->points_]->contact_points();
   if (!pts || pts->mass->empty()) return;
   const Real m_min = lightest_particle(*pts);
-  const auto surf = parts[this->other_]->contact_surface();
+  const auto surf = this->surface_of(parts, 1);
   if (!surf || surf->face_stiffness->empty()) return;
   const Real k_max = this->settings_.penalty_scale *
                      *std::max_element(surf->face_stiffness->begin(), surf->face_stiffness->end());
@@ -130,7 +130,7 @@ void ParticleSurface<D>::add_load(const parts::ContactSurface<D>& surf, const Hi
 template <int D>
 void ParticleSurface<D>::measure_load(const PartList<D>& parts) const {
   const auto pts = parts[this->points_]->contact_points();
-  const auto surf = parts[this->other_]->contact_surface();
+  const auto surf = this->surface_of(parts, 1);
   this->measure(pts->position->size(), surf->node_position->size(),
                 particle_face_hits(*pts, *surf, &kept_), [&](const Hit& h) { add_load(*surf, h); });
 }
@@ -139,7 +139,7 @@ template <int D>
 void ParticleSurface<D>::apply(const PartList<D>& parts, Real dt_s, ContactForces<D>& out) {
   constexpr int kF = parts::kFaceNodes<D>;
   const auto pts = parts[this->points_]->contact_points();
-  const auto surf = parts[this->other_]->contact_surface();
+  const auto surf = this->surface_of(parts, 1);
   const auto& faces = *surf->faces;
   const Index np = static_cast<Index>(pts->position->size());
   this->restart(at(np), surf->node_position->size());

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 
 #include "core/types.hpp"
 
@@ -18,6 +19,9 @@ struct ContactSettings {
   // Per part (as `parts`): Young's modulus E = 2 G (1 + nu) of its granular material [Pa], the
   // stiffness of particle-particle contacts against its grains; 0 when it has none.
   std::array<Real, 2> grain_modulus_pa{};
+  // Per part (as `parts`): the group of its mesh file the contact is restricted to
+  // (surface_filter.hpp); empty: its whole surface.
+  std::array<std::string, 2> surface_group{};
 };
 
 }  // namespace crater::contact

@@ -73,8 +73,8 @@ ContactSums<D> node_surface(const ContactSettings& settings, const Side<D>& a, c
 
 template <int D>
 void SurfaceSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits) const {
-  const auto sa = parts[this->points_]->contact_surface();
-  const auto sb = parts[this->other_]->contact_surface();
+  const auto sa = this->surface_of(parts, 0);
+  const auto sb = this->surface_of(parts, 1);
   if (!sa || !sb || sa->face_stiffness->empty() || sb->face_stiffness->empty()) return;
   const Real k_max =
       this->settings_.penalty_scale *
@@ -107,8 +107,8 @@ void SurfaceSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits)
 
 template <int D>
 void SurfaceSurface<D>::measure_load(const PartList<D>& parts) const {
-  const auto sa = parts[this->points_]->contact_surface();
-  const auto sb = parts[this->other_]->contact_surface();
+  const auto sa = this->surface_of(parts, 0);
+  const auto sb = this->surface_of(parts, 1);
   this->load_.points.assign(sa->node_position->size(), 0);
   this->load_.other.assign(sb->node_position->size(), 0);
   const Side<D> a{*sa, this->load_.points, nullptr}, b{*sb, this->load_.other, nullptr};
@@ -119,8 +119,8 @@ void SurfaceSurface<D>::measure_load(const PartList<D>& parts) const {
 
 template <int D>
 void SurfaceSurface<D>::apply(const PartList<D>& parts, Real /*dt_s*/, ContactForces<D>& out) {
-  const auto sa = parts[this->points_]->contact_surface();
-  const auto sb = parts[this->other_]->contact_surface();
+  const auto sa = this->surface_of(parts, 0);
+  const auto sb = this->surface_of(parts, 1);
   this->restart(sa->node_position->size(), sb->node_position->size());
   const Side<D> a{*sa, this->load_.points, &out.force[this->points_]},
       b{*sb, this->load_.other, &out.force[this->other_]};

@@ -123,6 +123,8 @@ class FemPart final : public parts::Part<D> {
     apply_symmetry_planes(pc);
     for (const auto& l : settings.fem.loads)
       add_pressure_load(source, l);
+    for (auto& [name, set] : source.groups)  // for contacts restricted to a group
+      group_nodes_.emplace(name, std::move(set.nodes));
     if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
     impose_velocities();
 
@@ -252,6 +254,11 @@ class FemPart final : public parts::Part<D> {
     });
     // Multi-rate: the next step may start with other contact forces than this one ended with.
     next_contact_.finished([&](const auto& f, const auto&) { contact_force_ = f; });
+  }
+
+  const std::vector<Index>* group_nodes(const std::string& group) const override {
+    const auto it = group_nodes_.find(group);
+    return it == group_nodes_.end() ? nullptr : &it->second;
   }
 
   std::optional<parts::ContactSurface<D>> contact_surface() const override {
@@ -750,6 +757,7 @@ class FemPart final : public parts::Part<D> {
   std::vector<Index> surface_element_;
   std::vector<Real> surface_stiffness_;
   std::uint64_t surface_revision_ = 0;
+  std::map<std::string, std::vector<Index>> group_nodes_;  // the mesh file's physical groups
   ForceReport last_;
   Real dt_pending_ = 0;  // the step the nodes moved by since the last force evaluation
   bool stale_ = true;    // the nodes moved since then

@@ -172,6 +172,11 @@ class Part {
   /// particles, else empty) and act in finish_step() and the next advance() like the part's own.
   virtual std::optional<ContactPoints<D>> contact_points() const { return std::nullopt; }
   virtual std::optional<ContactSurface<D>> contact_surface() const { return std::nullopt; }
+  /// The nodes of a named group of the part's mesh file, ascending (null: no such group), for
+  /// a contact restricted to it.
+  virtual const std::vector<Index>* group_nodes(const std::string& /*group*/) const {
+    return nullptr;
+  }
   virtual void add_contact_forces(const std::vector<Vec<D>>& /*force*/,
                                   const std::vector<AxialVec<D>>& /*torque*/) {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +

@@ -82,6 +82,7 @@ std::vector<contact::ContactSettings> contact_settings(const io::Config& config)
     s.penalty_scale = c.penalty_scale;
     s.friction = c.friction;
     s.damping_ratio = c.damping_ratio;
+    s.surface_group = c.surface_groups;
     for (std::size_t k = 0; k < 2; ++k) {
       const auto& g = config.materials[config.parts[c.parts[k]].material].granular;
       s.grain_modulus_pa[k] = 2 * g.shear_modulus_pa * (1 + g.poisson_ratio);

@@ -169,6 +169,8 @@ struct ContactConfig {
   Real penalty_scale{};                // s of the penalty stiffness
   Real friction{};                     // Coulomb coefficient between the two parts
   Real damping_ratio{};                // fraction of critical damping of the normal penalty
+  // Per part (as `parts`): the mesh group the contact is restricted to; empty: the whole surface
+  std::array<std::string, 2> surface_groups{};
   SourceLocation where;
 };
 

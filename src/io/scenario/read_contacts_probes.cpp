@@ -59,12 +59,53 @@ void Builder::read_contacts(Config& c, const SourceLocation& top) {
                         "particles, or two fem surfaces; '{}' and '{}' are {} and {}",
                         c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, method_name(methods[0]),
                         method_name(methods[1])));
+    read_surface_groups(c, t, w, key, k);
     for (const auto& other : c.contacts)
       if (std::minmax(other.parts[0], other.parts[1]) == std::minmax(k.parts[0], k.parts[1]))
         error(pw, key + ".parts",
               fmt::format("a second contact between '{}' and '{}' (first at line {})",
                           c.parts[k.parts[0]].name, c.parts[k.parts[1]].name, other.where.line));
     c.contacts.push_back(k);
+  }
+}
+
+// [[contacts]] surface_groups: per part, a physical group of its mesh file (or "").
+void Builder::read_surface_groups(const Config& c, const toml::table& t, const SourceLocation& w,
+                                  const std::string& key, ContactConfig& k) {
+  const toml::node* gn = t.get("surface_groups");
+  if (!gn) return;
+  const auto& groups = *gn->as_array();
+  const SourceLocation gw = loc(t, "surface_groups", w);
+  if (groups.size() != 2) {
+    error(gw, key + ".surface_groups",
+          fmt::format("expected two names, one per part in the order of parts (\"\": the whole "
+                      "surface), got {}",
+                      groups.size()));
+    return;
+  }
+  for (std::size_t j = 0; j < 2; ++j) {
+    const std::string g = groups.get(j)->as_string()->get();
+    if (g.empty()) continue;
+    const PartConfig& p = c.parts[k.parts[j]];
+    const std::string gk = fmt::format("{}.surface_groups[{}]", key, j);
+    if (!p.is(Method::Fem) || p.fem().mesh_file.empty()) {
+      error(gw, gk,
+            fmt::format("part '{}' {}: a surface group is a physical group of an fem part's "
+                        "mesh_file; give \"\" for its whole surface",
+                        p.name, p.is(Method::Fem) ? "has no mesh_file" : "is not an fem part"));
+      continue;
+    }
+    const auto& mesh = p.fem().elements;
+    if (mesh && !mesh->groups.count(g)) {
+      std::string known;
+      for (const auto& [name, set] : mesh->groups)
+        known += (known.empty() ? "'" : ", '") + name + "'";
+      error(gw, gk,
+            fmt::format("no physical group '{}' with nodes of part '{}' in {} (groups: {})", g,
+                        p.name, p.fem().mesh_file, known.empty() ? "none" : known));
+      continue;
+    }
+    k.surface_groups[j] = g;
   }
 }
 

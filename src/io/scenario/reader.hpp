@@ -202,6 +202,8 @@ class Builder {
   void read_probes(Config& c, const SourceLocation& top);
   void read_probe_axis(Config& c, const toml::table& t, const SourceLocation& w);
   void read_lining_axis(Config& c, const toml::table& t, const SourceLocation& w);
+  void read_surface_groups(const Config& c, const toml::table& t, const SourceLocation& w,
+                           const std::string& key, ContactConfig& k);
 
   toml::table& root_;
   std::string file_;

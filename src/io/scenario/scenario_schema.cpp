@@ -937,6 +937,17 @@ TableSchema make_contact() {
   t.keys = {
       required(of_type(text("parts", "The two parts, by name, e.g. [\"charge\", \"plate\"]."),
                        KeyType::StringArray)),
+      repeats_allowed(of_type(
+          text("surface_groups",
+               "Per part, in the order of parts: a physical group of the fem part's mesh file "
+               "(surfaces in 3D, lines in 2D) the contact is restricted to: the faces of the "
+               "part's surface whose nodes are all in the group, and their nodes (a tunnel's "
+               "lining against the soil by [\"lining_outer\", \"soil_inner\"], not by the "
+               "lining's inner wall or the soil's far faces). \"\": the part's whole surface, "
+               "and for a particle part. Faces that erosion exposes count when their nodes are "
+               "in the group: a contact that must follow erosion through a wall keeps the whole "
+               "surface. Unset: the whole surfaces."),
+          KeyType::StringArray)),
       with_default(positive(real("penalty_scale", "1",
                                  "Scale s of the penalty stiffness: particle-surface k = s K A^2 / "
                                  "V of the face's element (K its bulk modulus, A the face area, V "

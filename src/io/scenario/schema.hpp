@@ -67,6 +67,9 @@ struct KeySchema {
   // Table: when absent, it is created (so that its defaults apply) unless this is set; then
   // absence means "not given" (e.g. a material without [materials.damage]).
   bool absent_means_unset = false;
+  // StringArray: the same string may appear more than once (e.g. one group for each of two
+  // parts); otherwise each is listed once.
+  bool repeats = false;
 };
 
 /// A table's keys. A table with a discriminator (e.g. `model` of a material) has common keys

@@ -75,6 +75,10 @@ inline KeySchema whole(std::string name, std::string doc) {
 inline KeySchema flag(std::string name, std::string doc) {
   return of_type(real(std::move(name), "", std::move(doc)), KeyType::Bool);
 }
+inline KeySchema repeats_allowed(KeySchema k) {
+  k.repeats = true;
+  return k;
+}
 inline KeySchema absent_means_unset(KeySchema k) {
   k.absent_means_unset = true;
   return k;

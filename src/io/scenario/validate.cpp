@@ -152,7 +152,7 @@ void check_string_list(const toml::node& node, const KeySchema& k, const std::st
     if (choices && std::find(k.choices.begin(), k.choices.end(), s->get()) == k.choices.end())
       errors.emplace_back(w, kp,
                           "expected one of " + join(k.choices) + ", got \"" + s->get() + "\"");
-    else if (!seen.insert(s->get()).second)
+    else if (!seen.insert(s->get()).second && !k.repeats)
       errors.emplace_back(w, kp, "\"" + s->get() + "\" is listed twice");
   }
 }

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -47,7 +48,8 @@ class StubPart final : public parts::Part<D> {
   std::vector<Real> node_m;
   std::vector<std::array<Index, parts::kFaceNodes<D>>> faces;
   std::vector<Index> face_element;
-  std::vector<Real> face_k;  // K A^2 / V [N/m]
+  std::vector<Real> face_k;                          // K A^2 / V [N/m]
+  std::map<std::string, std::vector<Index>> groups;  // mesh groups: their nodes
   // The last add_contact_forces().
   std::vector<Vec<D>> force;
   std::vector<AxialVec<D>> torque;
@@ -91,6 +93,10 @@ class StubPart final : public parts::Part<D> {
     s.face_element = &face_element;
     s.face_stiffness = &face_k;
     return s;
+  }
+  const std::vector<Index>* group_nodes(const std::string& group) const override {
+    const auto it = groups.find(group);
+    return it == groups.end() ? nullptr : &it->second;
   }
   void add_contact_forces(const std::vector<Vec<D>>& f,
                           const std::vector<AxialVec<D>>& t) override {
@@ -349,6 +355,39 @@ TEST(ContactSurfaceSurface, NodeBehindAFaceIsPushedOutWithTheSmallerStiffness) {
   const parts::StableStep s = c.stable_step(parts);
   const Real expected = 0.5 / std::sqrt(k / 0.5);
   EXPECT_NEAR(s.dt_s, expected, kRel * expected);
+}
+
+// [[contacts]] surface_groups: a group holding both nodes of the lower face keeps the contact
+// as it was, bit for bit; one holding a single node leaves the lower part no face in the
+// contact (and so no node of its own either): no force on anyone.
+TEST(ContactSurfaceSurface, AGroupRestrictsTheContactToTheFacesWhollyInIt) {
+  const Real delta = 1e-3;
+  auto forces = [&](const std::string& group, Real& pairs) {
+    auto parts = two_surfaces(-delta);
+    stub(parts, 0).groups = {{"top", {0, 1}}, {"corner", {0}}};
+    ContactSettings s = settings(0, 1, 0.1, 0.4);
+    s.surface_group = {group, ""};
+    Coupling<2> c({s}, parts);
+    c.apply(parts, 0);
+    pairs = diagnostic(c.diagnostics(), "contact_lower-upper_pairs");
+    std::vector<Vec<2>> f = stub(parts, 0).force;
+    for (const auto& x : stub(parts, 1).force)
+      f.push_back(x);
+    return f;
+  };
+  Real pairs_all = 0, pairs_top = 0, pairs_corner = 0;
+  const auto all = forces("", pairs_all);
+  const auto top = forces("top", pairs_top);
+  const auto corner = forces("corner", pairs_corner);
+  EXPECT_EQ(pairs_all, 2);
+  EXPECT_EQ(pairs_top, 2);
+  EXPECT_EQ(pairs_corner, 0);
+  ASSERT_EQ(all.size(), top.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_NE(all[i], Vec<2>::Zero());
+    EXPECT_EQ(top[i], all[i]);
+    EXPECT_EQ(corner[i], Vec<2>::Zero());
+  }
 }
 
 TEST(ContactSurfaceSurface, NoForceWhenInFront) {
