@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <span>
+#include <utility>
 
 #include "core/index.hpp"
 #include "neighbors/neighbor_list.hpp"
@@ -124,14 +125,23 @@ std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
   const auto& xb = *faces_of.node_position;
   const auto& faces = *faces_of.faces;
   // The surface nodes of `nodes_of` that carry mass, ascending, with the stiffest of their
-  // own faces.
-  std::vector<Real> node_k(xa.size(), 0);
+  // own faces: from its faces, not from every node of the part (most are inside).
+  std::vector<std::pair<Index, Real>> own;
+  own.reserve(nodes_of.faces->size() * kF);
   for (std::size_t f = 0; f < nodes_of.faces->size(); ++f)
     for (Index n : (*nodes_of.faces)[f])
-      node_k[at(n)] = std::max(node_k[at(n)], (*nodes_of.face_stiffness)[f]);
+      own.emplace_back(n, (*nodes_of.face_stiffness)[f]);
+  std::sort(own.begin(), own.end());  // a node's faces together, its stiffest last
   std::vector<Index> nodes;
-  for (std::size_t n = 0; n < xa.size(); ++n)
-    if (node_k[n] > 0 && (*nodes_of.node_mass)[n] > 0) nodes.push_back(static_cast<Index>(n));
+  std::vector<Real> node_k;
+  for (std::size_t q = 0; q < own.size(); ++q) {
+    if (q + 1 < own.size() && own[q + 1].first == own[q].first) continue;
+    const auto [n, k] = own[q];
+    if (k > 0 && (*nodes_of.node_mass)[at(n)] > 0) {
+      nodes.push_back(n);
+      node_k.push_back(k);
+    }
+  }
   std::vector<FaceHit<D>> hits(nodes.size());
   const Index nf = static_cast<Index>(faces.size());
   if (nf == 0 || nodes.empty()) return hits;
@@ -190,7 +200,7 @@ std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
           best.where = fp;
           best.n = nf_out;
           best.overlap = -s;
-          best.k = std::min((*faces_of.face_stiffness)[at(f)], node_k[at(best.body)]);
+          best.k = std::min((*faces_of.face_stiffness)[at(f)], node_k[at(i)]);
         }
         hits[at(i)] = best;
       },
