@@ -90,10 +90,11 @@ class Report(unittest.TestCase):
             self.assertRegex(text, rf"\| {p['name']} \| {p['method']} \| {p['count']} \|")
         # default snapshots: four output times spread over the run, the first and last included
         self.assertIn("Snapshots at 0 ms, 0.05 ms, 0.15 ms, 0.2 ms;", text)
-        # a 2D run gets none of the 3D maps: its file list is what it was before them
+        # a 2D run gets none of the 3D maps: its file list is what it was before them, with the
+        # damage snapshots of its plate (Johnson-Cook damage)
         self.assertEqual(sorted(p.name for p in (self.scene / "report").iterdir()), [
-            "energy.png", "report.md", "snapshots_parts.png", "snapshots_pressure.png",
-            "snapshots_velocity.png", "snapshots_von_mises.png"])
+            "energy.png", "report.md", "snapshots_damage.png", "snapshots_parts.png",
+            "snapshots_pressure.png", "snapshots_velocity.png", "snapshots_von_mises.png"])
 
     def test_times_and_out(self):
         out = self.work / "elsewhere"
@@ -119,11 +120,18 @@ class Report(unittest.TestCase):
         shutil.copytree(self.scene, run, ignore=shutil.ignore_patterns("report"))
         with open(self.scene / "history.csv") as f:
             rows = list(csv.reader(f))
-        rows[0].append("plate_max_von_mises_pa")
+        # and a tunnel lining's gauges (probes.lining, lining_soil) with its crown line
+        rows[0] += ["plate_max_von_mises_pa", "lining_crown_radial_m",
+                    "lining_springline_radial_m", "soil_crown_line_interface_up_m"]
         for i, row in enumerate(rows[1:]):
-            row.append(str(1e6 * i))
+            row += [str(1e6 * i), str(1e-3 * i), str(1.2e-3 * i), str(0.8e-3 * i)]
         with open(run / "history.csv", "w", newline="") as f:
             csv.writer(f).writerows(rows)
+        with open(run / "crown_line.csv", "w") as f:
+            f.write("node,z_m,depth_m,above_crown_m,up_displacement_max_m,"
+                    "up_displacement_min_m,up_displacement_m\n")
+            for k, h in enumerate((0.35, 1.0, 3.0, 10.35)):
+                f.write(f"{k},{3.4 + h},{10.35 - h},{h},{0.02 / (1 + h)},0,{0.01 / (1 + h)}\n")
         x = np.linspace(0.0, 1.0, 41)
         with open(run / "surface_profile.csv", "w") as f:
             f.write("x_m,vertical_displacement_m\n")
@@ -136,7 +144,7 @@ class Report(unittest.TestCase):
         p = report(run)
         self.assertEqual(p.returncode, 0, p.stderr)
         text = self.assert_valid_report(run / "report", [
-            "von_mises_history.png", "surface_profile.png"])
+            "von_mises_history.png", "surface_profile.png", "lining.png"])
         self.assertRegex(text, r"\| `plate_peak_von_mises_pa` \| 2\.5e\+08 .*\| Pa \|")
         self.assertRegex(text, r"\| `crater_depth_m` \| 0\.12 \| m \|")
         self.assertRegex(text, r"\| `plate_perforated` \| no \|")

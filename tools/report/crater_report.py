@@ -15,9 +15,12 @@ surface_profile.csv. Written into OUT (default DIR/report/):
   snapshots_velocity.png    ... coloured by speed;
   snapshots_pressure.png    ... by pressure (SPH and FEM; grains grey);
   snapshots_von_mises.png   ... by von Mises stress (FEM; the other parts grey);
+  snapshots_damage.png      ... by damage (FEM parts with a damage model; the others grey);
   energy.png                the energy balance of history.csv (and each part's total);
   von_mises_history.png     the <part>_max_von_mises_pa columns of history.csv, if any;
   surface_profile.png       the ground surface of surface_profile.csv, if present;
+  lining.png                a tunnel lining's gauges (probes.lining) from history.csv, and the
+                            soil along the crown line of crown_line.csv, if present;
   plate_from_below.png      3D: the FEM plate's underside over x-y by von Mises stress, eroded
                             elements hatched, at the last frame (and the one nearest
                             probes.stress_time_s), mirrored through the symmetry planes;
@@ -56,15 +59,17 @@ SNAPSHOT_FILES = {
     "velocity": "snapshots_velocity.png",
     "pressure": "snapshots_pressure.png",
     "von_mises": "snapshots_von_mises.png",
+    "damage": "snapshots_damage.png",
 }
 ENERGY_FILE = "energy.png"
 VON_MISES_HISTORY_FILE = "von_mises_history.png"
 SURFACE_FILE = "surface_profile.png"
+LINING_FILE = "lining.png"
 PLATE_FILE = "plate_from_below.png"
 CRATER_MAP_FILE = "crater_map.png"
 REPORT_FILE = "report.md"
 OUR_FILES = [*SNAPSHOT_FILES.values(), ENERGY_FILE, VON_MISES_HISTORY_FILE, SURFACE_FILE,
-             PLATE_FILE, CRATER_MAP_FILE, REPORT_FILE]
+             LINING_FILE, PLATE_FILE, CRATER_MAP_FILE, REPORT_FILE]
 
 DEFAULT_SNAPSHOTS = 4
 PLATE_CAPTION = (
@@ -479,6 +484,8 @@ def fem_state(grid, name, plane):
     for key in ("pressure", "von_mises"):
         if key in cell_arrays and len(cell_arrays[key]) == len(polygons):
             st.values[key] = np.asarray(cell_arrays[key], float)[keep] / 1e6
+    if "damage" in cell_arrays and len(cell_arrays["damage"]) == len(polygons):
+        st.values["damage"] = np.asarray(cell_arrays["damage"], float)[keep]
     return st
 
 
@@ -535,7 +542,20 @@ QUANTITIES = {
     "velocity": ("speed", "speed [m/s]", "viridis"),
     "pressure": ("pressure", "pressure [MPa]", "inferno"),
     "von_mises": ("von Mises stress", "von Mises stress [MPa]", "plasma"),
+    "damage": ("damage", "damage D (1: failed)", "YlOrRd"),
 }
+# The tunnel lining's gauges (probes.lining) in history.csv, and the soil's on the crown line.
+LINING_GAUGES = [("lining_crown_radial_m", "crown", "tab:red"),
+                 ("lining_springline_radial_m", "springline", "tab:blue"),
+                 ("lining_invert_radial_m", "invert", "tab:green")]
+CROWN_LINE_GAUGES = [("soil_crown_line_interface_up_m", "soil above the crown: at the lining"),
+                     ("soil_crown_line_surface_up_m", "soil above the crown: at the ground")]
+LINING_CAPTION = (
+    "Left: the radial displacement of the lining's inner wall at the gauges of probes.lining "
+    "(outward positive), and the upward displacement of the soil on the crown line at the "
+    "lining and at the ground (probes.lining_soil). Right, with probes.lining_soil: the soil's "
+    "upward displacement along the crown line, its largest over the run and at the end "
+    "(crown_line.csv).")
 
 
 def state_extent(st):
@@ -587,6 +607,8 @@ def colour_range(states, key):
     v = v[np.isfinite(v)]
     if not len(v):
         return None
+    if key == "damage":
+        return 0.0, 1.0
     # the extremes of a few elements or particles would wash out everything else
     lo, hi = np.percentile(v, [0.5, 99.5])
     if key != "pressure":
@@ -763,6 +785,44 @@ def von_mises_history_figure(path, hist, columns, title):
     ax.grid(alpha=0.3)
     ax.legend(title="part", fontsize=8)
     ax.set_title(f"{title}: peak von Mises stress over the plate")
+    save_png(fig, path)
+
+
+def lining_figure(path, hist, line, title):
+    """The lining's gauges over time (and the soil's on the crown line); with crown_line.csv,
+    the soil's displacement along the crown line."""
+    t = np.array(hist["time_s"]) * 1e3
+    profile = line is not None and {"above_crown_m", "up_displacement_max_m",
+                                     "up_displacement_m"} <= line.keys() and line["above_crown_m"]
+    fig, axes = plt.subplots(1, 2 if profile else 1, figsize=(12 if profile else 7.5, 4.5),
+                             squeeze=False, constrained_layout=True)
+    ax = axes[0][0]
+    for col, label, colour in LINING_GAUGES:
+        if col in hist:
+            ax.plot(t, np.array(hist[col]) * 100, color=colour, lw=1.6, label=label)
+    for (col, label), ls in zip(CROWN_LINE_GAUGES, ("--", ":")):
+        if col in hist:
+            ax.plot(t, np.array(hist[col]) * 100, color="0.35", lw=1.3, ls=ls, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("displacement [cm]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title("lining: radial displacement of the inner wall")
+    if profile:
+        ax = axes[0][1]
+        h = np.array(line["above_crown_m"])
+        ax.plot(np.array(line["up_displacement_max_m"]) * 100, h, "o-", color="tab:red", lw=1.4,
+                ms=3, label="largest over the run")
+        ax.plot(np.array(line["up_displacement_m"]) * 100, h, "s--", color="0.35", lw=1.2, ms=3,
+                label="at the end")
+        ax.axvline(0.0, color="0.6", lw=0.8)
+        ax.set_xlabel("upward displacement [cm]")
+        ax.set_ylabel("height above the crown [m]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        ax.set_title("soil on the crown line (crown_line.csv)")
+    fig.suptitle(title)
     save_png(fig, path)
 
 
@@ -1443,6 +1503,10 @@ def main(argv):
         if vm:
             von_mises_history_figure(out_dir / VON_MISES_HISTORY_FILE, hist, vm, title)
             figures.append(("Peak von Mises stress of the plate", VON_MISES_HISTORY_FILE))
+        if any(col in hist for col, _, _ in LINING_GAUGES):
+            lining_figure(out_dir / LINING_FILE, hist, read_csv_columns(run_dir / "crown_line.csv"),
+                          title)
+            figures.append(("The tunnel lining's gauges", LINING_FILE, LINING_CAPTION))
     elif hist is None:
         warn(f"{run_dir / 'history.csv'}: absent; no energy history")
 
