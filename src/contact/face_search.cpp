@@ -20,13 +20,15 @@ FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf) {
   const auto& faces = *surf.faces;
   FaceCentres<D> out;
   out.centre.resize(faces.size());
+  out.half.assign(faces.size(), 0);
   for (std::size_t f = 0; f < faces.size(); ++f) {
     Vec<D> c = Vec<D>::Zero();
     for (Index n : faces[f])
       c += xn[at(n)] / Real(kF);
     out.centre[f] = c;
     for (Index n : faces[f])
-      out.half_size = std::max(out.half_size, (xn[at(n)] - c).norm());
+      out.half[f] = std::max(out.half[f], (xn[at(n)] - c).norm());
+    out.half_size = std::max(out.half_size, out.half[f]);
   }
   return out;
 }
@@ -75,7 +77,14 @@ std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
         FaceHit<D> best;
         best.body = i;
         for (Index f : candidates.of(i)) {
-          if (search_distance_sq<D>(centre[at(f)], x) > reach_sq) continue;  // a kept list's margin
+          const Real d2 = search_distance_sq<D>(centre[at(f)], x);
+          if (d2 > reach_sq) continue;  // a kept list's margin
+          // A face the particle overlaps has its closest point within r of the centre and
+          // within the face's own half size of its centre: the others cannot be the hit
+          // (their overlap is not positive), so they are passed over before that work (the
+          // factor covers the rounding of the distances).
+          const Real own = (fc.half[at(f)] + r) * Real(1 + 1e-9);
+          if (d2 > own * own) continue;
           std::array<Vec<D>, kF> fx;
           for (int q = 0; q < kF; ++q)
             fx[at(q)] = xn[at(faces[at(f)][at(q)])];

@@ -24,10 +24,12 @@ struct FaceHit {
   Real k = 0;                 // node against face: penalty stiffness without the scale [N/m]
 };
 
-/// The centres of a surface's faces and the largest distance of a face node from its centre.
+/// The centres of a surface's faces, each face's largest distance of one of its nodes from its
+/// centre, and the largest of those.
 template <int D>
 struct FaceCentres {
   std::vector<Vec<D>> centre;
+  std::vector<Real> half;
   Real half_size = 0;
 };
 template <int D>
