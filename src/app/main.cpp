@@ -164,7 +164,9 @@ struct CommandLine {
         "--resume", resume_dir,
         "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/), with the "
         "scenario, --level, --set and --threads it was started with (DIR/crater-command.toml) "
-        "unless given again");
+        "unless given again; --set given now follow the run's own. A finished run ends on a "
+        "checkpoint: extend it with --set scenario.end_time_s=LATER (only the end time, the "
+        "step cap, the guards and the outputs but their interval may change)");
     run->add_option("--restart", restart_file,
                     "Continue from this checkpoint file, into --out (a new or emptied directory: "
                     "the earlier frames and history are carried over) or, without --out, into "
@@ -224,7 +226,12 @@ void resolve_run(CommandLine& cl, int argc, char** argv) {
       const io::RunCommand was = io::read_run_command(cl.resume_dir);
       if (cl.scenario.empty())
         cl.scenario = std::filesystem::exists(was.scenario_file) ? was.scenario_file : was.scenario;
-      if (cl.sets.empty() && cl.level.empty()) cl.sets = was.sets, cl.level = was.level;
+      // The run's own overrides first, then the ones given now: the keys a continued run may
+      // change (the end time, the outputs; load.cpp's kRunControlKeys), e.g. to extend it.
+      if (cl.level.empty()) cl.level = was.level;
+      std::vector<std::string> sets = was.sets;
+      sets.insert(sets.end(), cl.sets.begin(), cl.sets.end());
+      cl.sets = std::move(sets);
       if (cl.run->count("--threads") == 0) opt.threads = was.threads;
     }
   } else if (!cl.restart_file.empty()) {

@@ -198,7 +198,7 @@ void write_checkpoint(const io::Config& c, io::RunManifest& manifest, const Loop
   const fs::path cdir = manifest.dir() / "checkpoints";
   fs::create_directories(cdir);
   io::write_checkpoint(cdir / fmt::format("step_{:012d}.ckpt", st.steps),
-                       {D, c.hash, static_cast<std::int64_t>(st.steps), st.t}, w.bytes());
+                       {D, c.state_hash, static_cast<std::int64_t>(st.steps), st.t}, w.bytes());
   // Keep the newest checkpoint_keep files.
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(cdir)) {

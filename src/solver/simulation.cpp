@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <limits>
 #include <tuple>
 
@@ -89,6 +90,12 @@ class Run {
     loop_start_s_ = elapsed();
     set_activity(Activity::TimeLoop);  // an allocation that fails from here on exits 3 (main.cpp)
     loop(progress);
+    if (c_.output.checkpoint_at_end) {
+      // The last state, before the probes finish: --resume with a later end time extends it.
+      out_->flush();
+      if (c_.time.multi_rate) st_.rate_carried = multi_rate_.carried();
+      write_checkpoint<D>(c_, *manifest_, st_, *out_, parts_, probes_);
+    }
     stamp();
     progress.finish(r_.steps, st_.t, st_.dt);
     out_->flush();
@@ -105,12 +112,22 @@ class Run {
     std::string payload;
     const io::CheckpointHeader h = io::read_checkpoint(opt_.restart, payload);
     parts::StateReader rd(payload, opt_.restart.string());
-    if (h.dimension != D || h.scenario_hash != c_.hash)
-      rd.fail(
-          fmt::format("it was written for another scenario (hash {} vs {} of this one, "
-                      "after defaults and --set; resume with the same file and overrides)",
-                      h.scenario_hash, c_.hash));
+    if (h.dimension != D || h.scenario_hash != c_.state_hash)
+      rd.fail(fmt::format(
+          "it was written for another scenario (state hash {} vs {} of this one, after "
+          "defaults and --set; resume with the same file and overrides: only "
+          "scenario.end_time_s, time.max_steps, time.min_dt_s, the energy guard's keys and the "
+          "[output] keys but interval_s may change)",
+          h.scenario_hash, c_.state_hash));
     st_.load(rd);
+    // The end time may have changed (a finished run extended): the next frame is the next
+    // multiple of the interval, as if the run had always been going to this end time.
+    st_.next_frame_t = frame_time(st_.frame);
+    if (!(st_.t < c_.end_time_s - t_eps()))
+      rd.fail(
+          fmt::format("the run is already at t = {:.6g} s, not before scenario.end_time_s = "
+                      "{:.6g} s (extend it with --set scenario.end_time_s=LATER)",
+                      st_.t, c_.end_time_s));
     if (c_.time.multi_rate) {
       try {
         multi_rate_.restore(st_.rate_carried);
@@ -133,10 +150,9 @@ class Run {
     std::string history = history_at_checkpoint(opt_, from, history_bytes, same_dir);
     if (!same_dir) io::prepare_new_run_directory(opt_.out_dir, opt_.force);
     manifest_ = std::make_unique<io::RunManifest>(opt_.out_dir);
-    if (!same_dir) {
-      carry_frames(from, *manifest_, pvd);
-      io::write_run_command(opt_.out_dir, opt_.command);
-    }
+    if (!same_dir) carry_frames(from, *manifest_, pvd);
+    // The command as continued (its --set may extend the run): a later --resume takes it.
+    io::write_run_command(opt_.out_dir, opt_.command);
     manifest_->record(io::kCommandName);
     const bool fresh_history = history.empty();
     out_ = std::make_unique<Outputs<D>>(
@@ -179,13 +195,13 @@ class Run {
     out_->frame(parts_, st_.t, "000000");
     out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
                   history_values(per, coupling_, probes_, parts_));
-    st_.next_frame_t = std::min(c_.output.interval_s, c_.end_time_s);
+    st_.next_frame_t = frame_time(1);
   }
 
   // The steps to the end time; a numerical failure writes the last state (<part>_failure.vtu)
   // and a failed summary, a failed write (a full disk) a failed summary when there is room.
   void loop(Progress& progress) {
-    const Real t_eps = 1e-12 * c_.end_time_s;
+    const Real t_eps = this->t_eps();
     try {
       while (st_.t < c_.end_time_s - t_eps &&
              (c_.time.max_steps == 0 || r_.steps < c_.time.max_steps)) {
@@ -233,6 +249,20 @@ class Run {
       throw;
     }
   }
+
+  // The time of output frame k: k intervals, rounded to 15 significant decimal digits (a relative
+  // change below 1e-15, well inside t_eps), or the end time if that is sooner (clip_to_end). The
+  // rounding makes k x 1e-5 = 6.000000000000001e-05 the 6e-5 an end time is written as, so a run
+  // that ended there and is extended lands its steps as one run to the later end time does.
+  Real frame_time(Index k, bool clip_to_end = true) const {
+    const Real exact = c_.output.interval_s * static_cast<Real>(k);
+    const Real rounded = std::strtod(fmt::format("{:.14e}", exact).c_str(), nullptr);
+    return clip_to_end ? std::min(rounded, c_.end_time_s) : rounded;
+  }
+
+  // Two times closer than this are the same output time. A fraction of the interval, not of the
+  // end time: a run extended to a later end time lands its steps as one run there would.
+  Real t_eps() const { return 1e-12 * c_.output.interval_s; }
 
   // The next step's length, and whether it lands on an output time (shortened to it).
   std::pair<Real, bool> next_step(Real t_eps) {
@@ -283,7 +313,7 @@ class Run {
     st_.rate_ratio = plan.ratio;
     st_.rate_base_step_s = plan.h;
     st_.part_steps.assign(parts_.size(), 0);
-    const Real t_eps = 1e-12 * c_.end_time_s;
+    const Real t_eps = this->t_eps();
     multi_rate_.start(parts_, coupling_, make_cycle(plan, st_.t, st_.next_frame_t, t_eps).ratio);
   }
 
@@ -301,11 +331,13 @@ class Run {
     if (c_.time.min_dt_s && st_.rate_base_step_s < *c_.time.min_dt_s)
       below_min_dt(st_.rate_base_step_s,
                    smallest_stable_step(parts_, &coupling_, c_.time.safety_factor));
-    // The output time after this cycle's end, as record_step will set it.
-    const Real frame_after =
-        cy.at_frame
-            ? std::min(c_.output.interval_s * static_cast<Real>(st_.frame + 1), c_.end_time_s)
-            : st_.next_frame_t;
+    // The output time after this cycle's end, as record_step will set it; after the run's last
+    // cycle, the one a run to a later end time would have next (the plan decided here is in the
+    // checkpoint that extends the run).
+    const bool run_ends = cy.t_end >= c_.end_time_s - t_eps;
+    const Real frame_after = !cy.at_frame ? st_.next_frame_t
+                             : run_ends   ? frame_time(st_.frame + 1, false)
+                                          : frame_time(st_.frame + 1);
     auto decide = [&] {
       const RatePlan plan = multi_rate_.plan(parts_, coupling_);
       st_.rate_ratio = plan.ratio;
@@ -336,8 +368,7 @@ class Run {
     if (at_frame) {
       out_->frame(parts_, st_.t, fmt::format("{:06d}", st_.frame));
       ++st_.frame;
-      st_.next_frame_t =
-          std::min(c_.output.interval_s * static_cast<Real>(st_.frame), c_.end_time_s);
+      st_.next_frame_t = frame_time(st_.frame);
       out_->flush();
     }
   }

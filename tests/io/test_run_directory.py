@@ -110,10 +110,12 @@ class RunDirectory(unittest.TestCase):
     def test_force_clears_old_checkpoints_so_the_new_run_resumes(self):
         out = self.fresh("force_checkpoints")
         # The old run: checkpoints up to step 80. The new one: another scenario (a shorter end
-        # time), stopped at step 30 with a checkpoint at 20.
+        # time), stopped at step 30 with a checkpoint at 20 (and none at its end, so that the
+        # resume below starts from 20).
         crater("run", DEMO, "--out", out, "--quiet", *EVERY)
         self.assertTrue((out / "checkpoints" / "step_000000000080.ckpt").exists())
-        new = [*EVERY, "--set", "scenario.end_time_s=3e-5", "--set", "time.max_steps=30"]
+        new = [*EVERY, "--set", "scenario.end_time_s=3e-5", "--set", "time.max_steps=30",
+               "--set", "output.checkpoint_at_end=false"]
         crater("run", DEMO, "--out", out, "--quiet", "--force", *new)
         cks = sorted(p.name for p in (out / "checkpoints").glob("*.ckpt"))
         self.assertEqual(cks, ["step_000000000020.ckpt"])

@@ -6,8 +6,10 @@
 // then B bytes of payload: tagged blocks written by StateWriter (the loop's counters, the
 // output writers' state, each part's state in order). The checksum is FNV-1a 64 of the payload.
 // Files are written atomically (temporary file, fsync, rename). A file that is damaged, of
-// another format version or dimension, or of another scenario (its hash after defaults and
-// --set) is refused with an InputError naming the file and the reason; nothing is run then.
+// another format version or dimension, or of another scenario (its state hash after defaults
+// and --set: Config::state_hash, which leaves out the keys a continued run may change, such as
+// the end time) is refused with an InputError naming the file and the reason; nothing is run
+// then.
 #pragma once
 
 #include <cstdint>
@@ -29,7 +31,7 @@ using parts::StateWriter;
 
 struct CheckpointHeader {
   int dimension = 0;
-  std::string scenario_hash;
+  std::string scenario_hash;  // Config::state_hash of the run that wrote it
   std::int64_t step = 0;
   Real time_s = 0;
 };

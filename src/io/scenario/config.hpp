@@ -56,6 +56,7 @@ struct OutputConfig {
   Index checkpoint_every_steps{};  // 0: not by step count
   Real checkpoint_every_s{};       // wall-clock seconds; 0: not by time
   Index checkpoint_keep{};         // newest checkpoints kept in <out>/checkpoints
+  bool checkpoint_at_end{};        // a checkpoint of the last state (a run can be extended)
   Index max_frames{};              // more VTU frames than this is an input error
   Real max_bytes{};                // VTU bytes the run may write in all
   Real memory_limit_fraction{};    // of the available memory the run's estimate may take
@@ -198,6 +199,10 @@ struct ProbesConfig {
 struct Config {
   std::string file;  // path of the scenario file
   std::string hash;  // FNV-1a 64 of the effective (defaults filled) scenario, hex
+  // The same, less the keys a continued run may change (kRunControlKeys in load.cpp: the end
+  // time, the step cap, the guards, the outputs other than their interval): what a checkpoint
+  // must match to be resumed by this scenario.
+  std::string state_hash;
   std::string name;
   std::string description;
   int dimension{};

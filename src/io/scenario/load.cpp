@@ -6,10 +6,12 @@
 #include <toml++/toml.h>
 #include <unistd.h>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 
 #include "core/file_kind.hpp"
 #include "io/scenario/reader.hpp"
@@ -178,6 +180,7 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.output.checkpoint_every_steps = ot.get("checkpoint_every_steps")->as_integer()->get();
   c.output.checkpoint_every_s = num(ot, "checkpoint_every_s");
   c.output.checkpoint_keep = ot.get("checkpoint_keep")->as_integer()->get();
+  c.output.checkpoint_at_end = ot.get("checkpoint_at_end")->as_boolean()->get();
   c.output.max_frames = ot.get("max_frames")->as_integer()->get();
   c.output.max_bytes = num(ot, "max_bytes");
   c.output.memory_limit_fraction = num(ot, "memory_limit_fraction");
@@ -310,6 +313,31 @@ std::vector<Level> take_levels(toml::table& root, const std::string& file) {
   return levels;
 }
 
+// The keys a run continued from a checkpoint may change (--resume DIR --set KEY=...): they set
+// when it stops, what it checks and what it writes, never the state it continues from. The
+// output interval is not among them: the frames' times are the interval's multiples, and a run
+// lands a step on each (simulation.cpp).
+constexpr std::array<std::pair<std::string_view, std::string_view>, 6> kRunControlKeys{{
+    {"scenario", "end_time_s"},
+    {"scenario", "description"},
+    {"time", "max_steps"},
+    {"time", "min_dt_s"},
+    {"time", "energy_warn_error"},
+    {"time", "energy_stop_error"},
+}};
+
+std::string state_hash(const toml::table& root, Real interval_s) {
+  toml::table t = root;
+  for (const auto& [table, key] : kRunControlKeys)
+    if (auto* sub = t.get_as<toml::table>(table)) sub->erase(key);
+  // The outputs but their interval, which counts as used (the default follows end_time_s).
+  t.erase("output");
+  t.insert("output_interval_s", interval_s);
+  std::ostringstream os;
+  os << t;
+  return fnv1a_hex(os.str());
+}
+
 Config load_table(toml::table root, const std::string& file,
                   const std::vector<std::string>& overrides, const std::string& level) {
   const std::vector<Level> levels = take_levels(root, file);
@@ -360,6 +388,7 @@ Config load_table(toml::table root, const std::string& file,
   os << root;
   c.effective_toml = os.str();
   c.hash = fnv1a_hex(c.effective_toml);
+  c.state_hash = state_hash(root, c.output.interval_s);
   return c;
 }
 

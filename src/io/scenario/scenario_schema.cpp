@@ -104,6 +104,13 @@ TableSchema make_output() {
       with_default(
           at_least(whole("checkpoint_keep", "Newest checkpoints kept; older ones are deleted."), 1),
           "2"),
+      with_default(flag("checkpoint_at_end",
+                        "Write a checkpoint of the last state when the run stops at its end "
+                        "time or time.max_steps (like LS-DYNA's end-of-run restart dump): `crater "
+                        "run --resume DIR --set scenario.end_time_s=LATER` extends the run, "
+                        "bit for bit the same as one run to the later time when the earlier end "
+                        "time is an output time (a multiple of interval_s)."),
+                   "true"),
       with_default(at_least(whole("max_frames",
                                   "Most VTU frames a run may write (end_time_s / "
                                   "interval_s + 1); more is refused as a likely "
