@@ -3,7 +3,7 @@
 //   crater run SCENARIO --resume DIR | --restart FILE   (continue from a checkpoint)
 //   crater check SCENARIO [--level L] [--set key=value]...
 //   crater list
-//   crater schema --markdown
+//   crater schema [--markdown]
 //   crater report DIR [--out DIR] [--times T1,T2,...]   (figures and report.md of a run)
 // Exit codes: 0 done, 2 bad input (scenario, command line, run directory), 3 numerical
 // failure (NaN, negative volume, lost particle, energy guard), 130 interrupted by SIGINT or
@@ -14,6 +14,7 @@
 // available memory) is reported as "out of memory" with exit 2 during setup (loading, building
 // the parts, check) and 3 in the time loop.
 #include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -159,7 +160,8 @@ struct CommandLine {
                     "order, e.g. medium,wide); applied before --set");
     run->add_option("--set,-s", sets, "Override a scenario key: dotted.key=VALUE (TOML)");
     run->add_flag("--force,-f", opt.force, "Overwrite a run directory that already holds a run");
-    run->add_flag("--quiet,-q", opt.quiet, "No progress line");
+    run->add_flag("--quiet,-q", opt.quiet,
+                  "No progress line and no info lines; warnings and errors are still shown");
     auto* resume_opt = run->add_option(
         "--resume", resume_dir,
         "Continue the run in DIR from its newest valid checkpoint (DIR/checkpoints/), with the "
@@ -278,6 +280,8 @@ int report_failure(const std::exception_ptr& failure, const std::string& out_dir
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Log lines (info, warnings) on stderr: stdout is for what a command prints (check's table).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("crater"));
   spdlog::set_pattern("crater: %^%l%$: %v");
   CommandLine cl;
   try {
@@ -297,11 +301,12 @@ int main(int argc, char** argv) {
   try {
     if (cl.app.got_subcommand("list")) return cmd_list();
     if (cl.app.got_subcommand("schema")) {
-      fmt::print("{}", io::schema_markdown());
+      fmt::print("{}", cl.markdown ? io::schema_markdown() : io::schema_text());
       return kExitOk;
     }
     if (cl.app.got_subcommand("report")) return crater::app::cmd_report(cl.report_opt);
     if (cl.app.got_subcommand("check")) return cmd_check(cl.scenario, cl.sets, cl.level);
+    if (cl.opt.quiet) spdlog::set_level(spdlog::level::warn);
     resolve_run(cl, argc, argv);
     out_dir_for_resume = cl.opt.out_dir.string();
     if (cl.scenario.empty())

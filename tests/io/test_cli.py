@@ -37,6 +37,46 @@ class Cli(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("no bundled scenario", p.stderr)
 
+    def test_quiet_run_prints_nothing(self):
+        # Issue 28's trap: --quiet still printed two info: lines.
+        out = scratch("cli_quiet")
+        p = crater("run", "demo", "--out", out, "--force", "--quiet", "--set",
+                   "scenario.end_time_s=1e-5")
+        self.assertEqual((p.stdout, p.stderr), ("", ""))
+        # Warnings are still shown: here an output interval longer than the run.
+        short = ["--set", "scenario.end_time_s=2e-6"]
+        quiet = crater("run", "demo", "--out", out, "--force", "--quiet", *short)
+        loud = crater("run", "demo", "--out", out, "--force", *short)
+        self.assertIn("crater: info:", loud.stderr)
+        warnings = [line for line in loud.stderr.splitlines() if "warning:" in line]
+        self.assertTrue(warnings)
+        self.assertEqual(quiet.stderr.splitlines(), warnings)
+
+    def test_schema_plain_text_and_markdown(self):
+        # Issue 28's trap: `schema` and `schema --markdown` printed the same.
+        plain = crater("schema").stdout
+        md = crater("schema", "--markdown").stdout
+        self.assertNotEqual(plain, md)
+        self.assertNotIn("| key |", plain)
+        self.assertNotIn("`", plain)
+        self.assertIn("| key |", md)
+        # The same keys in both: every `name` of a Markdown row starts a plain line.
+        md_keys = re.findall(r"^\| `([a-z0-9_]+)` \|", md, re.M)
+        plain_keys = re.findall(r"^  ([a-z0-9_]+) ", plain, re.M)
+        self.assertGreater(len(md_keys), 100)
+        self.assertEqual(md_keys, plain_keys)
+        self.assertEqual(md, (SOURCE_DIR / "docs" / "scenario-format.md").read_text())
+
+    def test_make_run_builds_only_the_binary(self):
+        # Issue 28: `make run` builds the binary, not the tests and benchmarks.
+        import subprocess
+        p = subprocess.run(["make", "-n", "-C", str(SOURCE_DIR), "run"], capture_output=True,
+                           text=True)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        builds = [line for line in p.stdout.splitlines() if "cmake --build" in line]
+        self.assertEqual(len(builds), 1, p.stdout)
+        self.assertIn("--target crater_cli", builds[0])
+
     def test_dem_part_without_grains_exits_2(self):
         # Fuzzing found it: a random packing whose first grain outweighs the region's solid
         # volume placed none, and the empty part failed in the cell grid (exit 1).

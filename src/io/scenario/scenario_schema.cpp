@@ -1120,7 +1120,82 @@ void table_section(std::string& md, const TableSchema& t, bool array,
     recurse(keys);
 }
 
+// Plain text for a terminal: no Markdown marks, the meaning wrapped under each key.
+std::string plain(std::string s) {
+  std::string out;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '`') continue;
+    if (s[i] == '\\' && i + 1 < s.size() && s[i + 1] == '|') continue;
+    out += s[i];
+  }
+  return out;
+}
+
+void wrapped(std::string& out, const std::string& text, std::string_view indent) {
+  constexpr std::size_t kWidth = 96;
+  std::string line;
+  std::size_t from = 0;
+  while (from < text.size()) {
+    std::size_t to = text.find(' ', from);
+    if (to == std::string::npos) to = text.size();
+    const std::string word = text.substr(from, to - from);
+    from = to + 1;
+    if (word.empty()) continue;
+    if (!line.empty() && indent.size() + line.size() + 1 + word.size() > kWidth) {
+      out += std::string(indent) + line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+  }
+  if (!line.empty()) out += std::string(indent) + line + "\n";
+}
+
+void key_text(std::string& out, const std::vector<KeySchema>& keys) {
+  for (const auto& k : keys) {
+    std::string head = fmt::format("  {:<26} {}", k.name, plain(type_doc(k)));
+    if (!k.unit.empty() && k.unit != "1") head += " [" + k.unit + "]";
+    head += k.required ? ", required"
+                       : (k.default_toml ? ", default " + *k.default_toml : ", unset by default");
+    if (const std::string r = range_doc(k); !r.empty()) head += ", " + r;
+    out += head + "\n";
+    wrapped(out, plain(k.doc), "      ");
+  }
+  out += "\n";
+}
+
+void table_text(std::string& out, const TableSchema& t, bool array,
+                std::vector<const TableSchema*>& done) {
+  if (std::find(done.begin(), done.end(), &t) != done.end()) return;
+  done.push_back(&t);
+  out += (array ? "[[" + t.name + "]]" : "[" + t.name + "]") + "\n";
+  wrapped(out, plain(t.doc), "");
+  out += "\n";
+  key_text(out, t.keys);
+  for (const auto& [name, keys] : t.variants) {
+    out += fmt::format("  When {} = \"{}\":\n", t.discriminator, name);
+    key_text(out, keys);
+  }
+  for (const auto& k : t.keys)
+    if (k.sub) table_text(out, *k.sub, k.type == KeyType::TableArray, done);
+  for (const auto& [name, keys] : t.variants)
+    for (const auto& k : keys)
+      if (k.sub) table_text(out, *k.sub, k.type == KeyType::TableArray, done);
+}
+
 }  // namespace
+
+std::string schema_text() {
+  std::string out =
+      "crater scenario files: every key, its type, unit, default and range (SI units; TOML).\n"
+      "Unknown keys and values out of range are errors (exit 2). Override any key with --set\n"
+      "path.to.key=VALUE. The same as Markdown: crater schema --markdown "
+      "(docs/scenario-format.md).\n\n";
+  const TableSchema& root = scenario_schema();
+  std::vector<const TableSchema*> done;
+  for (const auto& k : root.keys)
+    if (k.sub) table_text(out, *k.sub, k.type == KeyType::TableArray, done);
+  return out;
+}
 
 std::string schema_markdown() {
   std::string md =

@@ -87,5 +87,7 @@ const TableSchema& scenario_schema();
 
 /// Markdown reference of every key (docs/scenario-format.md is this text).
 std::string schema_markdown();
+// The same reference as plain text for a terminal (`crater schema`).
+std::string schema_text();
 
 }  // namespace crater::io
