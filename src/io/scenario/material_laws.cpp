@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "io/scenario/schema_keys.hpp"
@@ -212,10 +213,25 @@ void read_johnson_cook(const LawInput& in, MaterialConfig& m) {
       .m = in.num("m"),
       .reference_strain_rate_1_s = in.num("reference_strain_rate_1_s"),
       .room_temperature_k = in.num("room_temperature_k"),
-      .melt_temperature_k = in.num("melt_temperature_k"),
+      // Unset: no temperature term (T* = 0 at any temperature), in the damage's D5 either.
+      .melt_temperature_k =
+          in.opt_num("melt_temperature_k").value_or(std::numeric_limits<Real>::infinity()),
       .thermal_softening = in.boolean("thermal_softening"),
       .taylor_quinney = in.num("taylor_quinney"),
-      .specific_heat_j_kg_k = in.num("specific_heat_j_kg_k")};
+      // Unset: no heating (only thermal_softening heats, and it requires the key).
+      .specific_heat_j_kg_k =
+          in.opt_num("specific_heat_j_kg_k").value_or(std::numeric_limits<Real>::quiet_NaN())};
+  // No steel defaults: a copper or aluminium plate would heat and soften as steel does.
+  bool missing = false;
+  if (p.thermal_softening)
+    for (const char* k : {"melt_temperature_k", "specific_heat_j_kg_k"})
+      if (!in.opt_num(k)) {
+        in.error(k,
+                 "missing: required with thermal_softening = true (the material's own value; "
+                 "e.g. steel 1793 K and 486 J/(kg K), copper 1356 K and 383 J/(kg K))");
+        missing = true;
+      }
+  if (missing) return;
   if (!(p.melt_temperature_k > p.room_temperature_k))
     in.error("melt_temperature_k",
              fmt::format("expected a melting temperature above room_temperature_k = {} K, got {} K",
@@ -242,11 +258,17 @@ MaterialLaw johnson_cook() {
                             "Use the (1 - T*^m) term with adiabatic heating (off in the "
                             "paper)."),
                        "false"),
-          with_default(positive(real("room_temperature_k", "K", "T_room of T*.")), "293.15"),
-          with_default(positive(real("melt_temperature_k", "K", "T_melt of T*.")), "1793.0"),
-          with_default(positive(real("specific_heat_j_kg_k", "J/(kg K)",
-                                     "Specific heat for adiabatic heating.")),
-                       "486.0"),
+          with_default(positive(real("room_temperature_k", "K",
+                                     "T_room of T*; also the temperature a part of this "
+                                     "material starts at, unless parts.fem.initial_temperature_k "
+                                     "says otherwise.")),
+                       "293.15"),
+          positive(real("melt_temperature_k", "K",
+                        "T_melt of T*. Required with thermal_softening (no steel default). "
+                        "Unset otherwise: no temperature term, in the damage's D5 either.")),
+          positive(real("specific_heat_j_kg_k", "J/(kg K)",
+                        "Specific heat for adiabatic heating. Required with thermal_softening "
+                        "(no steel default); unused otherwise.")),
           with_default(at_most(at_least(real("taylor_quinney", "1",
                                              "Fraction of plastic work turned into heat."),
                                         0),

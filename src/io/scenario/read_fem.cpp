@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <variant>
 
 #include "core/file_kind.hpp"
@@ -14,6 +15,33 @@
 
 namespace crater::io::reader {
 namespace fs = std::filesystem;
+
+// One initial temperature: the material's room_temperature_k unless the part states its own;
+// only a Johnson-Cook material has a temperature.
+void Builder::read_initial_temperature(const Config& c, const toml::table& ft,
+                                       const SourceLocation& fw, const std::string& key,
+                                       PartConfig& p) {
+  const auto* jc =
+      p.material < c.materials.size()
+          ? std::get_if<materials::JohnsonCookParams>(&c.materials[p.material].solid.strength)
+          : nullptr;
+  const std::optional<Real> t0 = opt_num(ft, "initial_temperature_k");
+  if (t0 && !jc) {
+    error(loc(ft, "initial_temperature_k", fw), key + ".fem.initial_temperature_k",
+          "not used: only a Johnson-Cook material has a temperature (unset it)");
+    return;
+  }
+  // 0 K for a law without temperature: never read.
+  p.fem().initial_temperature_k = t0 ? *t0 : jc ? jc->room_temperature_k : Real(0);
+  if (t0 && jc && *t0 != jc->room_temperature_k)
+    c_warnings_.push_back(fmt::format(
+        "part '{}' starts at {} K, not at its material's room_temperature_k = {} K: its "
+        "Johnson-Cook T* is {} from the start{}",
+        p.name, *t0, jc->room_temperature_k,
+        *t0 < jc->room_temperature_k ? "0 (clamped)" : "above 0",
+        jc->thermal_softening ? ""
+                              : " (it acts only in the damage's D5 term: no thermal_softening)"));
+}
 
 void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocation& w,
                        const std::string& key, PartConfig& p) {
@@ -25,7 +53,7 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
   f.hourglass_coefficient = num(ft, "hourglass_coefficient");
   f.bulk_viscosity_quadratic = num(ft, "bulk_viscosity_quadratic");
   f.bulk_viscosity_linear = num(ft, "bulk_viscosity_linear");
-  f.initial_temperature_k = num(ft, "initial_temperature_k");
+  read_initial_temperature(c, ft, fw, key, p);
   f.erosion_plastic_strain = opt_num(ft, "erosion_plastic_strain");
   f.erode_inverted = ft.get("erode_inverted")->as_boolean()->get();
   f.erosion_step_ratio = num(ft, "erosion_step_ratio");

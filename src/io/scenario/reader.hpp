@@ -186,6 +186,8 @@ class Builder {
                       const std::string& key, PartConfig& p);
 
   // read_fem.cpp
+  void read_initial_temperature(const Config& c, const toml::table& ft, const SourceLocation& fw,
+                                const std::string& key, PartConfig& p);
   void read_fem(const Config& c, const toml::table& t, const SourceLocation& w,
                 const std::string& key, PartConfig& p);
   void read_fem_boundaries(const toml::array& ba, const SourceLocation& fw, const std::string& key,

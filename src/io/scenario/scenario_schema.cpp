@@ -830,7 +830,10 @@ TableSchema make_fem() {
                                  "Linear bulk viscosity coefficient C_1 (LS-DYNA Q2)."),
                             0),
                    "0.06"),
-      with_default(positive(real("initial_temperature_k", "K", "Initial temperature.")), "293.15"),
+      positive(real("initial_temperature_k", "K",
+                    "Initial temperature of a Johnson-Cook part (a warning when it is not the "
+                    "material's room_temperature_k). Unset: the material's room_temperature_k. "
+                    "Other materials have no temperature (an error if set).")),
       positive(real("erosion_plastic_strain", "1",
                     "Elements erode when their effective plastic strain reaches this (as "
                     "LS-DYNA's *MAT_ADD_EROSION). Unset: only Johnson-Cook damage erodes.")),

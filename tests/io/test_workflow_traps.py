@@ -1,0 +1,49 @@
+# ctest-cost: 5
+"""Issue 28's traps of the scenario format, each removed (the bad-input halves are in
+tests/scenarios/bad/: jc_heating_without_*.toml, fem_initial_temperature_without_temperature.toml).
+
+- One initial temperature: a Johnson-Cook part starts at its material's room_temperature_k
+  (it used to start at parts.fem.initial_temperature_k's own default of 293.15 K, whatever the
+  material said); a part that states another temperature gets a warning naming both.
+"""
+import sys
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+from crater_test import SOURCE_DIR, crater, read_vtu_cells, scratch
+
+PLATE = str(Path(SOURCE_DIR) / "tests" / "data" / "fem_plate_2d.toml")
+# Copper's heating constants (Johnson & Cook 1983): the plate heats, so temperature is written.
+COPPER_HEAT = ["materials.0.thermal_softening=true", "materials.0.melt_temperature_k=1356",
+               "materials.0.specific_heat_j_kg_k=383", "scenario.end_time_s=1e-5"]
+
+
+def sets(*xs):
+    return [a for x in xs for a in ("--set", x)]
+
+
+class InitialTemperature(unittest.TestCase):
+    def first_frame_temperature(self, out):
+        return read_vtu_cells(out / "plate_000000.vtu")["temperature"]
+
+    def test_part_starts_at_its_materials_room_temperature(self):
+        out = scratch("trap_t0_room")
+        p = crater("run", PLATE, "--out", out, "--force", *sets(*COPPER_HEAT,
+                   "materials.0.room_temperature_k=300"))
+        t = self.first_frame_temperature(out)
+        self.assertTrue(np.all(t == 300.0), t[:5])
+        self.assertNotIn("room_temperature_k", p.stderr)
+
+    def test_another_start_temperature_is_warned_about(self):
+        out = scratch("trap_t0_own")
+        p = crater("run", PLATE, "--out", out, "--force", *sets(*COPPER_HEAT,
+                   "materials.0.room_temperature_k=300", "parts.0.fem.initial_temperature_k=350"))
+        self.assertTrue(np.all(self.first_frame_temperature(out) == 350.0))
+        self.assertIn("part 'plate' starts at 350 K, not at its material's "
+                      "room_temperature_k = 300 K", p.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
