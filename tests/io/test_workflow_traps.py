@@ -5,6 +5,9 @@ tests/scenarios/bad/: jc_heating_without_*.toml, fem_initial_temperature_without
 - One initial temperature: a Johnson-Cook part starts at its material's room_temperature_k
   (it used to start at parts.fem.initial_temperature_k's own default of 293.15 K, whatever the
   material said); a part that states another temperature gets a warning naming both.
+- Hourglass coefficients by form: unset, 0.1 with the viscous form (LS-DYNA's default) and 0.05
+  with the stiffness form (it used to be 0.1 for both, which stiffens large plastic flow in the
+  stiffness form): a run without the key is bit for bit the run that states that value.
 """
 import sys
 import unittest
@@ -43,6 +46,32 @@ class InitialTemperature(unittest.TestCase):
         self.assertTrue(np.all(self.first_frame_temperature(out) == 350.0))
         self.assertIn("part 'plate' starts at 350 K, not at its material's "
                       "room_temperature_k = 300 K", p.stderr)
+
+
+class HourglassDefaults(unittest.TestCase):
+    def history(self, name, text):
+        d = scratch(f"trap_hg_{name}")
+        d.mkdir(parents=True, exist_ok=True)
+        (d / "plate.toml").write_text(text)
+        crater("run", d / "plate.toml", "--out", d / "out", "--force", "--quiet")
+        return (d / "out" / "history.csv").read_bytes()
+
+    def test_each_form_has_its_own_default(self):
+        text = Path(PLATE).read_text()
+        self.assertIn('hourglass = "stiffness"\nhourglass_coefficient = 0.05\n', text)
+        for form, value in (("stiffness", "0.05"), ("viscous", "0.1")):
+            with self.subTest(form=form):
+                stated = text.replace('hourglass = "stiffness"\nhourglass_coefficient = 0.05\n',
+                                      f'hourglass = "{form}"\nhourglass_coefficient = {value}\n')
+                unset = text.replace('hourglass = "stiffness"\nhourglass_coefficient = 0.05\n',
+                                     f'hourglass = "{form}"\n')
+                other = text.replace('hourglass = "stiffness"\nhourglass_coefficient = 0.05\n',
+                                     f'hourglass = "{form}"\nhourglass_coefficient = 0.2\n')
+                self.assertEqual(self.history(f"{form}_unset", unset),
+                                 self.history(f"{form}_stated", stated))
+                # The coefficient matters in this run (the comparison can fail).
+                self.assertNotEqual(self.history(f"{form}_unset", unset),
+                                    self.history(f"{form}_other", other))
 
 
 if __name__ == "__main__":

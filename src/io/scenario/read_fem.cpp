@@ -10,6 +10,7 @@
 
 #include "core/file_kind.hpp"
 #include "io/scenario/reader.hpp"
+#include "io/scenario/schema.hpp"
 #include "mesh/gmsh.hpp"
 #include "mesh/solid_mesh.hpp"
 
@@ -50,7 +51,9 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
   const SourceLocation fw = where_of(ft, w);
   FemConfig& f = p.fem();
   f.hourglass_stiffness = str(ft, "hourglass") == "stiffness";
-  f.hourglass_coefficient = num(ft, "hourglass_coefficient");
+  f.hourglass_coefficient =
+      opt_num(ft, "hourglass_coefficient")
+          .value_or(f.hourglass_stiffness ? kHourglassStiffnessDefault : kHourglassViscousDefault);
   f.bulk_viscosity_quadratic = num(ft, "bulk_viscosity_quadratic");
   f.bulk_viscosity_linear = num(ft, "bulk_viscosity_linear");
   read_initial_temperature(c, ft, fw, key, p);

@@ -85,6 +85,11 @@ struct TableSchema {
 /// The root schema of a scenario file.
 const TableSchema& scenario_schema();
 
+/// parts.fem.hourglass_coefficient when unset, by form: the one default the schema cannot state
+/// as a value of its own (it depends on parts.fem.hourglass).
+inline constexpr double kHourglassViscousDefault = 0.1;
+inline constexpr double kHourglassStiffnessDefault = 0.05;
+
 /// Markdown reference of every key (docs/scenario-format.md is this text).
 std::string schema_markdown();
 // The same reference as plain text for a terminal (`crater schema`).
