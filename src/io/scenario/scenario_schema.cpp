@@ -817,16 +817,15 @@ TableSchema make_fem() {
       with_default(choice("hourglass", {"viscous", "stiffness"},
                           "Flanagan-Belytschko hourglass control form (LS-DYNA types 3 and 5)."),
                    "\"viscous\""),
-      at_most(
-          at_least(real("hourglass_coefficient", "1",
-                        fmt::format("Hourglass coefficient kappa (LS-DYNA QM). Unset: {} with "
-                                    "hourglass = \"viscous\" (LS-DYNA's default), {} with "
-                                    "\"stiffness\", which stiffens large plastic flow at 0.1 "
-                                    "(LSTC's hourglass notes advise 0.03-0.05 for the stiffness "
-                                    "forms; docs/theory.md).",
-                                    kHourglassViscousDefault, kHourglassStiffnessDefault)),
-                   0),
-          0.5),
+      at_most(at_least(real("hourglass_coefficient", "1",
+                            fmt::format("Hourglass coefficient kappa (LS-DYNA QM). Unset: {} with "
+                                        "hourglass = \"viscous\" (LS-DYNA's default), {} with "
+                                        "\"stiffness\", which stiffens large plastic flow at 0.1 "
+                                        "(0.03-0.05 is the range usually advised for LS-DYNA's "
+                                        "stiffness forms; docs/theory.md).",
+                                        kHourglassViscousDefault, kHourglassStiffnessDefault)),
+                       0),
+              0.5),
       with_default(at_least(real("bulk_viscosity_quadratic", "1",
                                  "Quadratic bulk viscosity coefficient C_0 (LS-DYNA Q1)."),
                             0),
