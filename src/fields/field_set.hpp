@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -43,6 +44,15 @@ struct FieldView {
   const std::int64_t* integer_data;  // when is_integer
   Index size;
 };
+
+/// The view named `name` among `views`, or nullptr. The pointer points into `views`, so a
+/// temporary (`find_field(part.point_fields(), ...)`) does not compile: keep the vector.
+inline const FieldView* find_field(const std::vector<FieldView>& views, std::string_view name) {
+  for (const auto& v : views)
+    if (v.info->name == name) return &v;
+  return nullptr;
+}
+const FieldView* find_field(std::vector<FieldView>&& views, std::string_view name) = delete;
 
 template <int D>
 class FieldSet {

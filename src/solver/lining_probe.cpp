@@ -19,12 +19,6 @@ namespace {
 constexpr Real kNaN = std::numeric_limits<Real>::quiet_NaN();
 constexpr std::array<const char*, 3> kGaugeNames{"crown", "springline", "invert"};
 
-const fields::FieldView* field(const std::vector<fields::FieldView>& views, std::string_view name) {
-  for (const auto& v : views)
-    if (v.info->name == name) return &v;
-  return nullptr;
-}
-
 }  // namespace
 
 template <int D>
@@ -38,7 +32,8 @@ LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_p
   min_.fill(0);
   const Part<D>& lining = *parts[part_];
   const Geometry<D> g = lining.geometry();
-  const auto* disp = field(lining.point_fields(), "displacement");
+  const auto disp_views = lining.point_fields();  // the views disp points into
+  const auto* disp = fields::find_field(disp_views, "displacement");
   const auto& xn = *g.points;
   const Index nn = static_cast<Index>(xn.size());
   auto ref = [&](Index i) {
@@ -124,7 +119,8 @@ LiningProbe<D>::LiningProbe(const io::Config& c, const std::vector<std::unique_p
 template <int D>
 void LiningProbe<D>::find_crown_line(const io::Config& c, const Part<D>& soil, const Vec<D>& c0,
                                      Real r_in) {
-  const auto* disp = field(soil.point_fields(), "displacement");
+  const auto disp_views = soil.point_fields();  // the views disp points into
+  const auto* disp = fields::find_field(disp_views, "displacement");
   const auto& xn = soil.points();
   const Real tol = Real(1e-3) * r_in;
   std::vector<std::pair<Real, Index>> found;  // (height above the crown, node)
@@ -220,8 +216,8 @@ void LiningProbe<D>::metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
     m.push_back({fmt::format("lining_{}_displacement_min_m", kGaugeNames[at(g)]), min_[at(g)]});
   }
   const auto cf = parts[part_]->cell_fields();
-  const auto* damage = field(cf, "damage");
-  const auto* eroded = field(cf, "eroded");
+  const auto* damage = fields::find_field(cf, "damage");
+  const auto* eroded = fields::find_field(cf, "eroded");
   Real dmax = 0, damaged = 0;
   Index eroded_count = 0;
   for (std::size_t e = 0; e < volume0_.size(); ++e) {

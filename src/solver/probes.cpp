@@ -19,12 +19,6 @@ namespace {
 
 constexpr Real kNaN = std::numeric_limits<Real>::quiet_NaN();
 
-const fields::FieldView* field(const std::vector<fields::FieldView>& views, std::string_view name) {
-  for (const auto& v : views)
-    if (v.info->name == name) return &v;
-  return nullptr;
-}
-
 /// Whether cell e of a part's `eroded` field (none: nothing erodes) is eroded.
 bool eroded_at(const fields::FieldView* eroded, std::size_t e) {
   return eroded && eroded->integer_data[e] != 0;
@@ -84,7 +78,7 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
   gravity_ = std::abs(c.domain.gravity_m_s2[D - 1]);
   const auto& soil = *parts[*cfg_.soil];
   const auto pf = soil.point_fields();
-  const auto* radius = field(pf, "radius");
+  const auto* radius = fields::find_field(pf, "radius");
   const Index n = soil.count();
   for (Index i = 0; radius && i < n; ++i)
     grain_r_max_ = std::max(grain_r_max_, radius->real_data[i]);
@@ -178,9 +172,9 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
   };
   const auto& soil = *parts[*cfg_.soil];
   const auto pf = soil.point_fields();
-  const auto* radius = field(pf, "radius");
-  const auto* contacts = field(pf, "contacts");
-  const auto* velocity = field(pf, "velocity");
+  const auto* radius = fields::find_field(pf, "radius");
+  const auto* contacts = fields::find_field(pf, "contacts");
+  const auto* velocity = fields::find_field(pf, "velocity");
   const auto& xs = *soil.geometry().points;
   for (Index i = 0; i < soil.count(); ++i) {
     Index col = 0, row = 0;
@@ -194,7 +188,8 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
   if (cfg_.plate) {
     const auto& plate = *parts[*cfg_.plate];
     const Geometry<D> g = plate.geometry();
-    const auto* eroded = field(plate.cell_fields(), "eroded");
+    const auto eroded_views = plate.cell_fields();  // the views eroded points into
+    const auto* eroded = fields::find_field(eroded_views, "eroded");
     const auto& xn = *g.points;
     std::int64_t begin = 0;
     for (std::size_t e = 0; e < g.offsets.size(); ++e) {
@@ -256,8 +251,8 @@ Real Probes<D>::surface_height(const Column& col, std::size_t column) const {
 template <int D>
 Real Probes<D>::plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts) const {
   const auto cf = parts[*cfg_.plate]->cell_fields();
-  const auto* vm = field(cf, "von_mises");
-  const auto* eroded = field(cf, "eroded");
+  const auto* vm = fields::find_field(cf, "von_mises");
+  const auto* eroded = fields::find_field(cf, "eroded");
   Real m = 0;
   for (Index e = 0; vm && e < vm->size; ++e)
     if (!eroded_at(eroded, at(e))) m = std::max(m, vm->real_data[e]);
@@ -321,8 +316,9 @@ void Probes<D>::plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts
   // Erosion and perforation: eroded elements sharing nodes, from bottom face to top face.
   const Geometry<D> g = plate.geometry();
   const auto cf = plate.cell_fields();
-  const auto* eroded = field(cf, "eroded");
-  const auto* disp = field(plate.point_fields(), "displacement");
+  const auto* eroded = fields::find_field(cf, "eroded");
+  const auto disp_views = plate.point_fields();  // the views disp points into
+  const auto* disp = fields::find_field(disp_views, "displacement");
   const auto& xn = *g.points;
   const Index ne = static_cast<Index>(g.offsets.size());
   auto first = [&](Index e) { return e == 0 ? std::int64_t{0} : g.offsets[at(e - 1)]; };
@@ -543,7 +539,8 @@ void Probes<D>::gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
   const std::size_t nc = cols.size();
   const auto& plate = *parts[*cfg_.plate];
   const Geometry<D> g = plate.geometry();
-  const auto* eroded = field(plate.cell_fields(), "eroded");
+  const auto eroded_views = plate.cell_fields();  // the views eroded points into
+  const auto* eroded = fields::find_field(eroded_views, "eroded");
   const auto& xn = *g.points;
   std::vector<std::uint8_t> live(xn.size(), 0);
   std::int64_t begin = 0;
@@ -563,7 +560,8 @@ void Probes<D>::gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
     plate_hi[at(col)] = std::max(plate_hi[at(col)], xn[n][D - 1]);
   }
   const auto& soil = *parts[*cfg_.soil];
-  const auto* radius = field(soil.point_fields(), "radius");
+  const auto radius_views = soil.point_fields();  // the views radius points into
+  const auto* radius = fields::find_field(radius_views, "radius");
   const auto& xs = *soil.geometry().points;
   Real gap_max = 0;
   for (std::size_t k = 0; k < nc; ++k) {

@@ -21,9 +21,10 @@ from crater_test import SOURCE_DIR, crater, read_pvd, read_vtu_cells, scratch
 
 INTERVAL_S = 1e-4
 FRAME = 6
-# The frame time exactly as the run computes it (interval x frame number), so that the stress
-# sample (the first step reaching stress_time_s) is that frame.
-STRESS_TIME_S = INTERVAL_S * FRAME
+# The frame time exactly as the run computes it (interval x frame number, rounded to 15
+# significant digits: 6e-4, not 6.000000000000001e-04), so that the stress sample (the first step
+# reaching stress_time_s) is that frame.
+STRESS_TIME_S = float(f"{INTERVAL_S * FRAME:.14e}")
 R_MAX = 0.02  # the largest grain radius of paper-20cm's demo bed [m]
 
 
@@ -107,6 +108,24 @@ class Levels(unittest.TestCase):
     def test_list_shows_levels(self):
         p = crater("list")
         self.assertRegex(p.stdout, r"paper-20cm .*\n\s+levels: demo, coarse, medium, fine")
+
+
+class PlateProbeOnAnyMesh(unittest.TestCase):
+    def test_plate_metrics_read_live_fields(self):
+        # A sweep over spacing_m found it (issue 28): the plate metrics kept a pointer into a
+        # temporary list of the plate's fields, and a 35 x 3 mesh of the clamped plate reused
+        # that memory and crashed (SIGSEGV) at the end of the run. Such lookups now take a
+        # named list only (fields::find_field refuses a temporary at compile time).
+        out = scratch("probes_plate_35x3")
+        plate = SOURCE_DIR / "tests" / "data" / "fem_plate_2d.toml"
+        p = crater("run", plate, "--out", out, "--force", "--quiet", "--set",
+                   "parts.0.spacing_m=0.0057747968", "--set", "probes.plate=plate", "--set",
+                   "scenario.end_time_s=1e-6", check=False)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        with open(out / "summary.json") as f:
+            m = json.load(f)["metrics"]
+        self.assertEqual(m["plate_eroded_elements"], 0)
+        self.assertEqual(m["plate_perforated"], 0)
 
 
 class Probes(unittest.TestCase):
