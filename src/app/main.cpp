@@ -1,10 +1,11 @@
-// crater command line: run, check, list, schema, report.
+// crater command line: run, check, list, schema, report, sweep.
 //   crater run SCENARIO [--level L] [--out DIR] [--threads N] [--set key=value]... [--force]
 //   crater run SCENARIO --resume DIR | --restart FILE   (continue from a checkpoint)
 //   crater check SCENARIO [--level L] [--set key=value]...
 //   crater list
 //   crater schema [--markdown]
 //   crater report DIR [--out DIR] [--times T1,T2,...]   (figures and report.md of a run)
+//   crater sweep SCENARIO --vary KEY=v1,v2,... [...]    (a parameter study: docs/sweep.md)
 // Exit codes: 0 done, 2 bad input (scenario, command line, run directory), 3 numerical
 // failure (NaN, negative volume, lost particle, energy guard), 130 interrupted by SIGINT or
 // SIGTERM (a checkpoint is written: continue with --resume), 1 other errors (e.g. a full or
@@ -137,6 +138,7 @@ struct CommandLine {
   bool markdown = false;
   crater::app::ReportOptions report_opt;
   CLI::App* run = nullptr;
+  CLI::App* sweep = nullptr;
 
   CommandLine() {
     app.set_version_flag("--version", std::string("crater ") + CRATER_VERSION);
@@ -187,7 +189,17 @@ struct CommandLine {
     auto* schema = app.add_subcommand("schema", "Print the scenario file reference");
     schema->add_flag("--markdown", markdown, "Markdown (docs/scenario-format.md)");
 
-    auto* report = app.add_subcommand("report", "Figures (PNG) and report.md for a run directory");
+    sweep = app.add_subcommand(
+        "sweep",
+        "Run a scenario over a grid or Latin hypercube of key values, in parallel processes, "
+        "resumable; sweep.csv and design charts (crater sweep --help; docs/sweep.md)");
+    // Everything after `sweep`, --help included, goes to the sweep script unparsed.
+    sweep->prefix_command();
+    sweep->allow_extras();
+    sweep->set_help_flag();
+
+    auto* report = app.add_subcommand(
+        "report", "Figures (PNG) and report.md for a run directory (or a sweep's charts)");
     report->add_option("dir", report_opt.run_dir, "Run directory written by crater run")
         ->required();
     report->add_option("--out,-o", report_opt.out_dir, "Where to write (default: DIR/report)");
@@ -305,6 +317,7 @@ int main(int argc, char** argv) {
       return kExitOk;
     }
     if (cl.app.got_subcommand("report")) return crater::app::cmd_report(cl.report_opt);
+    if (cl.app.got_subcommand("sweep")) return crater::app::cmd_sweep(cl.sweep->remaining());
     if (cl.app.got_subcommand("check")) return cmd_check(cl.scenario, cl.sets, cl.level);
     if (cl.opt.quiet) spdlog::set_level(spdlog::level::warn);
     resolve_run(cl, argc, argv);

@@ -1,27 +1,32 @@
-// crater report: writes the embedded report script to a temporary file and runs it with the
-// system Python, passing the arguments on as an argv array (no shell, no quoting).
+// crater report and crater sweep: write the embedded script (report or sweep) to a temporary
+// file and run it with the system Python, passing the arguments on as an argv array (no shell,
+// no quoting).
 #include "app/report.hpp"
 
 #include <fmt/format.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "app/report_script.hpp"
+#include "app/sweep_script.hpp"
 
 namespace crater::app {
 
 namespace {
 
 constexpr const char* kDebianPackages = "python3-vtk9 python3-matplotlib python3-numpy";
+constexpr int kExitInput = 2;
 constexpr int kExitOther = 1;
 
 // The interpreter: the environment's CRATER_PYTHON, else CMake's (Debian's /usr/bin/python3,
@@ -36,7 +41,7 @@ class TemporaryScript {
  public:
   explicit TemporaryScript(std::string_view text) {
     const char* tmp = std::getenv("TMPDIR");
-    path_ = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/crater-report-XXXXXX.py";
+    path_ = std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/crater-script-XXXXXX.py";
     const int fd = mkstemps(path_.data(), 3);  // 3: the ".py" after the Xs
     if (fd < 0) {
       const std::string msg = std::strerror(errno);
@@ -93,8 +98,10 @@ int run_and_wait(const std::vector<std::string>& args) {
     // The child: only async-signal-safe calls until execv.
     sigaction(SIGINT, &old_int, nullptr);
     sigaction(SIGQUIT, &old_quit, nullptr);
+    // A SIGTERM or kill of crater ends the script as well (a sweep passes it on to its runs).
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     ::execv(argv[0], argv.data());
-    const char msg[] = "crater report: error: cannot start the Python interpreter\n";
+    const char msg[] = "crater: error: cannot start the Python interpreter\n";
     [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, msg, sizeof msg - 1);
     ::_exit(127);
   }
@@ -115,16 +122,43 @@ int run_and_wait(const std::vector<std::string>& args) {
   return result;
 }
 
+// The interpreter, or exit 1 naming the packages when it is missing.
+bool have_python(const std::string& python, const char* command) {
+  if (::access(python.c_str(), X_OK) == 0) return true;
+  std::fprintf(stderr,
+               "error: crater %s needs %s with the Debian packages %s (sudo apt-get install %s, "
+               "or tools/setup-deps.sh)\n",
+               command, python.c_str(), kDebianPackages, kDebianPackages);
+  return false;
+}
+
+// This binary's own path, for the sweep script's runs.
+std::string own_path() {
+  std::error_code ec;
+  const auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("crater") : p.string();
+}
+
 }  // namespace
 
 int cmd_report(const ReportOptions& opt) {
   const std::string python = python_path();
-  if (::access(python.c_str(), X_OK) != 0) {
-    std::fprintf(stderr,
-                 "error: crater report needs %s with the Debian packages %s "
-                 "(sudo apt-get install %s, or tools/setup-deps.sh)\n",
-                 python.c_str(), kDebianPackages, kDebianPackages);
-    return kExitOther;
+  if (!have_python(python, "report")) return kExitOther;
+  std::error_code ec;
+  if (std::filesystem::exists(std::filesystem::path(opt.run_dir) / "sweep.json", ec)) {
+    // A sweep's directory: its charts and report.md.
+    if (!opt.times.empty()) {
+      std::fprintf(stderr,
+                   "error: --times: %s is a sweep (sweep.json), whose report has no "
+                   "snapshots\n",
+                   opt.run_dir.c_str());
+      return kExitInput;
+    }
+    const TemporaryScript script(kSweepScript);
+    std::vector<std::string> args = {python,     script.path(), "--crater",
+                                     own_path(), "--report",    opt.run_dir};
+    if (!opt.out_dir.empty()) args.insert(args.end(), {"--out", opt.out_dir});
+    return run_and_wait(args);
   }
   const TemporaryScript script(kReportScript);
   std::vector<std::string> args = {python, script.path()};
@@ -132,6 +166,15 @@ int cmd_report(const ReportOptions& opt) {
   if (!opt.out_dir.empty()) args.push_back("--out=" + opt.out_dir);
   if (!opt.times.empty()) args.push_back("--times=" + opt.times);
   args.insert(args.end(), {"--", opt.run_dir});
+  return run_and_wait(args);
+}
+
+int cmd_sweep(const std::vector<std::string>& user_args) {
+  const std::string python = python_path();
+  if (!have_python(python, "sweep")) return kExitOther;
+  const TemporaryScript script(kSweepScript);
+  std::vector<std::string> args = {python, script.path(), "--crater", own_path()};
+  args.insert(args.end(), user_args.begin(), user_args.end());
   return run_and_wait(args);
 }
 
