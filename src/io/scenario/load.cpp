@@ -218,6 +218,8 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
                         vec_text(c.domain.min_m, dim), vec_text(c.domain.max_m, dim)));
       break;
     }
+  domain_min_m_ = c.domain.min_m;
+  domain_max_m_ = c.domain.max_m;
 }
 
 // VTU frames: end_time_s / interval_s of them (and the first; at most time.max_steps + 1).

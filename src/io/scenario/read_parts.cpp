@@ -350,6 +350,15 @@ RegionConfig Builder::read_region(const toml::table& t, const SourceLocation& w,
         error(loc(t, "max_m", w), key + ".max_m",
               fmt::format("expected every component above min_m = {}, got {}",
                           vec_text(r.min_m, dim), vec_text(r.max_m, dim)));
+  } else if (type == "layer") {
+    // A horizontal layer across the whole domain: a box from the domain's sides, bottom_m and
+    // bottom_m + thickness_m along the vertical axis (y in 2D, z in 3D).
+    r.type = RegionType::Box;
+    r.min_m = domain_min_m_;
+    r.max_m = domain_max_m_;
+    const auto up = static_cast<std::size_t>(dim - 1);
+    r.min_m[up] = num(t, "bottom_m");
+    r.max_m[up] = r.min_m[up] + num(t, "thickness_m");
   } else {
     r.type = type == "disk" ? RegionType::Disk : RegionType::Sphere;
     r.center_m = vec3(t, "center_m");

@@ -211,6 +211,7 @@ class Builder {
   std::string file_;
   ErrorList errors_;
   bool domain_ok_ = true;
+  Vec3 domain_min_m_{}, domain_max_m_{};  // [domain]: what a "layer" region spans across
   std::vector<std::string> c_warnings_;
 };
 

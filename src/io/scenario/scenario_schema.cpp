@@ -216,10 +216,19 @@ TableSchema make_material() {
 
 TableSchema make_region() {
   TableSchema t{"parts.region", "The space a part fills. `type` selects the keys.", {}, "type", {}};
-  t.keys = {required(choice("type", {"box", "disk", "sphere"},
-                            "box (2D/3D), disk (2D only) or sphere (3D only)."))};
+  t.keys = {required(choice("type", {"box", "layer", "disk", "sphere"},
+                            "box (2D/3D), layer (a box across the whole domain, 2D/3D), disk "
+                            "(2D only) or sphere (3D only)."))};
   t.variants["box"] = {required(vec("min_m", "m", "Lower corner.")),
                        required(vec("max_m", "m", "Upper corner."))};
+  t.variants["layer"] = {
+      required(real("bottom_m", "m",
+                    "Height of the layer's bottom face along the vertical axis (y in 2D, z in "
+                    "3D).")),
+      required(positive(real("thickness_m", "m",
+                             "The layer's thickness: its top face is at bottom_m + thickness_m. "
+                             "Across, it spans the domain ([domain] min_m to max_m)."))),
+  };
   t.variants["disk"] = {required(vec("center_m", "m", "Centre.")),
                         required(positive(real("radius_m", "m", "Radius.")))};
   t.variants["sphere"] = t.variants["disk"];
