@@ -24,6 +24,9 @@ enum class Face { Left = 0, Right = 1, Bottom = 2, Top = 3, Back = 4, Front = 5 
 enum class Outflow { Stop, Remove };
 
 struct Domain {
+  // min_m and max_m were given; an FEM-only scenario may leave them (and [domain]) out, and
+  // then the box is unbounded (infinite corners; nothing that needs a box is allowed).
+  bool bounded = true;
   Vec3 min_m{};
   Vec3 max_m{};
   Vec3 gravity_m_s2{};

@@ -8,6 +8,10 @@ tests/scenarios/bad/: jc_heating_without_*.toml, fem_initial_temperature_without
 - Hourglass coefficients by form: unset, 0.1 with the viscous form (LS-DYNA's default) and 0.05
   with the stiffness form (it used to be 0.1 for both, which stiffens large plastic flow in the
   stiffness form): a run without the key is bit for bit the run that states that value.
+- [domain] is optional in an FEM-only scenario: the clamped plate without it runs bit for bit as
+  with it (its domain bounded nothing). What needs the box (SPH and DEM parts, symmetry planes,
+  a layer region) is refused without it: tests/scenarios/bad/domain_*.toml,
+  layer_without_domain.toml.
 """
 import sys
 import unittest
@@ -72,6 +76,22 @@ class HourglassDefaults(unittest.TestCase):
                 # The coefficient matters in this run (the comparison can fail).
                 self.assertNotEqual(self.history(f"{form}_unset", unset),
                                     self.history(f"{form}_other", other))
+
+
+class DomainOptionalForFem(unittest.TestCase):
+    def test_fem_only_without_domain(self):
+        text = Path(PLATE).read_text()
+        start, end = text.index("[domain]"), text.index("[[materials]]")
+        self.assertIn("min_m", text[start:end])
+        d = scratch("trap_no_domain")
+        d.mkdir(parents=True, exist_ok=True)
+        (d / "plate.toml").write_text(text[:start] + text[end:])
+        histories = []
+        for name, scene in (("without", d / "plate.toml"), ("with", PLATE)):
+            crater("run", scene, "--out", d / name, "--force", "--quiet", "--set",
+                   "probes.plate=plate")
+            histories.append((d / name / "history.csv").read_bytes())
+        self.assertEqual(histories[0], histories[1])
 
 
 if __name__ == "__main__":

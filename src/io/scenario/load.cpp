@@ -10,6 +10,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string_view>
 
@@ -195,8 +196,21 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
         c.output.interval_s, c.end_time_s));
 
   const auto& dt = table(root_, "domain");
-  c.domain.min_m = vec3(dt, "min_m");
-  c.domain.max_m = vec3(dt, "max_m");
+  c.domain.bounded = dt.get("min_m") != nullptr && dt.get("max_m") != nullptr;
+  if (c.domain.bounded) {
+    c.domain.min_m = vec3(dt, "min_m");
+    c.domain.max_m = vec3(dt, "max_m");
+  } else {
+    // FEM-only: nothing needs the box (read_parts refuses what does).
+    constexpr Real inf = std::numeric_limits<Real>::infinity();
+    c.domain.min_m = {-inf, -inf, -inf};
+    c.domain.max_m = {inf, inf, inf};
+    domain_ok_ = false;  // no overlap checks against it
+    for (const char* k : {"min_m", "max_m"})
+      if (dt.get(k))
+        error(loc(dt, k, top), std::string("domain.") + k,
+              "given alone: domain.min_m and domain.max_m go together");
+  }
   c.domain.gravity_m_s2 = vec3(dt, "gravity_m_s2");
   c.domain.outflow = str(dt, "outflow") == "remove" ? Outflow::Remove : Outflow::Stop;
   c.domain.outflow_batch_steps = dt.get("outflow_batch_steps")->as_integer()->get();
@@ -210,7 +224,10 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
             fmt::format("domain.symmetry_planes[{}]", j),
             fmt::format("\"{}\" is listed twice",
                         kFaceNames[static_cast<int>(c.domain.symmetry_planes[j])]));
-  for (int d = 0; d < dim; ++d)
+  if (!c.domain.bounded && !c.domain.symmetry_planes.empty())
+    error(loc(dt, "symmetry_planes", top), "domain.symmetry_planes",
+          "needs domain.min_m and domain.max_m: the planes are faces of the domain's box");
+  for (int d = 0; d < dim && c.domain.bounded; ++d)
     if (!(c.domain.max_m[d] > c.domain.min_m[d])) {
       domain_ok_ = false;
       error(loc(dt, "max_m", top), "domain.max_m",

@@ -222,7 +222,7 @@ void Builder::read_probe_axis(Config& c, const toml::table& t, const SourceLocat
     c.probes.axis_m = {given[0], given[1]};
     return;
   }
-  if (c.dimension != 3) return;
+  if (c.dimension != 3 || !c.domain.bounded) return;  // unbounded: FEM only, no soil to probe
   for (const auto& p : c.parts)
     if (p.is(Method::Sph) && !p.detonations.empty()) {
       c.probes.axis_m = {p.detonations.front().point_m[0], p.detonations.front().point_m[1]};

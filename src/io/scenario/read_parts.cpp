@@ -175,6 +175,12 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
   if (const toml::node* zn = t.get("zones")) read_zones(*zn->as_array(), w, key, dim, p);
   if (region_table) check_region(c, t, *region_table, w, key, p);
   if (p.material < c.materials.size()) check_method_material(c, t, w, key, p);
+  if (!c.domain.bounded && !p.is(Method::Fem)) {
+    error(loc(t, "method", w), key + ".method",
+          "an SPH or DEM part needs [domain] min_m and max_m (the box its particles stay in); "
+          "only an FEM-only scenario may leave them out");
+    return p;
+  }
   if (p.is(Method::Sph)) read_sph(c, t, w, key, p);
   if (p.is(Method::Dem)) read_dem(c, t, w, key, p);
   if (p.is(Method::Fem)) read_fem(c, t, w, key, p);
@@ -350,6 +356,9 @@ RegionConfig Builder::read_region(const toml::table& t, const SourceLocation& w,
         error(loc(t, "max_m", w), key + ".max_m",
               fmt::format("expected every component above min_m = {}, got {}",
                           vec_text(r.min_m, dim), vec_text(r.max_m, dim)));
+  } else if (type == "layer" && !std::isfinite(domain_min_m_[0])) {
+    error(loc(t, "type", w), key + ".type",
+          "a layer spans the domain: it needs [domain] min_m and max_m");
   } else if (type == "layer") {
     // A horizontal layer across the whole domain: a box from the domain's sides, bottom_m and
     // bottom_m + thickness_m along the vertical axis (y in 2D, z in 3D).

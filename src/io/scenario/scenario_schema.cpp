@@ -138,13 +138,16 @@ TableSchema make_output() {
 TableSchema make_domain() {
   TableSchema t{"domain",
                 "The box every entity must stay in. A particle leaving it stops the run "
-                "(exit 3), unless `outflow = \"remove\"`.",
+                "(exit 3), unless `outflow = \"remove\"`. A scenario of FEM parts only may "
+                "leave min_m and max_m (or the whole table) out: nothing then bounds it.",
                 {},
                 {},
                 {}};
   t.keys = {
-      required(vec("min_m", "m", "Lower corner.")),
-      required(vec("max_m", "m", "Upper corner; each component above min_m.")),
+      vec("min_m", "m",
+          "Lower corner. Required with SPH or DEM parts, symmetry planes, layer regions and "
+          "the soil probes; unset (with max_m) only in an FEM-only scenario."),
+      vec("max_m", "m", "Upper corner; each component above min_m. Required with min_m."),
       vec("gravity_m_s2", "m/s^2", "Gravitational acceleration. Unset: zero (no gravity)."),
       with_default(
           choice("outflow", {"stop", "remove"},
@@ -1075,7 +1078,7 @@ const TableSchema& scenario_schema() {
         required(sub("scenario", KeyType::Table, scenario, scenario.doc)),
         sub("time", KeyType::Table, time, time.doc),
         sub("output", KeyType::Table, output, output.doc),
-        required(sub("domain", KeyType::Table, domain, domain.doc)),
+        sub("domain", KeyType::Table, domain, domain.doc),
         required(sub("materials", KeyType::TableArray, material, material.doc)),
         required(sub("parts", KeyType::TableArray, part, part.doc)),
         sub("contacts", KeyType::TableArray, contact, contact.doc),
