@@ -12,6 +12,9 @@ tests/scenarios/bad/: jc_heating_without_*.toml, fem_initial_temperature_without
   with it (its domain bounded nothing). What needs the box (SPH and DEM parts, symmetry planes,
   a layer region) is refused without it: tests/scenarios/bad/domain_*.toml,
   layer_without_domain.toml.
+- Grains placed by hand ([[parts.particles]]) need neither spacing_m nor region: a head-on
+  collision of two grains without them runs bit for bit as with them (where they are now
+  warned about as unused).
 """
 import sys
 import unittest
@@ -20,6 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from crater_test import SOURCE_DIR, crater, read_vtu_cells, scratch
+from scenario_blocks import (SAND, approaching_pair, box, compose_scenario, domain, material, part,
+                             write_scenario)
 
 PLATE = str(Path(SOURCE_DIR) / "tests" / "data" / "fem_plate_2d.toml")
 # Copper's heating constants (Johnson & Cook 1983): the plate heats, so temperature is written.
@@ -92,6 +97,31 @@ class DomainOptionalForFem(unittest.TestCase):
                    "probes.plate=plate")
             histories.append((d / name / "history.csv").read_bytes())
         self.assertEqual(histories[0], histories[1])
+
+
+class HandPlacedGrains(unittest.TestCase):
+    def test_no_spacing_nor_region(self):
+        d = scratch("trap_hand_placed")
+        d.mkdir(parents=True, exist_ok=True)
+
+        def scene(**lattice):
+            return compose_scenario(
+                "two-grains", 2, 2e-4, domain=domain([-0.02, -0.02], [0.02, 0.02]),
+                materials=[material(SAND)],
+                parts=[part("grains", "dem", "sand",
+                            particles=approaching_pair(2, 0.0026, 0.0025, 0.5), **lattice)])
+
+        write_scenario(d / "bare.toml", scene())
+        write_scenario(d / "lattice.toml", scene(spacing_m=0.005,
+                                                 region=box([-0.01, -0.01], [0.01, 0.01])))
+        runs = {}
+        for name in ("bare", "lattice"):
+            p = crater("run", d / f"{name}.toml", "--out", d / name, "--force")
+            runs[name] = ((d / name / "history.csv").read_bytes(), p.stderr)
+        self.assertEqual(runs["bare"][0], runs["lattice"][0])
+        self.assertNotIn("is not used", runs["bare"][1])
+        for k in ("spacing_m", "region"):
+            self.assertIn(f"part 'grains': {k} is not used", runs["lattice"][1])
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
                       "centres are in them)");
   d.radius_max_m = opt_num(dt, "radius_max_m").value_or(0.5 * p.spacing_m);
   d.radius_min_m = opt_num(dt, "radius_min_m").value_or(d.radius_max_m);
-  if (p.packing().method == dem::PackingMethod::Lattice &&
+  if (p.packing().method == dem::PackingMethod::Lattice && !t.get("particles") &&
       d.radius_max_m > 0.5 * p.spacing_m * (1 + 1e-12))
     error(loc(dt, "radius_max_m", dw), key + ".dem.radius_max_m",
           fmt::format("expected at most spacing_m / 2 = {} m (grains sit on a lattice of "
@@ -74,7 +74,17 @@ void Builder::read_dem(const Config& c, const toml::table& t, const SourceLocati
   read_bonds(table(dt, "bonds"), dw, key, d.bonds);
   if (const toml::node* mn = dt.get("wall_motion"))
     read_wall_motion(c, *mn->as_array(), dw, key, d);
-  if (const toml::node* pn = t.get("particles")) read_particles(c, *pn->as_array(), w, key, p);
+  if (const toml::node* pn = t.get("particles")) {
+    read_particles(c, *pn->as_array(), w, key, p);
+    // The radius range, unless given, is the placed grains' (no lattice to size it).
+    if (!d.particles.empty()) {
+      const auto [lo, hi] = std::minmax_element(
+          d.particles.begin(), d.particles.end(),
+          [](const DemParticle& a, const DemParticle& b) { return a.radius_m < b.radius_m; });
+      if (!dt.get("radius_max_m")) d.radius_max_m = hi->radius_m;
+      if (!dt.get("radius_min_m")) d.radius_min_m = lo->radius_m;
+    }
+  }
 }
 
 // [parts.dem.bonds]: parallel bonds; their stiffness and strengths are needed when enabled.

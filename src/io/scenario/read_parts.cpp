@@ -121,11 +121,20 @@ PartConfig Builder::read_part(const Config& c, const toml::table& t, const Sourc
   const toml::node* fem_node = t.get("fem");
   const bool from_mesh = p.is(Method::Fem) && fem_node && fem_node->is_table() &&
                          fem_node->as_table()->get("mesh_file");
+  // DEM grains placed by hand ([[parts.particles]]) need no lattice either.
+  const bool by_hand = p.is(Method::Dem) && t.get("particles") != nullptr;
   if (from_mesh) {
     for (const char* k : {"spacing_m", "region"})
       if (t.get(k))
         error(loc(t, k, w), key + "." + k,
               "not used with fem.mesh_file (the mesh gives the geometry); remove it");
+  } else if (by_hand) {
+    for (const char* k : {"spacing_m", "region"})
+      if (t.get(k))
+        c_warnings_.push_back(
+            fmt::format("part '{}': {} is not used, the part's grains are the "
+                        "ones [[parts.particles]] places (line {}; remove it)",
+                        p.name, k, loc(t, k, w).line));
   } else {
     for (const char* k : {"spacing_m", "region"})
       if (!t.get(k))

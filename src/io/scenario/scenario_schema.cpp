@@ -918,10 +918,11 @@ TableSchema make_part() {
       required(text("material", "Name of an entry of [[materials]].")),
       positive(real("spacing_m", "m",
                     "Particle spacing (lattice pitch); for fem the element size of the "
-                    "structured mesh. Required unless fem.mesh_file is given.")),
+                    "structured mesh. Required unless fem.mesh_file is given or the "
+                    "part's DEM grains are placed by hand ([[parts.particles]]).")),
       absent_means_unset(sub("region", KeyType::Table, region_schema(),
                              "Where the part is (fem: a box). Required unless fem.mesh_file is "
-                             "given.")),
+                             "given or the grains are placed by hand ([[parts.particles]]).")),
       sub("initial", KeyType::Table, initial_schema(), "Initial state."),
       sub("zones", KeyType::TableArray, zone_schema(),
           "Zones with their own initial state, inside the part's region."),
