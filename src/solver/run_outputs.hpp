@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,10 +30,20 @@ class Outputs {
   // A new run writes history.csv's header; a resumed one keeps the file's first
   // `resume_history` bytes (what it held at the checkpoint) and goes on from there.
   // `extra_columns` follow the energy columns (history_columns: contact forces, part totals).
+  // gauges.csv ([[gauges]]) likewise: `gauges_header` for a new run (empty: no gauges), the
+  // file's first bytes as the checkpoint saw them for a resumed one.
   Outputs(const io::Config& c, io::RunManifest& manifest,
           const std::vector<std::unique_ptr<Part<D>>>& parts,
-          const std::vector<std::string>& extra_columns, std::string history_prefix = {})
+          const std::vector<std::string>& extra_columns, std::string history_prefix = {},
+          const std::string& gauges_header = {}, std::string gauges_prefix = {})
       : config_(c), manifest_(manifest), dir_(manifest.dir()), history_(open_history(manifest)) {
+    if (!gauges_header.empty()) {
+      manifest_.record("gauges.csv");
+      gauges_.emplace(dir_ / "gauges.csv");
+      const std::string& start = gauges_prefix.empty() ? gauges_header : gauges_prefix;
+      gauges_->write(start);
+      gauges_bytes_ = start.size();
+    }
     for (const auto& p : parts) {
       manifest_.record(p->name() + ".pvd");
       pvd_.emplace_back(dir_ / (p->name() + ".pvd"));
@@ -52,6 +63,7 @@ class Outputs {
   void save(parts::StateWriter& w) const {
     w.tag("outputs");
     w.value(static_cast<std::uint64_t>(history_bytes_));
+    w.value(static_cast<std::uint64_t>(gauges_bytes_));
     w.value(static_cast<std::uint64_t>(pvd_.size()));
     for (const auto& p : pvd_) {
       w.value(static_cast<std::uint64_t>(p.entries().size()));
@@ -61,11 +73,14 @@ class Outputs {
       }
     }
   }
-  /// The PVD entries of a checkpoint; returns the length history.csv had then.
+  /// The PVD entries of a checkpoint and the length gauges.csv had then; returns the length
+  /// history.csv had.
   static std::uint64_t load_pvd(parts::StateReader& r,
-                                std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
+                                std::vector<std::vector<std::pair<Real, std::string>>>& pvd,
+                                std::uint64_t& gauges_bytes) {
     r.tag("outputs");
     const auto bytes = r.value<std::uint64_t>();
+    gauges_bytes = r.value<std::uint64_t>();
     pvd.resize(r.value<std::uint64_t>());
     for (auto& entries : pvd) {
       entries.resize(r.value<std::uint64_t>());
@@ -127,7 +142,14 @@ class Outputs {
     history_.write(row);
     history_bytes_ += row.size();
   }
-  void flush() { history_.flush(); }
+  void gauges(const std::string& row) {
+    gauges_->write(row);
+    gauges_bytes_ += row.size();
+  }
+  void flush() {
+    history_.flush();
+    if (gauges_) gauges_->flush();
+  }
   io::RunManifest& manifest() { return manifest_; }
 
  private:
@@ -141,6 +163,8 @@ class Outputs {
   fs::path dir_;
   io::AppendFile history_;
   std::size_t history_bytes_ = 0;
+  std::optional<io::AppendFile> gauges_;
+  std::size_t gauges_bytes_ = 0;
   std::vector<io::PvdCollection> pvd_;
 };
 

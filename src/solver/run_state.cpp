@@ -51,28 +51,28 @@ void carry_frames(const fs::path& from, io::RunManifest& manifest,
   }
 }
 
-std::string history_at_checkpoint(const RunOptions& opt, const fs::path& from, std::uint64_t bytes,
-                                  bool same_dir) {
-  std::string history;
+std::string rows_at_checkpoint(const RunOptions& opt, const fs::path& from, const char* name,
+                               std::uint64_t bytes, bool same_dir) {
+  std::string rows;
   std::error_code ec;
-  if (fs::exists(from / "history.csv", ec)) {
+  if (fs::exists(from / name, ec)) {
     // Only what the checkpoint saw is read (the file may have grown long since).
-    io::require_own_file(from / "history.csv", same_dir ? "--resume" : "--restart",
+    io::require_own_file(from / name, same_dir ? "--resume" : "--restart",
                          std::numeric_limits<std::uintmax_t>::max());
-    std::ifstream in(from / "history.csv", std::ios::binary);
-    history.resize(static_cast<std::size_t>(bytes));
-    in.read(history.data(), static_cast<std::streamsize>(bytes));
-    history.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+    std::ifstream in(from / name, std::ios::binary);
+    rows.resize(static_cast<std::size_t>(bytes));
+    in.read(rows.data(), static_cast<std::streamsize>(bytes));
+    rows.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
   }
-  if (history.size() == bytes) return history;
-  if (same_dir || history.size() > 0)
-    throw InputError({(from / "history.csv").string(), 0, 0}, same_dir ? "--resume" : "--restart",
-                     fmt::format("the run's history.csv as the checkpoint saw it ({} bytes); it "
-                                 "has {} (continue into the directory the run wrote, or from "
-                                 "a checkpoint of this run)",
-                                 bytes, history.size()));
-  spdlog::warn("{} has no history.csv: {} starts its history at the checkpoint's step",
-               from.string(), (opt.out_dir / "history.csv").string());
+  if (rows.size() == bytes) return rows;
+  if (same_dir || rows.size() > 0)
+    throw InputError({(from / name).string(), 0, 0}, same_dir ? "--resume" : "--restart",
+                     fmt::format("the run's {} as the checkpoint saw it ({} bytes); it has {} "
+                                 "(continue into the directory the run wrote, or from a "
+                                 "checkpoint of this run)",
+                                 name, bytes, rows.size()));
+  spdlog::warn("{} has no {}: {} starts its rows at the checkpoint's step", from.string(), name,
+               (opt.out_dir / name).string());
   return {};
 }
 

@@ -223,10 +223,10 @@ bool same_directory(const fs::path& a, const fs::path& b);
 void carry_frames(const fs::path& from, io::RunManifest& manifest,
                   std::vector<std::vector<std::pair<Real, std::string>>>& pvd);
 
-// history.csv as the checkpoint saw it (its first `bytes` bytes), from the run directory the
-// checkpoint belongs to. When that is another directory and its history is gone, the new
-// history starts at the checkpoint's step (a warning says so).
-std::string history_at_checkpoint(const RunOptions& opt, const fs::path& from, std::uint64_t bytes,
-                                  bool same_dir);
+// A row file (history.csv, gauges.csv) as the checkpoint saw it (its first `bytes` bytes), from
+// the run directory the checkpoint belongs to. When that is another directory and the file is
+// gone, the new one starts at the checkpoint's step (a warning says so).
+std::string rows_at_checkpoint(const RunOptions& opt, const fs::path& from, const char* name,
+                               std::uint64_t bytes, bool same_dir);
 
 }  // namespace crater::solver

@@ -22,6 +22,7 @@
 #include "parallel/parallel.hpp"
 #include "solver/assembly.hpp"
 #include "solver/energy_balance.hpp"
+#include "solver/gauges.hpp"
 #include "solver/memory_estimate.hpp"
 #include "solver/multi_rate.hpp"
 #include "solver/probes.hpp"
@@ -66,6 +67,7 @@ class Run {
         parts_((parallel::set_threads(opt.threads), build_parts<D>(c))),
         coupling_(contact_settings(c), parts_),
         probes_(c, parts_),  // the initial ground surface: before any step or resume
+        gauges_(c, parts_),  // points resolved on the initial positions
         multi_rate_(c.time.safety_factor, c.time.multi_rate_max_ratio) {}
 
   RunResult go() {
@@ -136,7 +138,8 @@ class Run {
       }
     }
     std::vector<std::vector<std::pair<Real, std::string>>> pvd;
-    const std::uint64_t history_bytes = Outputs<D>::load_pvd(rd, pvd);
+    std::uint64_t gauges_bytes = 0;
+    const std::uint64_t history_bytes = Outputs<D>::load_pvd(rd, pvd, gauges_bytes);
     rd.tag("parts");
     if (rd.value<std::uint64_t>() != parts_.size()) rd.fail("it holds another number of parts");
     for (auto& p : parts_) {
@@ -147,7 +150,10 @@ class Run {
     if (!rd.done()) rd.fail("it holds more than this scenario's state");
     const fs::path from = run_dir_of_checkpoint(opt_.restart);
     const bool same_dir = same_directory(from, opt_.out_dir);
-    std::string history = history_at_checkpoint(opt_, from, history_bytes, same_dir);
+    std::string history = rows_at_checkpoint(opt_, from, "history.csv", history_bytes, same_dir);
+    std::string gauge_rows =
+        gauges_.empty() ? std::string()
+                        : rows_at_checkpoint(opt_, from, "gauges.csv", gauges_bytes, same_dir);
     if (!same_dir) io::prepare_new_run_directory(opt_.out_dir, opt_.force);
     manifest_ = std::make_unique<io::RunManifest>(opt_.out_dir);
     if (!same_dir) carry_frames(from, *manifest_, pvd);
@@ -155,8 +161,9 @@ class Run {
     io::write_run_command(opt_.out_dir, opt_.command);
     manifest_->record(io::kCommandName);
     const bool fresh_history = history.empty();
-    out_ = std::make_unique<Outputs<D>>(
-        c_, *manifest_, parts_, history_columns(parts_, coupling_, probes_), std::move(history));
+    out_ = std::make_unique<Outputs<D>>(c_, *manifest_, parts_,
+                                        history_columns(parts_, coupling_, probes_),
+                                        std::move(history), gauges_header(), std::move(gauge_rows));
     if (fresh_history) out_->flush();
     out_->restore_pvd(std::move(pvd));
     spdlog::info("resumed from {} at step {}, t = {:.6g} s", opt_.restart.string(), st_.steps,
@@ -180,7 +187,8 @@ class Run {
     manifest_->record(io::kCommandName);
     io::write_run_command(opt_.out_dir, opt_.command);
     out_ = std::make_unique<Outputs<D>>(c_, *manifest_, parts_,
-                                        history_columns(parts_, coupling_, probes_));
+                                        history_columns(parts_, coupling_, probes_), std::string(),
+                                        gauges_header());
   }
 
   // The energies at t = 0 (the balance's reference, each part's for the energy guard), the
@@ -193,6 +201,7 @@ class Run {
     for (const Energies& x : per)
       st_.part_total0_j.push_back(total_energy(x));
     out_->frame(parts_, st_.t, "000000");
+    if (!gauges_.empty()) out_->gauges(gauges_.row(0, st_.t, parts_));
     out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
                   history_values(per, coupling_, probes_, parts_));
     st_.next_frame_t = frame_time(1);
@@ -259,6 +268,8 @@ class Run {
     const Real rounded = std::strtod(fmt::format("{:.14e}", exact).c_str(), nullptr);
     return clip_to_end ? std::min(rounded, c_.end_time_s) : rounded;
   }
+
+  std::string gauges_header() const { return gauges_.empty() ? std::string() : gauges_.header(); }
 
   // Two times closer than this are the same output time. A fraction of the interval, not of the
   // end time: a run extended to a later end time lands its steps as one run there would.
@@ -365,6 +376,8 @@ class Run {
                     history_values(per, coupling_, probes_, parts_));
       guard_energy(c_, st_, per, parts_);
     }
+    if (!gauges_.empty() && (r_.steps % c_.output.gauges_every_steps == 0 || at_frame || last))
+      out_->gauges(gauges_.row(r_.steps, st_.t, parts_));
     if (at_frame) {
       out_->frame(parts_, st_.t, fmt::format("{:06d}", st_.frame));
       ++st_.frame;
@@ -438,6 +451,7 @@ class Run {
   std::vector<std::unique_ptr<Part<D>>> parts_;
   contact::Coupling<D> coupling_;
   Probes<D> probes_;
+  Gauges<D> gauges_;
   LoopState st_;
   std::unique_ptr<io::RunManifest> manifest_;
   std::unique_ptr<Outputs<D>> out_;
@@ -459,6 +473,7 @@ template <int D>
 std::vector<PartReport> check(const io::Config& c) {
   auto parts = build_parts<D>(c, Settling::CachedOnly);
   contact::Coupling<D> coupling(contact_settings(c), parts);
+  const Gauges<D> gauges(c, parts);  // refuses an unknown field or entity, as run does
   std::vector<PartReport> reports;
   for (auto& p : parts) {
     p->compute_forces(0);

@@ -249,7 +249,7 @@ def sparse_checkpoint(d):
     ck.parent.mkdir()
     size = 2 * GIB
     with open(ck, "wb") as f:
-        f.write(b"crater checkpoint v2 dim=2 scenario=6fd4bc45eca26dcc step=6 "
+        f.write(b"crater checkpoint v3 dim=2 scenario=6fd4bc45eca26dcc step=6 "
                 b"time=0x1.4e8dcb620cf28p-19 bytes=%d checksum=0000000000000000\n" % size)
         f.truncate(size)
     return ["run", DEMO_PATH, "--restart", ck, "--out", d / "out", "--quiet"]

@@ -15,7 +15,7 @@
 namespace crater::io {
 
 namespace {
-constexpr const char* kMagic = "crater checkpoint v2";
+constexpr const char* kMagic = "crater checkpoint v3";
 }
 
 void write_checkpoint(const std::filesystem::path& path, const CheckpointHeader& h,
@@ -50,7 +50,7 @@ CheckpointHeader read_checkpoint(const std::filesystem::path& path, std::string&
   if (std::sscanf(line.c_str(), fmt_text.c_str(), &h.dimension, hash, &step, time_text, &bytes,
                   &sum) != 6)
     refuse(line.rfind("crater checkpoint", 0) == 0
-               ? "its format version is not v2 or its header is damaged"
+               ? "its format version is not v3 or its header is damaged"
                : "not a crater checkpoint (no header line)");
   h.scenario_hash = hash;
   h.step = step;

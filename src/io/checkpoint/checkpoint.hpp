@@ -2,7 +2,7 @@
 // bit as if it had never stopped (DESIGN §1, docs/theory.md "Checkpoints").
 //
 // File: one text line
-//   crater checkpoint v2 dim=D scenario=<hash> step=N time=<hex float> bytes=B checksum=<hex>
+//   crater checkpoint v3 dim=D scenario=<hash> step=N time=<hex float> bytes=B checksum=<hex>
 // then B bytes of payload: tagged blocks written by StateWriter (the loop's counters, the
 // output writers' state, each part's state in order). The checksum is FNV-1a 64 of the payload.
 // Files are written atomically (temporary file, fsync, rename). A file that is damaged, of

@@ -57,6 +57,7 @@ struct OutputConfig {
   Real checkpoint_every_s{};       // wall-clock seconds; 0: not by time
   Index checkpoint_keep{};         // newest checkpoints kept in <out>/checkpoints
   bool checkpoint_at_end{};        // a checkpoint of the last state (a run can be extended)
+  Index gauges_every_steps{};      // a gauges.csv row every this many steps (and at frames)
   Index max_frames{};              // more VTU frames than this is an input error
   Real max_bytes{};                // VTU bytes the run may write in all
   Real memory_limit_fraction{};    // of the available memory the run's estimate may take
@@ -175,6 +176,18 @@ struct ContactConfig {
   SourceLocation where;
 };
 
+/// [[gauges]]: fields of one part at chosen entities, written to gauges.csv
+/// (src/solver/gauges.hpp).
+struct GaugeConfig {
+  std::string name;
+  std::size_t part{};                     // index into Config::parts
+  std::optional<Vec3> point_m;            // the entities nearest this point at t = 0
+  std::vector<std::int64_t> ids;          // node (FEM) or particle (SPH, DEM: their id field) ids
+  std::vector<std::int64_t> element_ids;  // FEM elements (for cell fields)
+  std::vector<std::string> fields;
+  SourceLocation where;
+};
+
 /// The paper's measurements ([probes]); see src/solver/probes.hpp.
 struct ProbesConfig {
   std::optional<std::size_t> plate;  // an fem part (index into Config::parts)
@@ -214,6 +227,7 @@ struct Config {
   std::vector<PartConfig> parts;
   std::vector<ContactConfig> contacts;
   ProbesConfig probes;
+  std::vector<GaugeConfig> gauges;
   std::string level;  // the [levels.<name>] applied (--level), or empty
   struct LevelInfo {
     std::string name, description;

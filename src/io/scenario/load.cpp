@@ -136,6 +136,7 @@ Config Builder::build() {
   read_parts(c, top);
   read_contacts(c, top);
   read_probes(c, top);
+  read_gauges(c, top);
   errors_.throw_if_any(file_);
   for (auto& wmsg : c_warnings_)
     c.warnings.push_back(std::move(wmsg));
@@ -182,6 +183,8 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.output.checkpoint_every_s = num(ot, "checkpoint_every_s");
   c.output.checkpoint_keep = ot.get("checkpoint_keep")->as_integer()->get();
   c.output.checkpoint_at_end = ot.get("checkpoint_at_end")->as_boolean()->get();
+  c.output.gauges_every_steps =
+      static_cast<Index>(opt_num(ot, "gauges_every_steps").value_or(c.output.history_every));
   c.output.max_frames = ot.get("max_frames")->as_integer()->get();
   c.output.max_bytes = num(ot, "max_bytes");
   c.output.memory_limit_fraction = num(ot, "memory_limit_fraction");

@@ -201,6 +201,10 @@ class Builder {
 
   // read_contacts_probes.cpp
   void read_contacts(Config& c, const SourceLocation& top);
+  // read_gauges.cpp
+  void read_gauges(Config& c, const SourceLocation& top);
+  void read_gauge_ids(const toml::table& t, const SourceLocation& w, const std::string& key,
+                      const char* k, std::vector<std::int64_t>& out);
   void read_probes(Config& c, const SourceLocation& top);
   void read_probe_axis(Config& c, const toml::table& t, const SourceLocation& w);
   void read_lining_axis(Config& c, const toml::table& t, const SourceLocation& w);

@@ -104,6 +104,10 @@ TableSchema make_output() {
       with_default(
           at_least(whole("checkpoint_keep", "Newest checkpoints kept; older ones are deleted."), 1),
           "2"),
+      at_least(whole("gauges_every_steps",
+                     "Write a gauges.csv row ([[gauges]]) every this many steps, and at every "
+                     "frame and the end. Unset: history_every."),
+               1),
       with_default(flag("checkpoint_at_end",
                         "Write a checkpoint of the last state when the run stops at its end "
                         "time or time.max_steps (like LS-DYNA's end-of-run restart dump): `crater "
@@ -951,6 +955,39 @@ TableSchema make_part() {
   return t;
 }
 
+TableSchema make_gauge() {
+  TableSchema t{"gauges",
+                "History output at chosen entities, as LS-DYNA's *DATABASE_HISTORY_NODE and "
+                "_SOLID: fields of one part at a point or at entity ids, written to gauges.csv "
+                "every output.gauges_every_steps steps, at every frame and at the end, one column "
+                "per gauge, entity, field and component (`<gauge>.<node|particle|element><id>."
+                "<field>[_x|_y|_z|_xx|...]`). Values are those a VTU frame of the same step "
+                "holds; NaN for a particle that has left the domain.",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(
+          text("name", "The gauge's name (1-64 of A-Z a-z 0-9 _ - .), the start of its columns.")),
+      required(text("part", "The part it reads, by name.")),
+      required(of_type(text("fields",
+                            "Output fields of the part, by their names in its VTU files, e.g. "
+                            "[\"velocity\", \"von_mises\"]. A name the part does not write is "
+                            "refused before the run, with the part's fields listed."),
+                       KeyType::StringArray)),
+      vec("point_m", "m",
+          "Where: the node or particle nearest this point at t = 0 (for point fields) and the "
+          "element whose centre is nearest (cell fields). Not with ids or element_ids."),
+      of_type(real("ids", "1",
+                   "Node ids (FEM, the VTU point order) or particle ids (SPH, DEM: the `id` "
+                   "field, which stays with a particle) for the point fields."),
+              KeyType::RealArray),
+      of_type(real("element_ids", "1", "FEM element ids (the VTU cell order) for cell fields."),
+              KeyType::RealArray),
+  };
+  return t;
+}
+
 TableSchema make_contact() {
   TableSchema t{"contacts",
                 "Contacts between parts (paper section III-D): penalty forces, equal and "
@@ -1073,6 +1110,7 @@ const TableSchema& scenario_schema() {
   static const TableSchema part = make_part();
   static const TableSchema contact = make_contact();
   static const TableSchema probes = make_probes();
+  static const TableSchema gauge = make_gauge();
   static const TableSchema root = [] {
     TableSchema r{"", "A crater scenario file (TOML, SI units).", {}, {}, {}};
     r.keys = {
@@ -1084,6 +1122,7 @@ const TableSchema& scenario_schema() {
         required(sub("parts", KeyType::TableArray, part, part.doc)),
         sub("contacts", KeyType::TableArray, contact, contact.doc),
         sub("probes", KeyType::Table, probes, probes.doc),
+        sub("gauges", KeyType::TableArray, gauge, gauge.doc),
     };
     return r;
   }();
