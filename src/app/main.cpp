@@ -206,6 +206,9 @@ struct CommandLine {
     report->add_option("--times", report_opt.times,
                        "Snapshot times [s], comma-separated: the nearest output frames (default: "
                        "up to 4 spread over the run, the last included)");
+    report->add_option("--metrics", report_opt.metrics,
+                       "A sweep's: the sweep.csv columns to chart, comma-separated (default: "
+                       "every summary metric that varies, up to 12)");
   }
 };
 

@@ -158,7 +158,13 @@ int cmd_report(const ReportOptions& opt) {
     std::vector<std::string> args = {python,     script.path(), "--crater",
                                      own_path(), "--report",    opt.run_dir};
     if (!opt.out_dir.empty()) args.insert(args.end(), {"--out", opt.out_dir});
+    if (!opt.metrics.empty()) args.insert(args.end(), {"--metrics", opt.metrics});
     return run_and_wait(args);
+  }
+  if (!opt.metrics.empty()) {
+    std::fprintf(stderr, "error: --metrics: %s is a run, not a sweep (no sweep.json)\n",
+                 opt.run_dir.c_str());
+    return kExitInput;
   }
   const TemporaryScript script(kReportScript);
   std::vector<std::string> args = {python, script.path()};

@@ -13,6 +13,7 @@ struct ReportOptions {
   std::string run_dir;  // written by `crater run`
   std::string out_dir;  // empty: run_dir/report
   std::string times;    // snapshot times [s], comma-separated; empty: the script's default
+  std::string metrics;  // a sweep's: the sweep.csv columns to chart, comma-separated
 };
 
 // Runs the report script (the sweep script's report for a sweep's directory, one holding

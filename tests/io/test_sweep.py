@@ -130,10 +130,15 @@ class Sweep(unittest.TestCase):
             self.assertTrue(s["metrics"])
             for name, value in s["metrics"].items():
                 self.assertEqual(float(row[name]), float(value), f"{d.name} {name}")
+            # Each part's mass and diagnostics, as parts.<part>.<name>
+            for part in s["parts"]:
+                self.assertEqual(float(row[f"parts.{part['name']}.mass_kg"]), part["mass_kg"])
+                for name, value in part["diagnostics"].items():
+                    self.assertEqual(float(row[f"parts.{part['name']}.{name}"]), float(value))
 
         # a contour chart per metric that varies over the cases
         varying = sorted(m for m in header[6:] if m != "energy.balance_error"
-                         and len({r[m] for r in rows}) > 1)
+                         and not m.startswith("parts.") and len({r[m] for r in rows}) > 1)
         if len({r["energy.balance_error"] for r in rows}) > 1:
             varying.append("energy.balance_error")
         self.assertTrue(varying)

@@ -33,8 +33,8 @@ Written into DIR (--out, default ./sweep):
   cases/case_0001/ ... one `crater run` directory per case;
   sweep.csv        one row per case: case, each varied key, status (completed, failed,
                    interrupted, running, not run), exit_code, wall_s, then every scalar of the
-                   case's summary.json metrics (nested objects as a.b) and energy.balance_error,
-                   sorted by name (rewritten atomically after every finished case);
+                   case's summary.json metrics (nested objects as a.b), energy.balance_error and
+                   each part's mass and diagnostics (parts.<part>.<name>), sorted by name (rewritten atomically after every finished case);
   sweep.log        each case's stderr, every line prefixed with the case;
   charts/<metric>.png  at the end: each charted metric (--metrics, default every numeric metric
                    that varies over the completed cases, at most 12) over the varied keys: a line
@@ -78,6 +78,7 @@ DEBIAN_PACKAGES = "python3-numpy python3-matplotlib"
 PLAN_FILE = "sweep.json"
 CSV_FILE = "sweep.csv"
 LOG_FILE = "sweep.log"
+PARTS_PREFIX = "parts."  # sweep.csv's columns of the parts' masses and diagnostics
 LOCK_FILE = ".sweep.lock"
 CASES_DIR = "cases"
 CHARTS_DIR = "charts"
@@ -760,6 +761,18 @@ def collect_rows(plan, sweep_dir, results, old_exit_codes, running_ids=()):
                     if name not in row:
                         row[name] = v
                         metric_names.add(name)
+            # Each part's mass and diagnostics as parts.<part>.<name>
+            # (parts.plate.eroded_mass_kg, ...): charted only when --metrics names them.
+            for part in summary.get("parts") or []:
+                if not isinstance(part, dict) or not isinstance(part.get("name"), str):
+                    continue
+                values = {"mass_kg": part.get("mass_kg")}
+                if isinstance(part.get("diagnostics"), dict):
+                    values.update(part["diagnostics"])
+                for name, v in flatten(values, "parts." + part["name"] + ".").items():
+                    if name not in row and isinstance(v, (int, float)) and not isinstance(v, bool):
+                        row[name] = v
+                        metric_names.add(name)
             energy = summary.get("energy")
             if isinstance(energy, dict) and "balance_error" in energy:
                 row[ENERGY_COLUMN] = energy["balance_error"]
@@ -806,7 +819,7 @@ def metric_columns(columns, plan):
 def choose_metrics(rows, columns, plan, wanted):
     """The metrics to chart: wanted (names of sweep.csv columns), else every metric numeric in
     the completed cases that takes more than one value there, the summary's metrics before
-    energy.balance_error, at most MAX_DEFAULT_METRICS."""
+    energy.balance_error (the parts.* columns only when named), at most MAX_DEFAULT_METRICS."""
     done = [r for r in rows if r["status"] == "completed"]
     if wanted:
         chosen = []
@@ -818,7 +831,7 @@ def choose_metrics(rows, columns, plan, wanted):
             else:
                 chosen.append(m)
         return chosen
-    names = metric_columns(columns, plan)
+    names = [n for n in metric_columns(columns, plan) if not n.startswith(PARTS_PREFIX)]
     names = [n for n in names if n != ENERGY_COLUMN] + [n for n in names if n == ENERGY_COLUMN]
     chosen = []
     for m in names:
