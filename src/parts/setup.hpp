@@ -76,8 +76,15 @@ struct Zone {
   std::optional<Vec3> velocity_m_s;
 };
 
+// Where a charge is lit: at a point, over a plane (a plane-wave lens: the front starts from the
+// whole plane) or along a line (a detonating cord; in 2D a line and a plane are the same). A
+// particle lights at time_s + (its distance to it) / D.
+enum class Initiator { Point, Plane, Line };
+
 struct DetonationPoint {
+  Initiator shape = Initiator::Point;
   Vec3 point_m{};
+  Vec3 axis{};  // a plane's unit normal, a line's unit direction
   Real time_s = 0;
 };
 

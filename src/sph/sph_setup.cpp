@@ -52,8 +52,14 @@ StartState<D> start_state(const parts::PartSetup& pc, Real rho0, const Vec<D>& x
 template <int D>
 Real lighting_time(const parts::PartSetup& pc, bool explosive, Real d_cj, const Vec<D>& x) {
   Real tl = explosive && !pc.detonations.empty() ? std::numeric_limits<Real>::infinity() : 0;
-  for (const auto& dp : pc.detonations)
-    tl = std::min(tl, dp.time_s + (x - to_vec<D>(dp.point_m)).norm() / d_cj);
+  for (const auto& dp : pc.detonations) {
+    const Vec<D> r = x - to_vec<D>(dp.point_m);
+    const Vec<D> a = to_vec<D>(dp.axis);
+    const Real distance = dp.shape == parts::Initiator::Point   ? r.norm()
+                          : dp.shape == parts::Initiator::Plane ? std::abs(r.dot(a))
+                                                                : (r - r.dot(a) * a).norm();
+    tl = std::min(tl, dp.time_s + distance / d_cj);
+  }
   return tl;
 }
 

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "io/scenario/reader.hpp"
 
@@ -78,6 +79,65 @@ void Builder::read_sph(const Config& c, const toml::table& t, const SourceLocati
   if (const toml::node* dn = t.get("detonation")) read_detonations(c, *dn->as_array(), w, key, p);
 }
 
+// A plane's normal or a line's direction, made a unit vector; false (an error given) when the
+// shape's vector is missing, zero, or given to another shape.
+bool Builder::read_initiator(const toml::table& dtab, const SourceLocation& dw,
+                             const std::string& dkey, int dim, DetonationPoint& dp) {
+  const std::string shape = str(dtab, "shape");
+  dp.shape = shape == "plane"  ? parts::Initiator::Plane
+             : shape == "line" ? parts::Initiator::Line
+                               : parts::Initiator::Point;
+  const char* wanted = dp.shape == parts::Initiator::Plane  ? "normal"
+                       : dp.shape == parts::Initiator::Line ? "direction"
+                                                            : nullptr;
+  for (const char* k : {"normal", "direction"})
+    if (dtab.get(k) && (wanted == nullptr || std::string(k) != wanted)) {
+      error(loc(dtab, k, dw), dkey + "." + k,
+            fmt::format("not used with shape = \"{}\"{}", shape,
+                        wanted ? fmt::format(" (it takes {})", wanted) : std::string()));
+      return false;
+    }
+  if (!wanted) return true;
+  if (!dtab.get(wanted)) {
+    error(dw, dkey + "." + wanted, fmt::format("missing: shape = \"{}\" needs {}", shape, wanted));
+    return false;
+  }
+  const Vec3 a = vec3(dtab, wanted);
+  Real n2 = 0;
+  for (int d = 0; d < dim; ++d)
+    n2 += a[static_cast<std::size_t>(d)] * a[static_cast<std::size_t>(d)];
+  if (!(n2 > 0)) {
+    error(loc(dtab, wanted, dw), dkey + "." + wanted, "expected a vector of non-zero length");
+    return false;
+  }
+  for (int d = 0; d < dim; ++d)
+    dp.axis[static_cast<std::size_t>(d)] = a[static_cast<std::size_t>(d)] / std::sqrt(n2);
+  return true;
+}
+
+// Whether a plane (its signed distances to the box's corners change sign or vanish) or a line
+// (within half the box's diagonal of its centre) meets the box.
+bool Builder::initiator_meets_box(const DetonationPoint& dp, const Aabb& b, int dim) {
+  Real lo = std::numeric_limits<Real>::infinity(), hi = -lo, diag2 = 0, r2 = 0, along = 0;
+  for (int corner = 0; corner < (1 << dim); ++corner) {
+    Real s = 0;
+    for (int d = 0; d < dim; ++d) {
+      const Real x = (corner >> d) & 1 ? b.hi[d] : b.lo[d];
+      s += (x - dp.point_m[static_cast<std::size_t>(d)]) * dp.axis[static_cast<std::size_t>(d)];
+    }
+    lo = std::min(lo, s), hi = std::max(hi, s);
+  }
+  if (dp.shape == parts::Initiator::Plane) return lo <= 0 && hi >= 0;
+  for (int d = 0; d < dim; ++d) {
+    const auto u = static_cast<std::size_t>(d);
+    const Real c = 0.5 * (b.lo[d] + b.hi[d]) - dp.point_m[u];
+    diag2 += 0.25 * (b.hi[d] - b.lo[d]) * (b.hi[d] - b.lo[d]);
+    r2 += c * c;
+    along += c * dp.axis[u];
+  }
+  return r2 - along * along <= diag2;
+}
+
 // [[parts.detonation]]: points of a JWL charge, inside the domain and the charge.
 void Builder::read_detonations(const Config& c, const toml::array& da, const SourceLocation& w,
                                const std::string& key, PartConfig& p) {
@@ -89,6 +149,8 @@ void Builder::read_detonations(const Config& c, const toml::array& da, const Sou
     dp.point_m = vec3(dtab, "point_m");
     dp.time_s = num(dtab, "time_s");
     const SourceLocation dw = where_of(dtab, w);
+    const std::string dkey = fmt::format("{}.detonation[{}]", key, j);
+    if (!read_initiator(dtab, dw, dkey, dim, dp)) continue;
     if (!jwl)
       error(dw, fmt::format("{}.detonation[{}]", key, j),
             "detonation points need a JWL material (the part's material is not \"jwl\")");
@@ -108,7 +170,14 @@ void Builder::read_detonations(const Config& c, const toml::array& da, const Sou
     for (int d = 0; d < dim; ++d)
       size = std::max(size, rb.hi[d] - rb.lo[d]);
     const Real outside = distance_to_region(dp.point_m, p.region, dim);
-    if (in_domain && size > 0 && outside > 1e-6 * size)
+    if (dp.shape != parts::Initiator::Point) {
+      // A plane or line must meet the charge's bounding box.
+      if (in_domain && size > 0 && !initiator_meets_box(dp, rb, dim))
+        error(loc(dtab, "point_m", dw), dkey,
+              fmt::format("the {} through {} misses the charge (part '{}': {})",
+                          dp.shape == parts::Initiator::Plane ? "plane" : "line",
+                          vec_text(dp.point_m, dim), p.name, region_text(p.region, dim)));
+    } else if (in_domain && size > 0 && outside > 1e-6 * size)
       error(loc(dtab, "point_m", dw), fmt::format("{}.detonation[{}].point_m", key, j),
             fmt::format("expected a point inside the charge's region (part '{}': {}; its "
                         "boundary included); it is at {}, {:.3g} m outside",

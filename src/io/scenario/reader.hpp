@@ -166,6 +166,9 @@ class Builder {
   // read_sph.cpp
   void read_sph(const Config& c, const toml::table& t, const SourceLocation& w,
                 const std::string& key, PartConfig& p);
+  bool read_initiator(const toml::table& dtab, const SourceLocation& dw, const std::string& dkey,
+                      int dim, DetonationPoint& dp);
+  static bool initiator_meets_box(const DetonationPoint& dp, const Aabb& b, int dim);
   void read_detonations(const Config& c, const toml::array& da, const SourceLocation& w,
                         const std::string& key, PartConfig& p);
 

@@ -345,13 +345,24 @@ TableSchema make_sph() {
 
 TableSchema make_detonation() {
   TableSchema t{"parts.detonation",
-                "Detonation points of an explosive part (programmed burn: a particle lights "
-                "at time_s + distance / D).",
+                "Where an explosive part is lit (programmed burn: a particle lights at time_s + "
+                "its distance to the initiator / D): a point, a plane (a plane-wave lens: one "
+                "entry instead of a point per particle row) or a line (a detonating cord).",
                 {},
                 {},
                 {}};
-  t.keys = {required(vec("point_m", "m", "Detonation point.")),
-            with_default(at_least(real("time_s", "s", "Time the point lights."), 0), "0")};
+  t.keys = {
+      with_default(choice("shape", {"point", "plane", "line"},
+                          "point: at point_m; plane: the plane through point_m normal to "
+                          "`normal`; line: the line through point_m along `direction` (in "
+                          "2D a line and a plane are the same)."),
+                   "\"point\""),
+      required(vec("point_m", "m",
+                   "The detonation point, or a point of the plane or line; inside the "
+                   "domain.")),
+      vec("normal", "1", "A plane's normal (any length but zero). Only with shape = plane."),
+      vec("direction", "1", "A line's direction (any length but zero). Only with shape = line."),
+      with_default(at_least(real("time_s", "s", "Time the initiator lights."), 0), "0")};
   return t;
 }
 

@@ -10,8 +10,10 @@ that this JWL set's CJ point is the handbook's).
 Set-up: a TNT strip x in [0, 0.1] m, 4 particle rows of dx = 0.125 mm (0.5 mm high), free-slip
 walls (mirror planes, so the strip is a slice of an infinite plane wave: any number of rows
 gives the same result) on the left, bottom and top faces of the domain, the right end free
-(unreacted, p = 0, until the front comes). One detonation point per particle row on the left face,
-(0, y_row), so every particle lights at x / D: a plane wave from t = 0.
+(unreacted, p = 0, until the front comes). A plane initiator on the left face (x = 0), so every
+particle lights at x / D: a plane wave from t = 0. It lights the particles exactly as one
+detonation point per particle row did (|x - (0, y_row)| = x in floating point too), and the two
+runs are bit for bit the same (PlaneInitiator below, over the first 2 us).
 
 Measured every microsecond from 3 to 11 us (front from ~21 to ~76 mm), on profiles averaged
 across the strip in bins of dx: the peak pressure P, the axial particle velocity u where the
@@ -58,10 +60,15 @@ P_TOL = 0.10
 U_TOL = 0.10
 
 
-def scenario():
+def scenario(t_end=T_END, plane=True):
+    """The slab lit along its left face: by one plane initiator (shape = "plane", issue 28), or
+    by one detonation point per particle row, as before there were planes."""
     height = ROWS * DX
+    lit = ([{"shape": "plane", "point_m": [0.0, 0.0], "normal": [1.0, 0.0], "time_s": 0.0}]
+           if plane else
+           [{"point_m": [0.0, (j + 0.5) * DX], "time_s": 0.0} for j in range(ROWS)])
     return {
-        "scenario": {"name": "sph-tnt-slab", "dimension": 2, "end_time_s": T_END,
+        "scenario": {"name": "sph-tnt-slab", "dimension": 2, "end_time_s": t_end,
                      "description": "plane detonation in a TNT strip, lit along its left face"},
         "output": {"interval_s": 1e-6, "history_every": 100},
         "domain": {"min_m": [0.0, 0.0], "max_m": [LENGTH + 0.01, height]},
@@ -70,10 +77,23 @@ def scenario():
             "name": "slab", "method": "sph", "material": "tnt", "spacing_m": DX,
             "region": box([0.0, 0.0], [LENGTH, height]),
             "sph": {"walls": ["left", "bottom", "top"], "wall_slip": "free"},
-            "detonation": [{"point_m": [0.0, (j + 0.5) * DX], "time_s": 0.0}
-                           for j in range(ROWS)],
+            "detonation": lit,
         }],
     }
+
+
+class PlaneInitiator(unittest.TestCase):
+    def test_a_plane_is_a_point_per_row(self):
+        outs = []
+        for plane in (True, False):
+            d = scratch(f"sph_tnt_slab_{'plane' if plane else 'rows'}")
+            path = write_scenario(d / "slab.toml", scenario(2e-6, plane))
+            run(path, d / "out")
+            outs.append(d / "out")
+        self.assertEqual((outs[0] / "history.csv").read_bytes(),
+                         (outs[1] / "history.csv").read_bytes())
+        last = sorted(outs[0].glob("slab_0*.vtu"))[-1].name
+        self.assertEqual((outs[0] / last).read_bytes(), (outs[1] / last).read_bytes())
 
 
 class TntSlab(unittest.TestCase):
