@@ -170,7 +170,8 @@ class Outputs {
 
 // history.csv's columns after the energies: the contacts' forces, the probes', the parts' own
 // (moving walls), then (runs of several parts) each part's own total energy, energy_<part>_j,
-// so that a drift can be traced to a part. The parts' totals add up to total_j.
+// so that a drift can be traced to a part (the parts' totals add up to total_j), and the kinetic
+// and internal energy each part holds, kinetic_<part>_j and internal_<part>_j.
 template <int D>
 std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<D>>>& parts,
                                          const contact::Coupling<D>& coupling,
@@ -181,9 +182,15 @@ std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<
   for (const auto& p : parts)
     for (auto& col : p->history_columns())
       columns.push_back(std::move(col));
-  if (parts.size() > 1)
+  if (parts.size() > 1) {
     for (const auto& p : parts)
       columns.push_back("energy_" + p->name() + "_j");
+    // What each part holds (its contact work aside): where the charge's energy went.
+    for (const auto& p : parts) {
+      columns.push_back("kinetic_" + p->name() + "_j");
+      columns.push_back("internal_" + p->name() + "_j");
+    }
+  }
   return columns;
 }
 template <int D>
@@ -196,9 +203,14 @@ std::vector<Real> history_values(const std::vector<Energies>& per,
   for (const auto& p : parts)
     for (Real v : p->history_values())
       values.push_back(v);
-  if (per.size() > 1)
+  if (per.size() > 1) {
     for (const Energies& e : per)
       values.push_back(total_energy(e));
+    for (const Energies& e : per) {
+      values.push_back(e.kinetic_j);
+      values.push_back(e.internal_j);
+    }
+  }
   return values;
 }
 

@@ -18,7 +18,7 @@ import unittest
 
 import numpy as np
 
-from crater_test import BIN, crater, run_scenario, scratch
+from crater_test import BIN, SOURCE_DIR, crater, run_scenario, scratch
 from scenario_blocks import (SAND, STEEL_JC, STEEL_JC_DAMAGE, TNT, box, compose_scenario, contact,
                              disk, domain, material, output, part, scenario_text)
 
@@ -294,6 +294,69 @@ SCENE_3D = scenario_text(compose_scenario(
     contacts=[contact("charge", "plate"), contact("soil", "plate", friction=0.4),
               contact("charge", "soil")],
     probes={"plate": "plate", "soil": "soil", "stress_time_s": 3.0e-5}))
+
+
+class ReportTraps(unittest.TestCase):
+    """Issue 28's traps in the report: the per-part energy panel, what left the domain, the
+    framing of the snapshots, and the flags."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.work = scratch("report_traps")
+        data = SOURCE_DIR / "tests" / "data"
+        cls.outflow = cls.work / "outflow"
+        cls.outflow_summary = run_scenario(data / "outflow_2d.toml", cls.outflow)
+        # The clamped plate's middle thrown at 600 m/s out of its own box (the domain, which
+        # does not hold FEM nodes).
+        cls.plate = cls.work / "plate"
+        run_scenario(data / "fem_plate_2d.toml", cls.plate)
+
+    def test_parts_hold_what_the_totals_say(self):
+        # kinetic_<part>_j and internal_<part>_j add up to history.csv's kinetic_j, internal_j.
+        with open(self.outflow / "history.csv") as f:
+            rows = list(csv.DictReader(f))
+        parts = [p["name"] for p in self.outflow_summary["parts"]]
+        for r in rows[:: max(1, len(rows) // 20)]:
+            for term in ("kinetic", "internal"):
+                total = sum(float(r[f"{term}_{p}_j"]) for p in parts)
+                self.assertAlmostEqual(total, float(r[f"{term}_j"]),
+                                       delta=1e-12 * max(1.0, abs(float(r[f"{term}_j"]))))
+
+    def test_parts_table_shows_what_left_the_domain(self):
+        out = self.work / "outflow_report"
+        p = report(self.outflow, "--out", out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        md = (out / "report.md").read_text()
+        self.assertIn("| part | method | count | mass | left the domain | eroded | notes |", md)
+        for part in self.outflow_summary["parts"]:
+            left = part["diagnostics"].get("left_domain_mass_kg")
+            if left:
+                row = next(l for l in md.splitlines() if l.startswith(f"| {part['name']} |"))
+                self.assertEqual(float(row.split("|")[5]), float(f"{left:.6g}"), row)
+
+    def test_snapshots_say_what_the_view_leaves_out(self):
+        out = self.work / "plate_report"
+        p = report(self.plate, "--out", out)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        md = (out / "report.md").read_text()
+        self.assertRegex(md, r"particles and elements outside it are not drawn: \d+ at ")
+
+    def test_crater_at_the_bottom_is_flagged(self):
+        # The flag reads summary.json: the crater depth against the bed's depth.
+        for depth, flagged in ((1.995, True), (1.2, False)):
+            with self.subTest(depth=depth):
+                d = self.work / f"flag_{depth}"
+                if d.exists():
+                    shutil.rmtree(d)
+                shutil.copytree(self.outflow, d)
+                s = json.loads((d / "summary.json").read_text())
+                s["metrics"]["crater_depth_m"] = depth
+                s["parts"][1]["diagnostics"]["packing_bed_height_m"] = 2.0
+                (d / "summary.json").write_text(json.dumps(s))
+                p = report(d)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                md = (d / "report" / "report.md").read_text()
+                self.assertEqual("The crater reached the bottom of the box" in md, flagged)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,8 @@ surface_profile.csv. Written into OUT (default DIR/report/):
   snapshots_pressure.png    ... by pressure (SPH and FEM; grains grey);
   snapshots_von_mises.png   ... by von Mises stress (FEM; the other parts grey);
   snapshots_damage.png      ... by damage (FEM parts with a damage model; the others grey);
-  energy.png                the energy balance of history.csv (and each part's total);
+  energy.png                the energy balance of history.csv (and the kinetic + internal
+                            energy each part holds);
   von_mises_history.png     the <part>_max_von_mises_pa columns of history.csv, if any;
   surface_profile.png       the ground surface of surface_profile.csv, if present;
   lining.png                a tunnel lining's gauges (probes.lining) from history.csv, and the
@@ -26,7 +27,9 @@ surface_profile.csv. Written into OUT (default DIR/report/):
                             probes.stress_time_s), mirrored through the symmetry planes;
   crater_map.png            3D: the ground's height change dz over x-y, last frame vs t = 0,
                             from the grains, mirrored likewise;
-  report.md                 the summary as tables, linking the figures.
+  report.md                 the summary as tables (the parts with what left the domain and
+                            what eroded; flags such as a crater at the bottom of the box),
+                            linking the figures.
 Snapshots show up to four output times spread evenly from the first to the last (the state at
 failure of a failed run counts as the last), or the frames nearest to --times (seconds).
 Particles are drawn as discs of their own size (DEM: the grain radius; SPH: the disc whose area
@@ -574,9 +577,54 @@ def state_extent(st):
     return None
 
 
-def view_box(all_states):
-    """One view for every panel: what the parts cover at the chosen times, at most the first
-    panel's size beyond it on each side."""
+def domain_box(scenario, plane):
+    """The scenario's [domain] box in the drawing's axes, or None (unknown or unbounded)."""
+    dom = (scenario or {}).get("domain") if isinstance(scenario, dict) else None
+    if not isinstance(dom, dict):
+        return None
+    lo, hi = dom.get("min_m"), dom.get("max_m")
+    if not (isinstance(lo, list) and isinstance(hi, list)):
+        return None
+    h, v = plane.cols()
+    try:
+        return float(lo[h]), float(hi[h]), float(lo[v]), float(hi[v])
+    except (IndexError, TypeError, ValueError):
+        return None
+
+
+def outside_view(states, view):
+    """How many particles (by centre) and elements (by centroid) of these states lie outside
+    the view."""
+    x0, x1, y0, y1 = view
+    n = 0
+    for st in states:
+        pts = []
+        if st.polygons:
+            pts = [poly.mean(axis=0) for poly in st.polygons]
+        elif st.xy is not None and len(st.xy):
+            pts = st.xy
+        for x, y in pts:
+            n += not (x0 <= x <= x1 and y0 <= y <= y1)
+    return n
+
+
+def view_note(all_states, frames, view, dom):
+    """The caption that says what the view leaves out, if anything."""
+    counts = [(f, outside_view(states, view)) for f, states in zip(frames, all_states)]
+    cut = [(f, n) for f, n in counts if n]
+    if not cut:
+        return ""
+    x0, x1, y0, y1 = view
+    where = ", ".join(f"{n} at {fmt_ms(f.time)}" for f, n in cut)
+    return (f"The view is x from {x0:.3g} to {x1:.3g} m and y from {y0:.3g} to {y1:.3g} m"
+            + (" (the domain, cut at about the first panel's size beyond the parts)" if dom else "")
+            + f"; particles and elements outside it are not drawn: {where}.")
+
+
+def view_box(all_states, dom=None):
+    """One view for every panel: what the parts cover at the chosen times, inside the domain
+    (dom, when known: fragments of an FEM part, which the domain does not hold, do not stretch
+    it), at most the first panel's size beyond it on each side."""
     def union(states):
         boxes = [b for b in (state_extent(s) for s in states) if b is not None]
         if not boxes:
@@ -588,6 +636,11 @@ def view_box(all_states):
     total = union([s for states in all_states for s in states])
     if total is None:
         return (-1.0, 1.0, -1.0, 1.0)
+    if dom is not None and all(math.isfinite(v) for v in dom):
+        total = (max(total[0], dom[0]), min(total[1], dom[1]),
+                 max(total[2], dom[2]), min(total[3], dom[3]))
+        if total[0] >= total[1] or total[2] >= total[3]:
+            total = dom
     if first is not None:
         w, h = first[1] - first[0], first[3] - first[2]
         total = (max(total[0], first[0] - w), min(total[1], first[1] + w),
@@ -761,16 +814,25 @@ def energy_figure(path, hist, title):
     ax.set_title("energy balance")
     if per_part:
         ax = axes[0][1]
-        change = {c: np.array(hist[c]) - hist[c][0] for c in per_part}
-        scale, unit = energy_unit([v for d in change.values() for v in d])
-        for c in per_part:
-            ax.plot(t, change[c] / scale, lw=1.6, label=c[len("energy_"):-2])
+        names = [c[len("energy_"):-2] for c in per_part]
+        held = all(f"kinetic_{n}_j" in hist and f"internal_{n}_j" in hist for n in names)
+        if held:
+            # What each part holds, kinetic + internal: the charge's energy leaving it. (Each
+            # part's total also books its contact work, so the charge's stays near its start.)
+            series = {n: np.array(hist[f"kinetic_{n}_j"]) + np.array(hist[f"internal_{n}_j"])
+                      for n in names}
+        else:  # a run of an older crater: the totals, said to be such
+            series = {n: np.array(hist[f"energy_{n}_j"]) for n in names}
+        scale, unit = energy_unit([v for d in series.values() for v in d])
+        for n in names:
+            ax.plot(t, series[n] / scale, lw=1.6, label=n)
         ax.axhline(0.0, color="0.6", lw=0.8)
         ax.set_xlabel("time [ms]")
-        ax.set_ylabel(f"change since t = 0 [{unit}]")
+        ax.set_ylabel(f"energy [{unit}]")
         ax.grid(alpha=0.3)
         ax.legend(title="part", fontsize=8)
-        ax.set_title("each part's total energy (energy_<part>_j)")
+        ax.set_title("kinetic + internal energy each part holds" if held else
+                     "each part's total energy, its contact work included (energy_<part>_j)")
     fig.suptitle(title)
     save_png(fig, path)
 
@@ -1334,6 +1396,34 @@ def md_escape(s):
     return str(s).replace("|", "\\|").replace("\n", " ")
 
 
+def result_flags(summary, metrics, err):
+    """What a reader must know before trusting the numbers: a crater that reached the bottom of
+    the bed (the box truncates it), a part that lost much of its mass out of the domain, an
+    energy error above the guard's warning level. (Detonation products leaving the domain are
+    not flagged: venting is what they do.)"""
+    flags = []
+    depth = as_float(metrics.get("crater_depth_m"))
+    for p in summary.get("parts") or []:
+        diag = p.get("diagnostics") if isinstance(p, dict) and isinstance(
+            p.get("diagnostics"), dict) else {}
+        bed = as_float(diag.get("packing_bed_height_m"))
+        if depth is not None and bed and depth >= 0.98 * bed:
+            flags.append(f"**The crater reached the bottom of the box**: crater depth "
+                         f"{depth:.3g} m, the bed of '{md_escape(p.get('name', '?'))}' is "
+                         f"{bed:.3g} m deep. The domain truncates the crater and what depends "
+                         "on it; a wider and deeper domain (the paper scenes' `--level wide`) "
+                         "tells how much.")
+        left, mass = as_float(diag.get("left_domain_mass_kg")), as_float(p.get("mass_kg"))
+        # (an explosive's products venting out is what they do; grains are the ground)
+        if p.get("method") != "sph" and left and mass is not None and left > 0.5 * (left + mass):
+            flags.append(f"Part '{md_escape(p.get('name', '?'))}': {left:.4g} kg left the "
+                         f"domain, more than stays in it ({mass:.4g} kg).")
+    if err is not None and abs(err) > 0.02:
+        flags.append(f"Energy balance error {err * 100:.3g} %, above 2 % (time.energy_warn_error's "
+                     "default): look at the energy figure before the numbers.")
+    return flags
+
+
 def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist):
     sc = summary.get("scenario") if isinstance(summary.get("scenario"), dict) else {}
     name = sc.get("name", run_dir.name)
@@ -1377,9 +1467,12 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
             rows.append(("command", "`" + md_escape(" ".join(str(a) for a in argv)) + "`"))
     lines += ["| | |", "| --- | --- |"] + [f"| {k} | {v} |" for k, v in rows] + [""]
 
+    per_m = " per metre" if dim == 2 else ""
     lines += ["## Parts", "",
-              "| part | method | count | mass [kg]" + (" per metre" if dim == 2 else "") + " | notes |",
-              "| --- | --- | ---: | ---: | --- |"]
+              "Mass at the end, what left the domain (SPH, DEM: `domain.outflow = \"remove\"`) "
+              "and what eroded (FEM), in kg" + per_m + ".", "",
+              "| part | method | count | mass | left the domain | eroded | notes |",
+              "| --- | --- | ---: | ---: | ---: | ---: | --- |"]
     for p in summary.get("parts") or []:
         if not isinstance(p, dict):
             continue
@@ -1390,12 +1483,21 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
                          f"{fmt_value(diag['elements'])} elements eroded")
         if diag.get("wall_reflections"):
             notes.append(f"{fmt_value(diag['wall_reflections'])} wall reflections")
+        left = as_float(diag.get("left_domain_mass_kg"))
+        eroded = as_float(diag.get("eroded_mass_kg"))
+        if diag.get("left_domain_count"):
+            notes.append(f"{fmt_value(diag['left_domain_count'])} particles left the domain")
         lines.append(f"| {md_escape(p.get('name', '?'))} | {md_escape(p.get('method', '?'))} | "
                      f"{fmt_value(p.get('count'))} | {fmt_value(as_float(p.get('mass_kg')), 6)} | "
+                     f"{fmt_value(left, 6) if left is not None else '—'} | "
+                     f"{fmt_value(eroded, 6) if eroded is not None else '—'} | "
                      f"{'; '.join(notes)} |")
     lines.append("")
 
     metrics = summary.get("metrics") if isinstance(summary.get("metrics"), dict) else {}
+    flags = result_flags(summary, metrics, err)
+    if flags:
+        lines += ["## Flags", ""] + [f"- {f}" for f in flags] + [""]
     lines += ["## Metrics", ""]
     if metrics:
         lines += ["| metric | value | unit |", "| --- | ---: | --- |"]
@@ -1479,19 +1581,21 @@ def main(argv):
         dim = 3 if len(pts) and np.ptp(pts[:, 2]) > 0 else 2
     figures = []
 
-    scenario = load_scenario(summary, run_dir) if dim == 3 else None
+    scenario = load_scenario(summary, run_dir)
     plane = (section_plane(parts, chosen[0], vertical_axis_3d(scenario)) if dim == 3
              else Plane())
     all_states = [load_states(parts, f, plane) for f in chosen]
     if any(all_states):
-        view = view_box(all_states)
+        dom = domain_box(scenario, plane)
+        view = view_box(all_states, dom)
+        note = view_note(all_states, chosen, view, dom)
         present = {"parts"} | {k for states in all_states for s in states for k in s.values}
         colours = part_colours(parts)
         for key, fname in SNAPSHOT_FILES.items():
             if key in present:
                 snapshot_figure(out_dir / fname, key, chosen, all_states, view, colours, title,
                                 plane)
-                figures.append((f"Snapshots: {QUANTITIES[key][0]}", fname))
+                figures.append((f"Snapshots: {QUANTITIES[key][0]}", fname, note))
     else:
         warn("no frame could be read; no snapshots")
 
