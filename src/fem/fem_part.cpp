@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/index.hpp"
+#include "fem/boundaries.hpp"
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
@@ -28,9 +29,6 @@
 
 namespace crater::fem {
 namespace {
-
-template <int D>
-using MatD = Eigen::Matrix<Real, D, D>;
 
 /// The element-loop material of a part.
 SolidMaterial solid_material(const PartSettings& settings) {
@@ -120,6 +118,8 @@ class FemPart final : public parts::Part<D> {
     rebuild_surface();
     for (const auto& b : settings.fem.boundaries)
       apply_boundary_config(source, b);
+    walls_ = rigid_walls<D>(settings.fem.rigid_walls, mesh_.position, name_);
+    wall_work_.assign(walls_.empty() ? 0 : at(nn), 0);
     apply_symmetry_planes(pc);
     for (const auto& l : settings.fem.loads)
       add_pressure_load(source, l);
@@ -235,10 +235,16 @@ class FemPart final : public parts::Part<D> {
     parallel::for_each(mesh_.node_count(), [&](Index i) {
       const std::size_t u = at(i);
       Vec<D>& v = mesh_.velocity[u];
-      v += half * total_acceleration(u);
+      const Vec<D> a = total_acceleration(u);
+      v += half * a;
       impose_velocity(u);
+      if (!walls_.empty())
+        wall_work_[u] = hold_off_walls(walls_, mesh_.position[u], v, mesh_.mass[u], dt_s, a);
       mesh_.position[u] += dt_s * v;
     });
+    if (!walls_.empty())
+      external_work_ += parallel::deterministic_sum<Real>(
+          mesh_.node_count(), [&](Index i) { return wall_work_[at(i)]; });
     dt_pending_ = dt_s;
     stale_ = true;
     contact_pending_ = true;
@@ -676,7 +682,8 @@ class FemPart final : public parts::Part<D> {
             }
         break;
       case BoundaryType::NonReflecting:
-        add_dashpots(set);
+        add_dashpots<D>(set.faces, materials::at_rest_elastic_of(material_.strength),
+                        material_.density_kg_m3, dashpot_of_node_, dashpot_matrix_);
         break;
     }
   }
@@ -698,33 +705,14 @@ class FemPart final : public parts::Part<D> {
     }
   }
 
-  /// Lysmer-Kuhlemeyer dashpots on the boundary faces of `set` (reference configuration).
-  void add_dashpots(const NodeSet<D>& set) {
-    const materials::ElasticParams el = materials::at_rest_elastic_of(material_.strength);
-    const Real rho = material_.density_kg_m3;
-    const Real cp = std::sqrt(materials::p_wave_modulus(el) / rho);
-    const Real cs = std::sqrt(materials::shear_modulus(el) / rho);
-    for (const auto& face : set.faces) {
-      const Vec<D> n = face.unit_normal;
-      const MatD<D> nn = n * n.transpose();
-      const MatD<D> c = (face.area / Real(face.nodes.size())) *
-                        (rho * cp * nn + rho * cs * (MatD<D>::Identity() - nn));
-      for (Index node : face.nodes) {
-        Index& d = dashpot_of_node_[at(node)];
-        if (d < 0) {
-          d = static_cast<Index>(dashpot_matrix_.size());
-          dashpot_matrix_.push_back(MatD<D>::Zero());
-        }
-        dashpot_matrix_[at(d)] += c;
-      }
-    }
-  }
-
   std::string name_;
   SolidMaterial material_;
   ExplicitMesh<D> mesh_;
   Vec<D> gravity_ = Vec<D>::Zero();
   Real initial_mass_ = 0;
+
+  std::vector<RigidWall<D>> walls_;
+  std::vector<Real> wall_work_;  // per node, the step's work of the walls
 
   // Boundary conditions, per node: bit k of constrained_ = component k imposed.
   std::vector<std::uint8_t> constrained_;

@@ -64,6 +64,14 @@ struct GeostaticSettings {
   std::optional<Real> k0;  // lateral earth pressure coefficient K_0 [-]; unset: \nu / (1 - \nu)
 };
 
+/// [[parts.fem.rigid_walls]]: a fixed plane the nodes cannot cross (fem/boundaries.hpp).
+struct RigidWallSettings {
+  parts::Vec3 point_m{};
+  parts::Vec3 normal{};  // towards the part's side; any length but zero
+  Real friction{};
+  SourceLocation where;
+};
+
 /// Numerics, boundaries and mesh of an FEM part ([parts.fem]).
 struct Settings {
   bool hourglass_stiffness{};  // false: viscous form
@@ -80,6 +88,7 @@ struct Settings {
   Real mass_scaling_step_ratio{};
   Real mass_scaling_limit{};
   std::vector<BoundarySettings> boundaries;
+  std::vector<RigidWallSettings> rigid_walls;
   std::vector<LoadSettings> loads;
   std::optional<GeostaticSettings> geostatic;  // unset: the part starts unstressed
   std::string mesh_file;   // Gmsh .msh 4.1; empty: structured mesh of the region box

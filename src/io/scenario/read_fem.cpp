@@ -92,6 +92,21 @@ void Builder::read_fem(const Config& c, const toml::table& t, const SourceLocati
   }
   if (const toml::node* bn = ft.get("boundary"))
     read_fem_boundaries(*bn->as_array(), fw, key, dim, f);
+  if (const toml::node* wn = ft.get("rigid_walls")) {
+    const auto& arr = *wn->as_array();
+    for (std::size_t k = 0; k < arr.size(); ++k) {
+      const auto& wt = *arr.get(k)->as_table();
+      const SourceLocation ww = where_of(wt, fw);
+      fem::RigidWallSettings r{vec3(wt, "point_m"), vec3(wt, "normal"), num(wt, "friction"), ww};
+      Real n2 = 0;
+      for (int d = 0; d < dim; ++d)
+        n2 += r.normal[static_cast<std::size_t>(d)] * r.normal[static_cast<std::size_t>(d)];
+      if (!(n2 > 0))
+        error(loc(wt, "normal", ww), fmt::format("{}.fem.rigid_walls[{}].normal", key, k),
+              "expected a vector of non-zero length");
+      f.rigid_walls.push_back(r);
+    }
+  }
   if (!f.mesh_file.empty()) read_fem_mesh(c, ft, fw, key, p);
   if (const toml::node* ln = ft.get("loads")) read_fem_loads(*ln->as_array(), fw, key, dim, p);
   if (const toml::node* gn = ft.get("geostatic"))

@@ -763,6 +763,30 @@ const TableSchema& fem_boundary_schema() {
   return s;
 }
 
+TableSchema make_rigid_wall() {
+  TableSchema t{"parts.fem.rigid_walls",
+                "Fixed planes the part's nodes cannot cross (LS-DYNA's *RIGIDWALL_PLANAR): a "
+                "node that would cross one has the inward part of its normal velocity removed "
+                "and lands on it, with Coulomb friction on its tangential velocity; a node pulled "
+                "away leaves it, so a body can rebound (unlike a symmetry boundary). The "
+                "kinetic energy a wall removes is booked as its work (external_work_j).",
+                {},
+                {},
+                {}};
+  t.keys = {
+      required(vec("point_m", "m", "A point of the plane.")),
+      required(vec("normal", "1",
+                   "The plane's normal, pointing to the side the part is on (any length but "
+                   "zero). A node that starts behind the wall is refused.")),
+      with_default(at_least(real("friction", "1", "Coulomb friction coefficient."), 0), "0"),
+  };
+  return t;
+}
+const TableSchema& fem_rigid_wall_schema() {
+  static const TableSchema s = make_rigid_wall();
+  return s;
+}
+
 TableSchema make_fem_load() {
   TableSchema t{"parts.fem.loads",
                 "A load on the boundary faces of one face of the part's bounding box (or of a "
@@ -906,6 +930,8 @@ TableSchema make_fem() {
            "element of the scenario's dimension."),
       sub("boundary", KeyType::TableArray, fem_boundary_schema(),
           "Boundary conditions. Faces without one are free (traction-free)."),
+      sub("rigid_walls", KeyType::TableArray, fem_rigid_wall_schema(),
+          "Planar rigid walls the nodes rebound from."),
       sub("loads", KeyType::TableArray, fem_load_schema(),
           "Loads on boundary faces (an equivalent blast pressure, a surcharge)."),
       absent_means_unset(sub("geostatic", KeyType::Table, fem_geostatic_schema(),
