@@ -25,7 +25,7 @@ cli: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target crater_cli
 
 # The paper's scene at its demo level, then its report ($(OUT)/report/report.md and PNGs).
-# Measured: 80 s for the whole target on 2 cores once built (77 s of it the run; 2026-11-25).
+# Measured: 70 s for the whole target on 2 cores once built (60 s of it the run; 2026-11-27).
 run: cli
 	@echo "make run: $(DEMO) at its demo level into $(OUT)/ - about 1.5 minutes on 2 cores, then its report"
 	$(CRATER) run $(DEMO) --out $(OUT) --force
