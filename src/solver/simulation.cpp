@@ -119,8 +119,12 @@ class Run {
           "it was written for another scenario (state hash {} vs {} of this one, after "
           "defaults and --set; resume with the same file and overrides: only "
           "scenario.end_time_s, time.max_steps, time.min_dt_s, the energy guard's keys and the "
-          "[output] keys but interval_s may change)",
-          h.scenario_hash, c_.state_hash));
+          "[output] keys but interval_s may change{})",
+          h.scenario_hash, c_.state_hash,
+          c_.output.interval_given
+              ? ""
+              : "; output.interval_s is unset, so it follows the end time: set it to the run's, "
+                "end_time_s / 20"));
     st_.load(rd);
     // The end time may have changed (a finished run extended): the next frame is the next
     // multiple of the interval, as if the run had always been going to this end time.

@@ -105,6 +105,23 @@ class ExtendRun(unittest.TestCase):
                 after = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
                 self.assertEqual(before, after)
 
+    def test_unset_interval_is_named(self):
+        # An unset output.interval_s follows the end time (end_time_s / 20), so a later end time
+        # means other frames: refused, and the message says what to set.
+        text = Path(PLATE).read_text()
+        self.assertIn("interval_s = 1e-5\n", text)
+        d = scratch("extend_unset_interval")
+        d.mkdir(parents=True, exist_ok=True)
+        (d / "plate.toml").write_text(text.replace("interval_s = 1e-5\n", ""))
+        run_scenario(d / "plate.toml", d / "out", sets=["scenario.end_time_s=5e-5"])
+        proc = crater("run", "--resume", d / "out", "--quiet", "--set",
+                      "scenario.end_time_s=1e-4", check=False)
+        self.assertEqual(proc.returncode, 2, proc.stderr)
+        self.assertIn("output.interval_s is unset, so it follows the end time", proc.stderr)
+        # With the run's interval stated, the same extension goes through.
+        crater("run", "--resume", d / "out", "--quiet", "--set", "scenario.end_time_s=1e-4",
+               "--set", "output.interval_s=2.5e-6")
+
     def test_no_end_checkpoint_when_switched_off(self):
         out = scratch("extend_off")
         run_scenario(PLATE, out, sets=["output.checkpoint_at_end=false",

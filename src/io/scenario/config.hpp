@@ -62,6 +62,7 @@ struct OutputConfig {
   Real max_bytes{};                // VTU bytes the run may write in all
   Real memory_limit_fraction{};    // of the available memory the run's estimate may take
   SourceLocation interval_where;   // for the cadence errors
+  bool interval_given{};           // interval_s was set (else end_time_s / 20)
 };
 
 using parts::Face;

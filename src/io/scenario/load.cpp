@@ -189,6 +189,7 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.output.max_bytes = num(ot, "max_bytes");
   c.output.memory_limit_fraction = num(ot, "memory_limit_fraction");
   c.output.interval_where = loc(ot, "interval_s", top);
+  c.output.interval_given = ot.get("interval_s") != nullptr;
   check_frame_count(c);
   c.output.vtu_encoding =
       str(ot, "vtu_encoding") == "base64" ? VtuEncoding::Base64 : VtuEncoding::Appended;
