@@ -6,8 +6,9 @@ JOBS    ?= $(shell nproc 2>/dev/null || echo 2)
 CRATER  := $(BUILD)/bin/crater
 DEMO    ?= paper-20cm
 OUT     ?= out
+PREFIX  ?= /usr/local
 
-.PHONY: all deps configure build cli run test test-slow bench format docs clean
+.PHONY: all deps configure build cli install run test test-slow bench format docs clean
 
 all: build
 
@@ -23,6 +24,10 @@ build: configure
 # Only the binary (and the libraries it links): what `make run` needs, not the tests and benchmarks.
 cli: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target crater_cli
+
+# The binary, the bundled scenarios and the verification cases under $(PREFIX) (bin/, share/crater/).
+install: cli
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 # The paper's scene at its demo level, then its report ($(OUT)/report/report.md and PNGs).
 # Measured: 70 s for the whole target on 2 cores once built (60 s of it the run; 2026-11-27).

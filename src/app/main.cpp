@@ -1,4 +1,4 @@
-// crater command line: run, check, list, schema, report, sweep.
+// crater command line: run, check, list, schema, report, sweep, verify.
 //   crater run SCENARIO [--level L] [--out DIR] [--threads N] [--set key=value]... [--force]
 //   crater run SCENARIO --resume DIR | --restart FILE   (continue from a checkpoint)
 //   crater check SCENARIO [--level L] [--set key=value]...
@@ -6,6 +6,7 @@
 //   crater schema [--markdown]
 //   crater report DIR [--out DIR] [--times T1,T2,...]   (figures and report.md of a run)
 //   crater sweep SCENARIO --vary KEY=v1,v2,... [...]    (a parameter study: docs/sweep.md)
+//   crater verify [--quick] [--case NAME]...             (the verification cases: docs/verify.md)
 // Exit codes: 0 done, 2 bad input (scenario, command line, run directory), 3 numerical
 // failure (NaN, negative volume, lost particle, energy guard), 130 interrupted by SIGINT or
 // SIGTERM (a checkpoint is written: continue with --resume), 1 other errors (e.g. a full or
@@ -139,6 +140,7 @@ struct CommandLine {
   crater::app::ReportOptions report_opt;
   CLI::App* run = nullptr;
   CLI::App* sweep = nullptr;
+  CLI::App* verify = nullptr;
 
   CommandLine() {
     app.set_version_flag("--version", std::string("crater ") + CRATER_VERSION);
@@ -197,6 +199,15 @@ struct CommandLine {
     sweep->prefix_command();
     sweep->allow_extras();
     sweep->set_help_flag();
+
+    verify = app.add_subcommand(
+        "verify",
+        "Run the bundled verification cases (installed with the binary) and compare each with its "
+        "reference: a table, verify.json, exit 1 on a failure (crater verify --help; "
+        "docs/verify.md)");
+    verify->prefix_command();
+    verify->allow_extras();
+    verify->set_help_flag();
 
     auto* report = app.add_subcommand(
         "report", "Figures (PNG) and report.md for a run directory (or a sweep's charts)");
@@ -321,6 +332,7 @@ int main(int argc, char** argv) {
     }
     if (cl.app.got_subcommand("report")) return crater::app::cmd_report(cl.report_opt);
     if (cl.app.got_subcommand("sweep")) return crater::app::cmd_sweep(cl.sweep->remaining());
+    if (cl.app.got_subcommand("verify")) return crater::app::cmd_verify(cl.verify->remaining());
     if (cl.app.got_subcommand("check")) return cmd_check(cl.scenario, cl.sets, cl.level);
     if (cl.opt.quiet) spdlog::set_level(spdlog::level::warn);
     resolve_run(cl, argc, argv);

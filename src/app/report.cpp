@@ -1,4 +1,4 @@
-// crater report and crater sweep: write the embedded script (report or sweep) to a temporary
+// crater report, sweep and verify: write the embedded script (report, sweep, verify) to a temporary
 // file and run it with the system Python, passing the arguments on as an argv array (no shell,
 // no quoting).
 #include "app/report.hpp"
@@ -20,6 +20,8 @@
 
 #include "app/report_script.hpp"
 #include "app/sweep_script.hpp"
+#include "app/verify_script.hpp"
+#include "io/scenario/load.hpp"
 
 namespace crater::app {
 
@@ -180,6 +182,19 @@ int cmd_sweep(const std::vector<std::string>& user_args) {
   if (!have_python(python, "sweep")) return kExitOther;
   const TemporaryScript script(kSweepScript);
   std::vector<std::string> args = {python, script.path(), "--crater", own_path()};
+  args.insert(args.end(), user_args.begin(), user_args.end());
+  return run_and_wait(args);
+}
+
+int cmd_verify(const std::vector<std::string>& user_args) {
+  const std::string python = python_path();
+  if (!have_python(python, "verify")) return kExitOther;
+  const TemporaryScript script(kVerifyScript);
+  // The cases sit beside the bundled scenarios: <prefix>/share/crater/{scenarios,verify} when
+  // installed, <source>/{scenarios,verify} in a build tree.
+  const auto cases = io::bundled_scenario_dir().parent_path() / "verify";
+  std::vector<std::string> args = {python,     script.path(), "--crater",
+                                   own_path(), "--cases-dir", cases.string()};
   args.insert(args.end(), user_args.begin(), user_args.end());
   return run_and_wait(args);
 }

@@ -26,4 +26,10 @@ int cmd_report(const ReportOptions& opt);
 // 1 a case failed or another error, 2 bad input, 130 interrupted).
 int cmd_sweep(const std::vector<std::string>& args);
 
+// crater verify ARGS...: runs tools/verify/crater_verify.py (embedded likewise) with ARGS as
+// given, this binary for its runs and the bundled verification cases (<prefix>/share/crater/verify
+// when installed, else the source tree's verify/; docs/verify.md); returns its exit code (0 every
+// check passed, 1 a check or a run failed, 2 bad input).
+int cmd_verify(const std::vector<std::string>& args);
+
 }  // namespace crater::app

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -107,10 +108,37 @@ std::vector<dem::Grain<D>> laid_grains(const dem::PartSettings& settings) {
   return grains;
 }
 
+// The user's packing cache, for scenarios whose own cache_dir cannot be written (the bundled
+// scenarios of an installed crater, in a read-only <prefix>/share/crater/scenarios):
+// $XDG_CACHE_HOME/crater/packings, else $HOME/.cache/crater/packings; empty if neither is set.
+std::filesystem::path user_packing_cache() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  if (xdg != nullptr && *xdg == '/') return std::filesystem::path(xdg) / "crater" / "packings";
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && *home == '/')
+    return std::filesystem::path(home) / ".cache" / "crater" / "packings";
+  return {};
+}
+
+// Saves the packing in `dir` (made if missing); false, with the reason, if that fails.
+template <int D>
+bool try_save_packing(const std::filesystem::path& file, std::uint64_t key,
+                      const dem::SettledPacking<D>& settled, std::string& why) {
+  try {
+    std::filesystem::create_directories(file.parent_path());
+    save_packing<D>(file.string(), key, settled);
+    return true;
+  } catch (const std::exception& e) {
+    why = e.what();
+    return false;
+  }
+}
+
 // A packed DEM part: its grains from the cache if it holds this packing, else generated (and
 // settled under gravity with the domain's walls, then saved). The run starts from the saved
 // state (positions and radii, grains at rest, and the contacts' springs) in both cases, so a
-// run that settled and a run that reused give identical results.
+// run that settled and a run that reused give identical results. The cache is the scenario's
+// cache_dir, and the user's cache where that cannot be written.
 template <int D>
 std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling) {
   const dem::PackingSettings& k = settings.packing;
@@ -121,13 +149,16 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
     return dem::make_dem_part<D>(settings, &grains, report);
   }
   const std::uint64_t key = fnv1a(dem::packing_key_text<D>(settings));
-  const std::filesystem::path file =
-      std::filesystem::path(k.cache_dir) / fmt::format("{}-{:016x}.pack", name, key);
-  if (auto cached = load_packing<D>(file.string(), key)) {
-    report.reused = true;
-    spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
-                 cached->grains.size(), file.string());
-    return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
+  const std::string file_name = fmt::format("{}-{:016x}.pack", name, key);
+  const std::filesystem::path file = std::filesystem::path(k.cache_dir) / file_name;
+  const std::filesystem::path user_dir = user_packing_cache();
+  for (const auto& f : {file, user_dir.empty() ? file : user_dir / file_name}) {
+    if (auto cached = load_packing<D>(f.string(), key)) {
+      report.reused = true;
+      spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
+                   cached->grains.size(), f.string());
+      return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
+    }
   }
   const bool laid = k.method != dem::PackingMethod::Lattice;
   std::vector<dem::Grain<D>> grains;
@@ -139,14 +170,27 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   }
   const dem::SettledPacking<D> settled =
       dem::settle_grains<D>(settings, laid ? &grains : nullptr, report);
-  std::filesystem::create_directories(file.parent_path());
-  save_packing<D>(file.string(), key, settled);
+  std::filesystem::path saved = file;
+  std::string why;
+  if (!try_save_packing<D>(file, key, settled, why)) {
+    std::string why_user = "neither XDG_CACHE_HOME nor HOME is set";
+    if (user_dir.empty() || !try_save_packing<D>(user_dir / file_name, key, settled, why_user))
+      throw std::runtime_error(fmt::format(
+          "part '{}': the settled packing could be saved neither in [parts.packing] cache_dir "
+          "({}) nor in the user's cache ({}); set cache_dir to a writable directory",
+          name, why, why_user));
+    spdlog::warn(
+        "part '{}': cache_dir {} cannot be written ({}); the packing goes to the user's "
+        "cache {}",
+        name, k.cache_dir, why, user_dir.string());
+    saved = user_dir / file_name;
+  }
   spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
-               report.settle_steps, file.string());
+               report.settle_steps, saved.string());
   // Read back what was saved, so this run starts from exactly what a reuse would.
-  if (auto back = load_packing<D>(file.string(), key))
+  if (auto back = load_packing<D>(saved.string(), key))
     return dem::make_dem_part<D>(settings, &back->grains, report, &back->contacts);
-  throw std::runtime_error("could not read back the settled packing " + file.string());
+  throw std::runtime_error("could not read back the settled packing " + saved.string());
 }
 
 }  // namespace

@@ -25,19 +25,27 @@ gravity, and the reuse of a settled packing.
      first run's (the first run also starts from the saved file);
    - a packing file with one flipped byte is not used: the run settles again and writes the
      same result; changing an input that shapes the packing (friction) settles anew into a
-     second file.
+     second file;
+   - a cache_dir that cannot be written (the bundled scenarios of an installed crater sit in a
+     read-only share/crater/scenarios; here a plain file stands where the directory should be)
+     does not stop the run: the packing goes to the user's cache ($XDG_CACHE_HOME/crater/
+     packings), byte for byte the file the writable cache got, with a warning naming both, and
+     the next run reuses it from there.
    The grains' shear modulus is 50 MPa instead of sand's 29 GPa: it makes the time step ~25x
    larger and does not change what is checked here.
 """
 import itertools
 import math
+import os
+import shutil
+import subprocess
 import sys
 import unittest
 from pathlib import Path
 
 import numpy as np
 
-from crater_test import crater, read_pvd, read_vtu, run_scenario, scratch
+from crater_test import BIN, crater, read_pvd, read_vtu, run_scenario, scratch
 from scenario_blocks import (SAND, box, compose_scenario, domain, material, output, part,
                              scenario_text)
 
@@ -190,6 +198,29 @@ class SettleAndReuse(unittest.TestCase):
         s = run_scenario(self.toml, self.dir / "friction", sets=["materials.0.friction=0.5"])
         self.assertEqual(self.diag(s)["packing_reused"], 0)
         self.assertEqual(len(list(self.cache.glob("soil-*.pack"))), 2)
+
+    def test_unwritable_cache_dir_uses_the_users_cache(self):
+        d = self.dir / "readonly"
+        d.mkdir(exist_ok=True)
+        (d / "settle.toml").write_text(SETTLE)
+        (d / ".crater-cache").write_text("a file where the cache directory would go\n")
+        env = dict(os.environ, XDG_CACHE_HOME=str(d / "xdg"))
+        user_cache = d / "xdg" / "crater" / "packings"
+        shutil.rmtree(user_cache, ignore_errors=True)
+        runs = []
+        for out in ("first", "second"):
+            runs.append(subprocess.run(
+                [BIN, "run", d / "settle.toml", "--out", d / out, "--force", "--threads", "1",
+                 "--set", "scenario.end_time_s=0.002", "--set", "output.interval_s=0.001"],
+                capture_output=True, text=True, timeout=900, env=env))
+            self.assertEqual(runs[-1].returncode, 0, runs[-1].stderr)
+        self.assertIn("cannot be written", runs[0].stderr)
+        self.assertIn(str(user_cache), runs[0].stderr)
+        self.assertEqual(self.diag(run_summary(d / "first"))["packing_reused"], 0)
+        self.assertEqual(self.diag(run_summary(d / "second"))["packing_reused"], 1)
+        saved = sorted(user_cache.glob("soil-*.pack"))
+        self.assertEqual([f.name for f in saved], [f.name for f in self.files])
+        self.assertEqual(saved[0].read_bytes(), self.files[0].read_bytes())
 
     def assert_same_outputs(self, a, b):
         names = sorted(p.name for p in a.iterdir() if p.suffix in (".vtu", ".csv"))
