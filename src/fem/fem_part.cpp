@@ -21,6 +21,7 @@
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
+#include "fem/fem_output_fields.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_state_layout.hpp"
 #include "parallel/parallel.hpp"
@@ -367,10 +368,23 @@ class FemPart final : public parts::Part<D> {
   std::vector<fields::FieldView> point_fields() const override {
     const Index nn = mesh_.node_count();
     displacement_.resize(at(nn));
-    for (Index i = 0; i < nn; ++i)
-      displacement_[at(i)] = mesh_.position[at(i)] - mesh_.reference_position[at(i)];
+    reaction_.assign(at(nn), Vec<D>::Zero());
+    for (Index i = 0; i < nn; ++i) {
+      const std::size_t u = at(i);
+      displacement_[u] = mesh_.position[u] - mesh_.reference_position[u];
+      // The supports' force: what the imposed components took off the node's other forces.
+      const Vec<D> applied =
+          mesh_.mass[u] * gravity_ + (load_force_.empty() ? Vec<D>::Zero().eval() : load_force_[u]);
+      for (int k = 0; k < D; ++k)
+        if ((constrained_[u] & (1u << k)) && mesh_.mass[u] > 0)
+          reaction_[u][k] = external_force_[u][k] - applied[k];
+    }
     return {vector_view(kVelocityInfo, mesh_.velocity),
-            vector_view(kDisplacementInfo, displacement_), scalar_view(kNodeMassInfo, mesh_.mass)};
+            vector_view(kDisplacementInfo, displacement_),
+            scalar_view(kNodeMassInfo, mesh_.mass),
+            vector_view(kInternalForceInfo, mesh_.internal_force),
+            vector_view(kReactionForceInfo, reaction_),
+            vector_view(kContactForceInfo, contact_force_)};
   }
 
   std::vector<fields::FieldView> cell_fields() const override {
@@ -485,19 +499,6 @@ class FemPart final : public parts::Part<D> {
   }
 
  private:
-  static inline const fields::FieldInfo kVelocityInfo{"velocity", "m/s", fields::kOutput};
-  static inline const fields::FieldInfo kDisplacementInfo{"displacement", "m", fields::kOutput};
-  static inline const fields::FieldInfo kNodeMassInfo{"node_mass", "kg", fields::kOutput};
-  static inline const fields::FieldInfo kVonMisesInfo{"von_mises", "Pa", fields::kOutput};
-  static inline const fields::FieldInfo kPressureInfo{"pressure", "Pa", fields::kOutput};
-  static inline const fields::FieldInfo kPlasticStrainInfo{"plastic_strain", "1", fields::kOutput};
-  static inline const fields::FieldInfo kDensityInfo{"density", "kg/m^3", fields::kOutput};
-  static inline const fields::FieldInfo kDamageInfo{"damage", "1", fields::kOutput};
-  static inline const fields::FieldInfo kPlasticVolumetricStrainInfo{"plastic_volumetric_strain",
-                                                                     "1", fields::kOutput};
-  static inline const fields::FieldInfo kErodedInfo{"eroded", "1", fields::kOutput};
-  static inline const fields::FieldInfo kTemperatureInfo{"temperature", "K", fields::kOutput};
-
   static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
     return fields::FieldView{&info, 1, false, v.data(), nullptr, static_cast<Index>(v.size())};
   }
@@ -766,6 +767,7 @@ class FemPart final : public parts::Part<D> {
 
   // Output scratch.
   mutable std::vector<Vec<D>> displacement_;
+  mutable std::vector<Vec<D>> reaction_;  // the supports' force on each node (point_fields)
   mutable std::vector<Real> von_mises_, pressure_, density_;
   mutable std::vector<std::int64_t> eroded_flag_;
 };

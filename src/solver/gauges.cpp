@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -40,6 +41,25 @@ std::int64_t nearest(const std::vector<Vec<D>>& points, const parts::Vec3& x) {
     if (d2 < best_d2) best_d2 = d2, best = static_cast<std::int64_t>(k);
   }
   return best;
+}
+
+// The nodes on a face of the points' bounding box (within 1e-9 of its largest extent), as
+// fem::face_node_set selects a face on the reference positions.
+template <int D>
+std::vector<std::int64_t> face_nodes(const std::vector<Vec<D>>& x, parts::Face face) {
+  const int axis = static_cast<int>(face) / 2;
+  const bool upper = static_cast<int>(face) % 2 == 1;
+  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (const Vec<D>& p : x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Real plane = upper ? hi[axis] : lo[axis];
+  const Real tol = 1e-9 * (hi - lo).maxCoeff();
+  std::vector<std::int64_t> out;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (std::abs(x[k][axis] - plane) <= tol) out.push_back(static_cast<std::int64_t>(k));
+  return out;
 }
 
 // The centres of a mesh's cells (the mean of their nodes).
@@ -113,8 +133,14 @@ Gauges<D>::Gauges(const io::Config& c, const PartList& parts) {
                                          ? "; a DEM part's stress is computed at frames only"
                                          : ""));
       r.components = v->components;
+      r.sum = g.sum;
       std::string kind = r.cell ? "element" : particles ? "particle" : "node";
-      if (r.cell) {
+      if (r.cell && g.face) {
+        throw InputError(g.where, fkey,
+                         fmt::format("'{}' is an element field; a face selects nodes (point "
+                                     "fields such as reaction_force)",
+                                     name));
+      } else if (r.cell) {
         if (g.point_m) {
           r.entities.push_back(nearest<D>(cell_centres(geo), *g.point_m));
         } else if (g.element_ids.empty()) {
@@ -126,7 +152,9 @@ Gauges<D>::Gauges(const io::Config& c, const PartList& parts) {
         }
       } else {
         r.by_particle_id = particles && ids != nullptr;
-        if (g.point_m) {
+        if (g.face) {
+          r.entities = face_nodes<D>(p.points(), *g.face);
+        } else if (g.point_m) {
           const std::int64_t k = nearest<D>(p.points(), *g.point_m);
           r.entities.push_back(r.by_particle_id && k >= 0 ? ids->integer_data[k] : k);
         } else if (g.ids.empty()) {
@@ -143,16 +171,20 @@ Gauges<D>::Gauges(const io::Config& c, const PartList& parts) {
           throw InputError(g.where, key + (r.cell ? ".element_ids" : ".ids"),
                            fmt::format("part '{}' has no {} {} (it has {} {}s)", p.name(), kind, id,
                                        v->size, kind));
-        for (int k = 0; k < r.components; ++k) {
-          const char* suffix = r.components == 1   ? ""
-                               : r.components == 6 ? kTensorSuffix[k]
-                                                   : kVectorSuffix[k];
-          columns_.push_back(fmt::format("{}.{}{}.{}{}", g.name, kind, id, name, suffix));
-        }
+        if (!r.sum) add_columns(fmt::format("{}.{}{}.{}", g.name, kind, id, name), r.components);
       }
+      if (r.sum) add_columns(fmt::format("{}.sum.{}", g.name, name), r.components);
       reads_.push_back(std::move(r));
     }
   }
+}
+
+template <int D>
+void Gauges<D>::add_columns(const std::string& stem, int components) {
+  for (int k = 0; k < components; ++k)
+    columns_.push_back(stem + (components == 1   ? ""
+                               : components == 6 ? kTensorSuffix[k]
+                                                 : kVectorSuffix[k]));
 }
 
 template <int D>
@@ -178,6 +210,7 @@ std::string Gauges<D>::row(Index step, Real t_s, const PartList& parts) const {
     const std::vector<std::int64_t> at = r.by_particle_id && ids
                                              ? indices_of_ids(*ids, r.entities)
                                              : std::vector<std::int64_t>(r.entities.size(), -1);
+    std::vector<Real> sum(static_cast<std::size_t>(r.components), 0);
     for (std::size_t j = 0; j < r.entities.size(); ++j) {
       const std::int64_t k = r.by_particle_id ? at[j] : r.entities[j];
       const bool ok = v != nullptr && k >= 0 && k < v->size;
@@ -187,9 +220,15 @@ std::string Gauges<D>::row(Index step, Real t_s, const PartList& parts) const {
         const Real x = !ok             ? kNaN
                        : v->is_integer ? static_cast<Real>(v->integer_data[i])
                                        : v->real_data[i];
-        s += fmt::format(",{:.17g}", x);
+        if (r.sum)
+          sum[static_cast<std::size_t>(c)] += x;
+        else
+          s += fmt::format(",{:.17g}", x);
       }
     }
+    if (r.sum)
+      for (Real x : sum)
+        s += fmt::format(",{:.17g}", x);
   }
   return s + "\n";
 }

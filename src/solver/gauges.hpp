@@ -4,7 +4,9 @@
 // output.gauges_every_steps steps, at every frame and at the end, one column per gauge, entity,
 // field and component. The values are the ones the part's VTU frame of the same step holds
 // (Part::point_fields, cell_fields). A particle (SPH, DEM) is followed by its `id` field, which
-// stays with it when others leave the domain; one that has left gives NaN.
+// stays with it when others leave the domain; one that has left gives NaN. A sum (`sum`, or an
+// FEM `face`: the nodes on that face of the part's bounding box at t = 0) writes one value per
+// field and component, summed over the entities in their order (the resultant of a force field).
 //
 // Cost: a row reads each gauged part's field views once. Stored fields (SPH, DEM, FEM nodal
 // velocity) are views; an FEM part's derived fields (displacement, von Mises, pressure,
@@ -44,7 +46,11 @@ class Gauges {
     bool by_particle_id = false;  // entities are ids of the part's `id` field
     std::vector<std::int64_t> entities;
     int components = 1;
+    bool sum = false;  // one value per component: the sum over the entities, in their order
   };
+  // Columns stem, or stem_x, _y, ... (stem_xx, ... for a tensor).
+  void add_columns(const std::string& stem, int components);
+
   std::vector<Read> reads_;
   std::vector<std::string> columns_;
 };

@@ -8,8 +8,10 @@
 - Rows come every output.gauges_every_steps steps, at every frame and at the end; the step and
   time columns are history.csv's at the same steps.
 - A run restarted from a mid-run checkpoint writes gauges.csv bit for bit.
-- Bad gauges (unknown field, id out of range, an element field without elements) stop
-  `crater check` and `crater run` with exit 2 before any work.
+- Bad gauges (unknown field, id out of range, an element field without elements; a face with
+  an element field, a z face in 2D, a face with ids, a sum of one point) stop `crater check` and
+  `crater run` with exit 2 before any work. (The face's resultant is verified in
+  tests/verification/fem_support/test_face_resultant.py.)
 """
 import csv
 import math
@@ -157,11 +159,18 @@ class Gauges(unittest.TestCase):
             ('fields = ["vonmises"]', "no output field 'vonmises' in part 'plate'"),
             ('ids = [99999]\nfields = ["velocity"]', "part 'plate' has no node 99999"),
             ('ids = [1]\nfields = ["von_mises"]', "'von_mises' is an element field"),
+            # Sums and faces (the resultant on an FEM face).
+            ('face = "left"\nfields = ["von_mises"]', "a face selects nodes"),
+            ('face = "front"\nfields = ["reaction_force"]', "a face of the z axis"),
+            ('face = "left"\nids = [1]\nfields = ["reaction_force"]', "not several"),
+            ('point_m = [0.0, 0.0]\nsum = true\nfields = ["reaction_force"]',
+             "a sum needs ids, element_ids or face"),
         ]
         for body, expected in cases:
             with self.subTest(body=body):
                 gauge = f'\n[[gauges]]\nname = "g"\npart = "plate"\n' + \
-                        ('point_m = [0.0, 0.0]\n' if "ids" not in body else "") + body + "\n"
+                        ('point_m = [0.0, 0.0]\n' if not any(
+                            k in body for k in ("ids", "face", "point_m")) else "") + body + "\n"
                 d = scene("bad", "fem_plate_2d.toml", gauge)
                 for cmd in ("check", "run"):
                     args = [cmd, d / "s.toml"] + (["--out", d / "out", "--force"]

@@ -185,6 +185,8 @@ struct GaugeConfig {
   std::optional<Vec3> point_m;            // the entities nearest this point at t = 0
   std::vector<std::int64_t> ids;          // node (FEM) or particle (SPH, DEM: their id field) ids
   std::vector<std::int64_t> element_ids;  // FEM elements (for cell fields)
+  std::optional<parts::Face> face;        // FEM: the nodes on this face of the part at t = 0
+  bool sum{};                             // one value per field: the sum over the entities
   std::vector<std::string> fields;
   SourceLocation where;
 };

@@ -77,9 +77,30 @@ void Builder::read_gauges(Config& c, const SourceLocation& top) {
     if (g.point_m && by_ids)
       error(loc(t, "point_m", w), key + ".point_m",
             "give either point_m or ids / element_ids, not both");
-    if (!g.point_m && !by_ids)
+    if (t.get("face")) {
+      const std::string face = str(t, "face");
+      const int fi = face_index(face);
+      if (!it->is(Method::Fem))
+        error(loc(t, "face", w), key + ".face",
+              fmt::format("a face selects nodes of an FEM part; '{}' is {}", part,
+                          it->is(Method::Sph) ? "sph" : "dem"));
+      else if (fi / 2 >= c.dimension)
+        error(loc(t, "face", w), key + ".face",
+              fmt::format("\"{}\" is a face of the z axis; the scenario is 2D", face));
+      else if (g.point_m || by_ids)
+        error(loc(t, "face", w), key + ".face",
+              "give one of point_m, ids / element_ids and face, not several");
+      else
+        g.face = static_cast<parts::Face>(fi);
+    } else if (!g.point_m && !by_ids) {
       error(w, key + ".point_m",
-            "missing: a gauge needs point_m, or ids (nodes, particles) / element_ids");
+            "missing: a gauge needs point_m, ids (nodes, particles) / element_ids, or face (FEM)");
+    }
+    const bool sum = t.get("sum")->as_boolean()->get();
+    g.sum = sum || g.face.has_value();
+    if (sum && g.point_m)
+      error(loc(t, "sum", w), key + ".sum",
+            "a sum needs ids, element_ids or face; point_m selects one entity");
     if (t.get("element_ids") && !it->is(Method::Fem))
       error(loc(t, "element_ids", w), key + ".element_ids",
             fmt::format("only an FEM part has elements; '{}' is {}", part,

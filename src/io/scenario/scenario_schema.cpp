@@ -998,8 +998,9 @@ TableSchema make_gauge() {
                 "_SOLID: fields of one part at a point or at entity ids, written to gauges.csv "
                 "every output.gauges_every_steps steps, at every frame and at the end, one column "
                 "per gauge, entity, field and component (`<gauge>.<node|particle|element><id>."
-                "<field>[_x|_y|_z|_xx|...]`). Values are those a VTU frame of the same step "
-                "holds; NaN for a particle that has left the domain.",
+                "<field>[_x|_y|_z|_xx|...]`), or one per gauge, field and component for a sum "
+                "(`sum`, `face`: `<gauge>.sum.<field>...`). Values are those a VTU frame of the "
+                "same step holds; NaN for a particle that has left the domain.",
                 {},
                 {},
                 {}};
@@ -1021,6 +1022,19 @@ TableSchema make_gauge() {
               KeyType::RealArray),
       of_type(real("element_ids", "1", "FEM element ids (the VTU cell order) for cell fields."),
               KeyType::RealArray),
+      choice("face", {"left", "right", "bottom", "top", "back", "front"},
+             "FEM: the nodes on this face of the part's bounding box at t = 0 (left/right = x "
+             "min/max, bottom/top = y, back/front = z), summed: the resultant on the face, as "
+             "LS-DYNA's *DATABASE_NODAL_FORCE_GROUP, of point fields such as reaction_force "
+             "(the supports' force, e.g. on a held face), internal_force (the elements' force "
+             "on the nodes) or contact_force. Columns `<gauge>.sum.<field>_x`. Not with point_m, "
+             "ids or element_ids."),
+      with_default(flag("sum",
+                        "With ids or element_ids: write the sum over those entities of each "
+                        "field (columns `<gauge>.sum.<field>...`) instead of one column per "
+                        "entity; in entity order, so the same on any thread count. A face always "
+                        "sums."),
+                   "false"),
   };
   return t;
 }
