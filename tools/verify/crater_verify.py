@@ -34,11 +34,12 @@ import time
 import tomllib
 from pathlib import Path
 
-REDUCTIONS = ("final", "first", "max", "min", "at_time", "span_above", "span_below",
+REDUCTIONS = ("final", "first", "max", "min", "mean", "at_time", "span_above", "span_below",
               "first_time_above", "final_over_first")
 CASE_KEYS = {"name", "scenario", "quick", "method", "what", "source", "check"}
 CHECK_KEYS = {"quantity", "unit", "file", "column", "key", "abs", "scale", "offset", "reduce",
-              "time_s", "threshold", "power", "reference", "tolerance_rel", "tolerance_abs"}
+              "time_s", "from_s", "to_s", "threshold", "power", "reference", "tolerance_rel",
+              "tolerance_abs"}
 
 
 class InputError(Exception):
@@ -117,8 +118,10 @@ def validate(cases_file, data):
                     number(c, "time_s", cw, required=True)
                 if r in ("span_above", "span_below", "first_time_above"):
                     number(c, "threshold", cw, required=True)
-                for k in ("scale", "offset", "power"):
+                for k in ("scale", "offset", "power", "from_s", "to_s"):
                     number(c, k, cw)
+                if ("from_s" in c or "to_s" in c) and r != "mean":
+                    raise InputError(f"{cw}: from_s and to_s go with reduce = \"mean\"")
             else:
                 raise InputError(f"{cw}: `file` must be history.csv, gauges.csv or summary.json;"
                                  f" got {f!r}")
@@ -170,6 +173,12 @@ def measure(run_dir, c):
         v = max(s)
     elif r == "min":
         v = min(s)
+    elif r == "mean":
+        lo, hi = float(c.get("from_s", t[0])), float(c.get("to_s", t[-1]))
+        window = [x for x, tk in zip(s, t) if lo <= tk <= hi]
+        if not window:
+            raise MeasureError(f"no row between {lo:g} and {hi:g} s")
+        v = sum(window) / len(window)
     elif r == "final_over_first":
         if s[0] == 0:
             raise MeasureError(f"{c['column']} is 0 in the first row")
