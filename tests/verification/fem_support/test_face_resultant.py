@@ -1,13 +1,14 @@
 # ctest-cost: 4
 """The resultant on an FEM face ([[gauges]] face = ..., issue 28), against the exact 1D solution.
 
-An elastic steel bar (L = 0.1 m, H = 5 mm, plane strain with Poisson's ratio 0: exactly a 1D bar,
-c = sqrt(E / rho) = 5047.5 m/s) moves at v0 = 10 m/s towards its left face, which a symmetry
-condition holds in x from t = 0. A compression front sigma = rho c v0 leaves the held face and
-the support pushes back with rho c v0 H per metre of depth (1.981e6 N/m) until the front,
-reflected at the free right end, returns at 2L/c (39.6 us); for the next 2L/c the support holds
-the bar, which now moves away, with the opposite force (e.g. Graff, "Wave Motion in Elastic
-Solids", 1975, section 1.4). The gauge sums the nodes' reaction_force over the left face.
+The scene of crater verify's case fem-held-bar (verify/fem-held-bar.toml): an elastic steel bar
+(L = 0.1 m, H = 5 mm, plane strain with Poisson's ratio 0: exactly a 1D bar, c = sqrt(E / rho) =
+5047.5 m/s) moves at v0 = 10 m/s towards its left face, which a symmetry condition holds in x
+from t = 0. A compression front sigma = rho c v0 leaves the held face and the support pushes back
+with rho c v0 H per metre of depth (1.981e6 N/m) until the front, reflected at the free right
+end, returns at 2L/c (39.6 us); for the next 2L/c the support holds the bar, which now moves
+away, with the opposite force (e.g. Graff, "Wave Motion in Elastic Solids", 1975, section 1.4).
+The gauge sums the nodes' reaction_force over the left face.
 
 Asserted:
 - the mean of the face's resultant reaction over t in [0.25, 0.75] x 2L/c is rho c v0 H within
@@ -26,7 +27,7 @@ import unittest
 
 import numpy as np
 
-from crater_test import read_pvd, read_vtu, run_scenario, scratch
+from crater_test import SOURCE_DIR, read_pvd, read_vtu, run_scenario, scratch
 
 E, RHO, V0 = 200e9, 7850.0, 10.0
 L, H, DX = 0.1, 0.005, 0.001
@@ -34,41 +35,9 @@ C_BAR = (E / RHO) ** 0.5
 T2 = 2 * L / C_BAR
 NODES = int(round(L / DX) + 1) * int(round(H / DX) + 1)
 
-SCENE = f"""[scenario]
-name = "bar-held-end"
-dimension = 2
-end_time_s = {2 * T2}
-
-[output]
-interval_s = {T2 / 2}
-history_every = 10
-gauges_every_steps = 1
-
-[[materials]]
-name = "steel"
-model = "elastic"
-rho0_kg_m3 = {RHO}
-youngs_modulus_pa = {E}
-poisson_ratio = 0.0
-
-[[parts]]
-name = "bar"
-method = "fem"
-material = "steel"
-spacing_m = {DX}
-region = {{ type = "box", min_m = [0.0, 0.0], max_m = [{L}, {H}] }}
-initial = {{ velocity_m_s = [{-V0}, 0.0] }}
-
-[[parts.fem.boundary]]
-type = "symmetry"
-face = "left"
-
-[[gauges]]
-name = "support"
-part = "bar"
-face = "left"
-fields = ["reaction_force"]
-
+# The scene is crater verify's case fem-held-bar (verify/fem-held-bar.toml, one 2L/c), run here
+# over two 2L/c, with a second gauge: the elements' forces summed over every node.
+SCENE = (SOURCE_DIR / "verify" / "fem-held-bar.toml").read_text() + f"""
 [[gauges]]
 name = "all"
 part = "bar"
@@ -76,6 +45,7 @@ ids = [{", ".join(str(i) for i in range(NODES))}]
 sum = true
 fields = ["internal_force"]
 """
+SETS = [f"scenario.end_time_s={2 * T2!r}", f"output.interval_s={T2 / 2!r}"]
 
 
 class FaceResultant(unittest.TestCase):
@@ -85,7 +55,7 @@ class FaceResultant(unittest.TestCase):
         d.mkdir(parents=True, exist_ok=True)
         (d / "bar.toml").write_text(SCENE)
         cls.out = d / "out"
-        run_scenario(d / "bar.toml", cls.out, threads=1)
+        run_scenario(d / "bar.toml", cls.out, threads=1, sets=SETS)
         with open(cls.out / "gauges.csv", newline="") as f:
             rows = list(csv.DictReader(f))
         cls.header = list(rows[0])
