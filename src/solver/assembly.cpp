@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/hash.hpp"
@@ -152,7 +153,9 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   const std::string file_name = fmt::format("{}-{:016x}.pack", name, key);
   const std::filesystem::path file = std::filesystem::path(k.cache_dir) / file_name;
   const std::filesystem::path user_dir = user_packing_cache();
-  for (const auto& f : {file, user_dir.empty() ? file : user_dir / file_name}) {
+  std::vector<std::filesystem::path> places = {file};
+  if (!user_dir.empty()) places.push_back(user_dir / file_name);
+  for (const auto& f : places) {
     if (auto cached = load_packing<D>(f.string(), key)) {
       report.reused = true;
       spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
