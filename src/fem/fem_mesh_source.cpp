@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/index.hpp"
 #include "fem/element_geometry.hpp"
+#include "parts/setup.hpp"
 
 namespace crater::fem {
 namespace {
@@ -181,19 +182,9 @@ SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
 
 template <int D>
 NodeSet<D> face_node_set(const ExplicitMesh<D>& mesh, parts::Face face) {
-  const int axis = static_cast<int>(face) / 2;
-  const bool upper = static_cast<int>(face) % 2 == 1;
-  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-  for (const Vec<D>& x : mesh.reference_position) {
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  const Real plane = upper ? hi[axis] : lo[axis];
-  const Real tol = 1e-9 * (hi - lo).maxCoeff();
   NodeSet<D> set;
-  set.normal_axis = axis;
-  for (Index n = 0; n < mesh.node_count(); ++n)
-    if (std::abs(mesh.reference_position[at(n)][axis] - plane) <= tol) set.nodes.push_back(n);
+  set.normal_axis = static_cast<int>(face) / 2;
+  set.nodes = parts::points_on_face<D>(mesh.reference_position, face);
   set.faces = boundary_faces_within(mesh, set.nodes);
   return set;
 }

@@ -5,7 +5,9 @@
 // together, so no method sees the scenario as a whole.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +20,25 @@ namespace crater::parts {
 
 /// Faces of the domain box, for walls: 2*axis + (0 = min side, 1 = max side).
 enum class Face { Left = 0, Right = 1, Bottom = 2, Top = 3, Back = 4, Front = 5 };
+
+/// The points on a face of their bounding box (within 1e-9 of its largest extent), ascending:
+/// an FEM part's face from its reference positions (boundaries, loads, face gauges).
+template <int D>
+std::vector<Index> points_on_face(const std::vector<Vec<D>>& x, Face face) {
+  const int axis = static_cast<int>(face) / 2;
+  const bool upper = static_cast<int>(face) % 2 == 1;
+  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
+  for (const Vec<D>& p : x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Real plane = upper ? hi[axis] : lo[axis];
+  const Real tol = 1e-9 * (hi - lo).maxCoeff();
+  std::vector<Index> out;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (std::abs(x[k][axis] - plane) <= tol) out.push_back(static_cast<Index>(k));
+  return out;
+}
 
 /// What happens to a particle (SPH or DEM) that leaves the domain box: the run stops (exit 3),
 /// or the particle is removed at the end of the step and booked as having left.

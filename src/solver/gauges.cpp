@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "fields/field_set.hpp"
+#include "parts/setup.hpp"
 
 namespace crater::solver {
 
@@ -41,25 +42,6 @@ std::int64_t nearest(const std::vector<Vec<D>>& points, const parts::Vec3& x) {
     if (d2 < best_d2) best_d2 = d2, best = static_cast<std::int64_t>(k);
   }
   return best;
-}
-
-// The nodes on a face of the points' bounding box (within 1e-9 of its largest extent), as
-// fem::face_node_set selects a face on the reference positions.
-template <int D>
-std::vector<std::int64_t> face_nodes(const std::vector<Vec<D>>& x, parts::Face face) {
-  const int axis = static_cast<int>(face) / 2;
-  const bool upper = static_cast<int>(face) % 2 == 1;
-  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity()), hi = -lo;
-  for (const Vec<D>& p : x) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  const Real plane = upper ? hi[axis] : lo[axis];
-  const Real tol = 1e-9 * (hi - lo).maxCoeff();
-  std::vector<std::int64_t> out;
-  for (std::size_t k = 0; k < x.size(); ++k)
-    if (std::abs(x[k][axis] - plane) <= tol) out.push_back(static_cast<std::int64_t>(k));
-  return out;
 }
 
 // The centres of a mesh's cells (the mean of their nodes).
@@ -153,7 +135,7 @@ Gauges<D>::Gauges(const io::Config& c, const PartList& parts) {
       } else {
         r.by_particle_id = particles && ids != nullptr;
         if (g.face) {
-          r.entities = face_nodes<D>(p.points(), *g.face);
+          r.entities = parts::points_on_face<D>(p.points(), *g.face);
         } else if (g.point_m) {
           const std::int64_t k = nearest<D>(p.points(), *g.point_m);
           r.entities.push_back(r.by_particle_id && k >= 0 ? ids->integer_data[k] : k);
