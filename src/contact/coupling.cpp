@@ -5,6 +5,7 @@
 
 #include "contact/registry.hpp"
 #include "core/axial_vec.hpp"
+#include "parallel/parallel.hpp"
 
 namespace crater::contact {
 
@@ -44,16 +45,24 @@ void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForce
     n = static_cast<Index>(pts->position->size());
   else if (const auto surf = parts[k]->contact_surface())
     n = static_cast<Index>(surf->node_position->size());
-  out.force[k].assign(at(n), Vec<D>::Zero());
+  // The buffers are kept from call to call: zeroed in parallel, reallocated when the count changes.
+  auto zero = [n](auto& v, const auto& z) {
+    if (static_cast<Index>(v.size()) != n) {
+      v.assign(at(n), z);
+      return;
+    }
+    parallel::for_each(n, [&](Index i) { v[at(i)] = z; });
+  };
+  zero(out.force[k], Vec<D>::Zero());
   if (const auto pts = parts[k]->contact_points(); pts && pts->angular_velocity)
-    out.torque[k].assign(at(n), axial_zero<D>());
+    zero(out.torque[k], axial_zero<D>());
 }
 
 template <int D>
 void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
   if (pairings_.empty()) return;
   // Forces per part in any contact: per particle, or per node of a surface.
-  ContactForces<D> out;
+  ContactForces<D>& out = forces_;
   out.force.resize(parts.size());
   out.torque.resize(parts.size());
   for (std::size_t k : involved_)

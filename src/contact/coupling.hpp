@@ -126,6 +126,7 @@ class Coupling {
  private:
   std::vector<std::unique_ptr<Pairing<D>>> pairings_;
   std::vector<std::size_t> involved_;  // parts in any contact, ascending
+  ContactForces<D> forces_;            // apply()'s per-part buffers, kept from step to step
 
   /// Sizes out's zeroed forces (and torques, for rotating particles) for part k's bodies.
   void size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const;

@@ -33,8 +33,8 @@ Pairing<D>::Pairing(const ContactSettings& settings, std::size_t points, std::si
 template <int D>
 void Pairing<D>::restart(std::size_t n_points, std::size_t n_other) {
   last_ = ContactSums<D>{};
-  load_.points.assign(n_points, 0);
-  load_.other.assign(n_other, 0);
+  load_.points.reset(n_points);
+  load_.other.reset(n_other);
 }
 
 template <int D>
@@ -51,22 +51,16 @@ void Pairing<D>::limit_sides(PairLimits& limits, Real k_max, Real m_points, Real
 }
 
 template <int D>
-void Pairing<D>::limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,
+void Pairing<D>::limit_by_summed_springs(StepSearch& search, const BodyLoads& load,
                                          const std::vector<Real>& mass, const char* what) const {
-  const Index n = static_cast<Index>(std::min(load.size(), mass.size()));
-  auto step_of = [&](Index i) {
-    return load[at(i)] > 0 && mass[at(i)] > 0
-               ? spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio)
-               : std::numeric_limits<Real>::infinity();
-  };
-  const Real dt = parallel::min_over(n, std::numeric_limits<Real>::infinity(), step_of);
-  if (!(dt < search.best.dt_s)) return;
-  // The first body that sets it (min is exact: the same one for any thread count).
-  const Index i = parallel::select(n, [&](Index j) { return step_of(j) == dt; }).front();
-  search.consider(dt, i, [&] {
-    return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m", name_,
-                       what, i, load[at(i)]);
-  });
+  // Ascending body order, strictly smaller wins: the first body that sets the smallest step.
+  for (Index i : load.loaded()) {
+    if (at(i) >= mass.size() || !(load[at(i)] > 0) || !(mass[at(i)] > 0)) continue;
+    search.consider(spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio), i, [&] {
+      return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m",
+                         name_, what, i, load[at(i)]);
+    });
+  }
 }
 
 template <int D>

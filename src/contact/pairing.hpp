@@ -75,10 +75,44 @@ struct ContactSums {
   }
 };
 
+/// The springs summed per body of one side [N/m], with the bodies that carry any. A contact
+/// touches a few hundred of a part's thousands of bodies, so a reset zeroes those alone and the
+/// step limit looks at those alone (the sums of all others are zero).
+class BodyLoads {
+ public:
+  std::size_t size() const { return value_.size(); }
+  Real operator[](std::size_t i) const { return value_[i]; }
+  /// All zero for n bodies.
+  void reset(std::size_t n) {
+    if (value_.size() != n) {
+      value_.assign(n, 0);
+    } else {
+      for (Index i : loaded_)
+        value_[at(i)] = 0;
+    }
+    loaded_.clear();
+  }
+  /// Adds a spring k >= 0 to body i.
+  void add(Index i, Real k) {
+    Real& v = value_[at(i)];
+    if (v == 0 && k != 0) loaded_.push_back(i);
+    v += k;
+  }
+  /// The bodies with a nonzero sum, ascending.
+  const std::vector<Index>& loaded() const {
+    std::sort(loaded_.begin(), loaded_.end());
+    return loaded_;
+  }
+
+ private:
+  std::vector<Real> value_;
+  mutable std::vector<Index> loaded_;
+};
+
 /// The springs summed per body over the pairs in contact [N/m]: sum k w per face node of a
 /// surface, sum k per particle (or surface node with its own hits), for each side.
 struct SpringSums {
-  std::vector<Real> points, other;
+  BodyLoads points, other;
   bool known = false;
 };
 
@@ -118,7 +152,7 @@ class Pairing {
   void limit_sides(PairLimits& limits, Real k_max, Real m_points, Real m_other) const;
   /// Offers the step limit of every body of one side pressed by several springs at once:
   /// dt = spring_step(sum k, m) of each, the first body that sets the smallest.
-  void limit_by_summed_springs(StepSearch& search, const std::vector<Real>& load,
+  void limit_by_summed_springs(StepSearch& search, const BodyLoads& load,
                                const std::vector<Real>& mass, const char* what) const;
   /// Whether the spring sums must be found afresh for bodies of these counts: none since the
   /// last apply(), or bodies were removed since (the sums are per body index).
@@ -129,8 +163,8 @@ class Pairing {
   /// add(h) for each contact h of `found`.
   template <class Found, class Add>
   void measure(std::size_t n_points, std::size_t n_other, const Found& found, Add add) const {
-    load_.points.assign(n_points, 0);
-    load_.other.assign(n_other, 0);
+    load_.points.reset(n_points);
+    load_.other.reset(n_other);
     for (const auto& h : found)
       add(h);
     load_.known = true;

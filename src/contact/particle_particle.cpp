@@ -87,8 +87,8 @@ Real ParticleParticle<D>::stiffness(const parts::ContactPoints<D>& grains, Index
 template <int D>
 void ParticleParticle<D>::add_load(const parts::ContactPoints<D>& grains, const Pair& pp) const {
   const Real k = stiffness(grains, pp.b);
-  this->load_.points[at(pp.a)] += k;
-  this->load_.other[at(pp.b)] += k;
+  this->load_.points.add(pp.a, k);
+  this->load_.other.add(pp.b, k);
 }
 
 template <int D>

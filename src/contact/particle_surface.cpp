@@ -121,10 +121,10 @@ void ParticleSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits
 template <int D>
 void ParticleSurface<D>::add_load(const parts::ContactSurface<D>& surf, const Hit& h) const {
   const Real k = face_stiffness(this->settings_, surf, h.face);
-  this->load_.points[at(h.body)] += k;
+  this->load_.points.add(h.body, k);
   const auto& face = (*surf.faces)[at(h.face)];
   for (int q = 0; q < parts::kFaceNodes<D>; ++q)
-    this->load_.other[at(face[at(q)])] += k * h.where.weight[at(q)];
+    this->load_.other.add(face[at(q)], k * h.where.weight[at(q)]);
 }
 
 template <int D>

@@ -20,7 +20,7 @@ namespace {
 template <int D>
 struct Side {
   const parts::ContactSurface<D>& surface;
-  std::vector<Real>& load;
+  BodyLoads& load;
   std::vector<Vec<D>>* force;  // null: loads only
 };
 
@@ -57,9 +57,9 @@ ContactSums<D> node_surface(const ContactSettings& settings, const Side<D>& a, c
     if (h.face < 0) continue;
     const auto& face = faces[at(h.face)];
     const Real k = settings.penalty_scale * h.k;
-    a.load[at(h.body)] += k;
+    a.load.add(h.body, k);
     for (int j = 0; j < kF; ++j)
-      b.load[at(face[at(j)])] += k * h.where.weight[at(j)];
+      b.load.add(face[at(j)], k * h.where.weight[at(j)]);
     if (!a.force) continue;
     sums.add(h.overlap, normal[q], sign * push[q]);
     (*a.force)[at(h.body)] += push[q];
@@ -89,13 +89,14 @@ void SurfaceSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits)
   this->limit_sides(limits, k_max, ma, mb);
   if (this->load_stale(sa->node_mass->size(), sb->node_mass->size())) measure_load(parts);
   for (int side = 0; side < 2; ++side) {
-    const std::vector<Real>& load = side == 0 ? this->load_.points : this->load_.other;
+    const BodyLoads& load = side == 0 ? this->load_.points : this->load_.other;
     const std::vector<Real>& mass = side == 0 ? *sa->node_mass : *sb->node_mass;
     StepSearch& search = side == 0 ? limits.points : limits.other;
-    for (std::size_t i = 0; i < load.size() && i < mass.size(); ++i) {
-      if (!(load[i] > 0) || !(mass[i] > 0)) continue;
+    for (const Index node : load.loaded()) {  // ascending: the first node wins ties
+      const auto i = at(node);
+      if (i >= mass.size() || !(load[i] > 0) || !(mass[i] > 0)) continue;
       search.consider(
-          spring_step(load[i], mass[i], this->settings_.damping_ratio), static_cast<Index>(i), [&] {
+          spring_step(load[i], mass[i], this->settings_.damping_ratio), node, [&] {
             return fmt::format(
                 "contact '{}': node {} of '{}' held by penalty springs summing to "
                 "{:.3g} N/m",
@@ -109,8 +110,8 @@ template <int D>
 void SurfaceSurface<D>::measure_load(const PartList<D>& parts) const {
   const auto sa = this->surface_of(parts, 0);
   const auto sb = this->surface_of(parts, 1);
-  this->load_.points.assign(sa->node_position->size(), 0);
-  this->load_.other.assign(sb->node_position->size(), 0);
+  this->load_.points.reset(sa->node_position->size());
+  this->load_.other.reset(sb->node_position->size());
   const Side<D> a{*sa, this->load_.points, nullptr}, b{*sb, this->load_.other, nullptr};
   node_surface(this->settings_, a, b, node_face_hits(*sa, *sb), -1);
   node_surface(this->settings_, b, a, node_face_hits(*sb, *sa), 1);
