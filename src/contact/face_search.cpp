@@ -19,17 +19,18 @@ FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf) {
   const auto& xn = *surf.node_position;
   const auto& faces = *surf.faces;
   FaceCentres<D> out;
-  out.centre.resize(faces.size());
-  out.half.assign(faces.size(), 0);
-  for (std::size_t f = 0; f < faces.size(); ++f) {
+  const Index nf = static_cast<Index>(faces.size());
+  out.centre.resize(at(nf));
+  out.half.assign(at(nf), 0);
+  parallel::for_each(nf, [&](Index f) {
     Vec<D> c = Vec<D>::Zero();
-    for (Index n : faces[f])
+    for (Index n : faces[at(f)])
       c += xn[at(n)] / Real(kF);
-    out.centre[f] = c;
-    for (Index n : faces[f])
-      out.half[f] = std::max(out.half[f], (xn[at(n)] - c).norm());
-    out.half_size = std::max(out.half_size, out.half[f]);
-  }
+    out.centre[at(f)] = c;
+    for (Index n : faces[at(f)])
+      out.half[at(f)] = std::max(out.half[at(f)], (xn[at(n)] - c).norm());
+  });
+  out.half_size = parallel::max_over(nf, out.half_size, [&](Index f) { return out.half[at(f)]; });
   return out;
 }
 
@@ -53,7 +54,7 @@ std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
   const FaceCentres<D> fc = face_centres(surf);
   const std::vector<Vec<D>>& centre = fc.centre;
   const Real half_size = fc.half_size;
-  const Real r_max = *std::max_element(pts.radius->begin(), pts.radius->end());
+  const Real r_max = largest_radius(pts);
   const Real reach = r_max + half_size;
   const Real reach_sq = reach * reach;  // the test of a list built for `reach`
   neighbors::NeighborList fresh;

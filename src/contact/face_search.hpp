@@ -3,14 +3,25 @@
 // in ascending body order, the same for any thread count.
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "contact/candidates.hpp"
 #include "contact/face_geometry.hpp"
+#include "core/index.hpp"
 #include "core/types.hpp"
+#include "parallel/parallel.hpp"
 #include "parts/part.hpp"
 
 namespace crater::contact {
+
+/// Largest particle radius [m] (-infinity when none), exact for any thread count.
+template <int D>
+Real largest_radius(const parts::ContactPoints<D>& pts) {
+  return parallel::max_over(static_cast<Index>(pts.radius->size()),
+                            -std::numeric_limits<Real>::infinity(),
+                            [&](Index i) { return (*pts.radius)[at(i)]; });
+}
 
 /// A body (a particle, or a node of another surface) against a face of a surface (face < 0:
 /// none).

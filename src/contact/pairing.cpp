@@ -57,8 +57,8 @@ void Pairing<D>::limit_by_summed_springs(StepSearch& search, const BodyLoads& lo
   for (Index i : load.loaded()) {
     if (at(i) >= mass.size() || !(load[at(i)] > 0) || !(mass[at(i)] > 0)) continue;
     search.consider(spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio), i, [&] {
-      return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m",
-                         name_, what, i, load[at(i)]);
+      return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m", name_,
+                         what, i, load[at(i)]);
     });
   }
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <span>
 
+#include "contact/face_search.hpp"
 #include "contact/penalty.hpp"
 #include "core/axial_vec.hpp"
 #include "neighbors/neighbor_list.hpp"
@@ -20,7 +21,7 @@ void ParticleParticle<D>::limit_step(const PartList<D>& parts, PairLimits& limit
   const Real m_min = lightest_particle(*pts);
   const auto grains = parts[this->other_]->contact_points();
   if (!grains || grains->radius->empty()) return;
-  const Real r_max = *std::max_element(grains->radius->begin(), grains->radius->end());
+  const Real r_max = largest_radius(*grains);
   const Real k_max = this->settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? r_max : Real(1));
   const Real m_grain = lightest_particle(*grains);
   limits.pair.consider(spring_step(k_max, std::min(m_min, m_grain), this->settings_.damping_ratio),
@@ -43,8 +44,8 @@ std::vector<typename ParticleParticle<D>::Pair> ParticleParticle<D>::pairs(
   const Index na = static_cast<Index>(a.position->size());
   const Index nb = static_cast<Index>(b.position->size());
   if (na == 0 || nb == 0) return {};
-  const Real ra_max = *std::max_element(a.radius->begin(), a.radius->end());
-  const Real rb_max = *std::max_element(b.radius->begin(), b.radius->end());
+  const Real ra_max = largest_radius(a);
+  const Real rb_max = largest_radius(b);
   const std::span<const Vec<D>> xa(*a.position);
   const std::span<const Vec<D>> xb(*b.position);
   neighbors::NeighborList fresh;

@@ -95,13 +95,12 @@ void SurfaceSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits)
     for (const Index node : load.loaded()) {  // ascending: the first node wins ties
       const auto i = at(node);
       if (i >= mass.size() || !(load[i] > 0) || !(mass[i] > 0)) continue;
-      search.consider(
-          spring_step(load[i], mass[i], this->settings_.damping_ratio), node, [&] {
-            return fmt::format(
-                "contact '{}': node {} of '{}' held by penalty springs summing to "
-                "{:.3g} N/m",
-                this->name_, i, parts[side == 0 ? this->points_ : this->other_]->name(), load[i]);
-          });
+      search.consider(spring_step(load[i], mass[i], this->settings_.damping_ratio), node, [&] {
+        return fmt::format(
+            "contact '{}': node {} of '{}' held by penalty springs summing to "
+            "{:.3g} N/m",
+            this->name_, i, parts[side == 0 ? this->points_ : this->other_]->name(), load[i]);
+      });
     }
   }
 }

@@ -114,106 +114,111 @@ void update_elements(ExplicitMesh<D>& mesh, const SolidMaterial& material, const
   constexpr int kNodes = kElementNodes<D>;
   const Real rho0 = material.density_kg_m3;
   const Real modulus = materials::p_wave_modulus(materials::elastic_of(law));
-  parallel::for_each(
-      mesh.element_count(),
-      [&](Index e) {
-        const std::size_t ue = at(e);
-        NodeArray<D>& force = mesh.element_force[ue];
-        const NodeArray<D> last_force = force;
-        for (Vec<D>& f : force)
-          f.setZero();
-        if (mesh.eroded[ue]) return;
-        const NodeArray<D> x = mesh.element_positions(e);
-        const NodeArray<D> v = mesh.element_velocities(e);
-        // An element that fails now: its forces of the last evaluation worked on its nodes over the
-        // step just taken (half of the trapezoid, as the half kicks have it; the other half, with
-        // its forces now zero, is nothing). That work is booked before the element's energy leaves
-        // the part, or the nodes keep energy the element never gave up.
-        auto erode = [&] {
-          Real work = 0;
-          for (int node = 0; node < kNodes; ++node) {
-            work -= last_force[node].dot(v[node]);
-          }
-          work *= Real(0.5) * dt;
-          out.internal_energy_j[ue] = work;
-          mesh.internal_energy_j[ue] += work;
-          mesh.eroded[ue] = 1;
-          out.eroded_now[ue] = 1;
-          mesh.stress[ue].setZero();
-        };
-        const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
-        if (!(g.volume > 0)) {
-          if (material.erode_inverted) {
-            erode();
-          } else {
-            out.inverted[ue] = 1;
-          }
-          return;
-        }
-        const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
-        const Real c = element_wave_speed(law, modulus, rho, rho0);
-        const Mat3 l = velocity_gradient<D>(v, g);
-        const Mat3 d = rate_of_deformation(l);
-        const Mat3 old_stress = mesh.stress[ue];
-        Mat3 sigma = old_stress;
-        if (dt > 0) {
-          const Mat3 rotated = D == 2 ? jaumann_rotate_plane(old_stress, spin(l)(0, 1), dt)
-                                      : jaumann_rotate(old_stress, spin(l), dt);
-          const PointUpdate up = update_point<D>(mesh, material, law, ue, rotated, d * dt, dt, rho);
-          sigma = up.stress;
-          // A crushed element's step shrinks with its thickness; below the floor it erodes
-          // rather than hold the whole model's step down (bulk viscosity of this step included).
-          const bool too_small_a_step =
-              material.erosion_min_step_s > 0 &&
-              stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c,
-                                  d.trace()) *
-                      scaled_step_factor(mesh, material, ue) <
-                  material.erosion_min_step_s;
-          if (up.failed || mesh.plastic_strain[ue] >= material.erosion_plastic_strain ||
-              too_small_a_step) {
-            erode();
-            mesh.volume[ue] = g.volume;
-            return;
-          }
-        }
-        mesh.stress[ue] = sigma;
+  auto update = [&](Index e) {
+    const std::size_t ue = at(e);
+    NodeArray<D>& force = mesh.element_force[ue];
+    const NodeArray<D> last_force = force;
+    for (Vec<D>& f : force)
+      f.setZero();
+    if (mesh.eroded[ue]) return;
+    const NodeArray<D> x = mesh.element_positions(e);
+    const NodeArray<D> v = mesh.element_velocities(e);
+    // An element that fails now: its forces of the last evaluation worked on its nodes over the
+    // step just taken (half of the trapezoid, as the half kicks have it; the other half, with
+    // its forces now zero, is nothing). That work is booked before the element's energy leaves
+    // the part, or the nodes keep energy the element never gave up.
+    auto erode = [&] {
+      Real work = 0;
+      for (int node = 0; node < kNodes; ++node) {
+        work -= last_force[node].dot(v[node]);
+      }
+      work *= Real(0.5) * dt;
+      out.internal_energy_j[ue] = work;
+      mesh.internal_energy_j[ue] += work;
+      mesh.eroded[ue] = 1;
+      out.eroded_now[ue] = 1;
+      mesh.stress[ue].setZero();
+    };
+    const UniformStrainGradients<D> g = uniform_strain_gradients<D>(x);
+    if (!(g.volume > 0)) {
+      if (material.erode_inverted) {
+        erode();
+      } else {
+        out.inverted[ue] = 1;
+      }
+      return;
+    }
+    const Real rho = rho0 * mesh.reference_volume[ue] / g.volume;
+    const Real c = element_wave_speed(law, modulus, rho, rho0);
+    const Mat3 l = velocity_gradient<D>(v, g);
+    const Mat3 d = rate_of_deformation(l);
+    const Mat3 old_stress = mesh.stress[ue];
+    Mat3 sigma = old_stress;
+    if (dt > 0) {
+      const Mat3 rotated = D == 2 ? jaumann_rotate_plane(old_stress, spin(l)(0, 1), dt)
+                                  : jaumann_rotate(old_stress, spin(l), dt);
+      const PointUpdate up = update_point<D>(mesh, material, law, ue, rotated, d * dt, dt, rho);
+      sigma = up.stress;
+      // A crushed element's step shrinks with its thickness; below the floor it erodes
+      // rather than hold the whole model's step down (bulk viscosity of this step included).
+      const bool too_small_a_step =
+          material.erosion_min_step_s > 0 &&
+          stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace()) *
+                  scaled_step_factor(mesh, material, ue) <
+              material.erosion_min_step_s;
+      if (up.failed || mesh.plastic_strain[ue] >= material.erosion_plastic_strain ||
+          too_small_a_step) {
+        erode();
         mesh.volume[ue] = g.volume;
+        return;
+      }
+    }
+    mesh.stress[ue] = sigma;
+    mesh.volume[ue] = g.volume;
 
-        const Real size = dth_root<D>(g.volume);
-        const Real q = bulk_viscosity_pressure(material.bulk_viscosity, rho, c, size, d.trace());
-        const Eigen::Matrix<Real, D, D> sigma_eff =
-            sigma.template topLeftCorner<D, D>() - q * Eigen::Matrix<Real, D, D>::Identity();
-        for (int node = 0; node < kNodes; ++node) {
-          force[node] = -g.volume * (sigma_eff * g.b[node]);
-        }
+    const Real size = dth_root<D>(g.volume);
+    const Real q = bulk_viscosity_pressure(material.bulk_viscosity, rho, c, size, d.trace());
+    const Eigen::Matrix<Real, D, D> sigma_eff =
+        sigma.template topLeftCorner<D, D>() - q * Eigen::Matrix<Real, D, D>::Identity();
+    for (int node = 0; node < kNodes; ++node) {
+      force[node] = -g.volume * (sigma_eff * g.b[node]);
+    }
 
-        const HourglassVectors<D> gamma = hourglass_shape_vectors<D>(x, g);
-        const HourglassForces<D> hg = hourglass_forces<D>(material.hourglass, gamma, v, g.volume,
-                                                          rho, c, dt, mesh.hourglass[ue]);
-        for (int node = 0; node < kNodes; ++node) {
-          force[node] += hg.force[node];
-        }
+    const HourglassVectors<D> gamma = hourglass_shape_vectors<D>(x, g);
+    const HourglassForces<D> hg =
+        hourglass_forces<D>(material.hourglass, gamma, v, g.volume, rho, c, dt, mesh.hourglass[ue]);
+    for (int node = 0; node < kNodes; ++node) {
+      force[node] += hg.force[node];
+    }
 
-        const Real work = dt * g.volume *
-                          (Real(0.5) * (old_stress + sigma).cwiseProduct(d).sum() - q * d.trace());
-        out.internal_energy_j[ue] = work;
-        out.hourglass_energy_j[ue] = dt * hg.power_w;
-        mesh.internal_energy_j[ue] += work;
-        mesh.hourglass_energy_j[ue] += dt * hg.power_w;
-        const Real own_step =
-            stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace());
-        Real step = own_step * scaled_step_factor(mesh, material, ue);
-        const Real floor = material.mass_scaling_min_step_s;
-        if (floor > 0 && step < floor) {
-          // The step grows as the square root of the element's mass: the mass that holds it at the
-          // floor is m_e (floor / step_e)^2 (bulk viscosity taken at this evaluation's rate).
-          const Real ratio = floor / own_step;
-          const Real needed = rho0 * mesh.reference_volume[ue] * (ratio * ratio - 1);
-          out.added_mass_kg[ue] = needed - mesh.added_mass_kg[ue];
-          mesh.added_mass_kg[ue] = needed;
-          step = floor;
-        }
-        out.stable_dt_s[ue] = step;
+    const Real work =
+        dt * g.volume * (Real(0.5) * (old_stress + sigma).cwiseProduct(d).sum() - q * d.trace());
+    out.internal_energy_j[ue] = work;
+    out.hourglass_energy_j[ue] = dt * hg.power_w;
+    mesh.internal_energy_j[ue] += work;
+    mesh.hourglass_energy_j[ue] += dt * hg.power_w;
+    const Real own_step =
+        stable_element_step(material.bulk_viscosity, characteristic_length<D>(g), c, d.trace());
+    Real step = own_step * scaled_step_factor(mesh, material, ue);
+    const Real floor = material.mass_scaling_min_step_s;
+    if (floor > 0 && step < floor) {
+      // The step grows as the square root of the element's mass: the mass that holds it at the
+      // floor is m_e (floor / step_e)^2 (bulk viscosity taken at this evaluation's rate).
+      const Real ratio = floor / own_step;
+      const Real needed = rho0 * mesh.reference_volume[ue] * (ratio * ratio - 1);
+      out.added_mass_kg[ue] = needed - mesh.added_mass_kg[ue];
+      mesh.added_mass_kg[ue] = needed;
+      step = floor;
+    }
+    out.stable_dt_s[ue] = step;
+  };
+  // Elements differ in cost (a yielding one iterates the rate law, an eroded one is skipped, and
+  // both gather where the load is), so blocks of them are dealt out as threads come free.
+  parallel::for_each_block(
+      mesh.element_count(), 16,
+      [&](Index first, Index last) {
+        for (Index e = first; e < last; ++e)
+          update(e);
       },
       parallel::Cost::heavy);  // an element's kinematics, stress update and hourglass forces
 }
