@@ -7,7 +7,11 @@
  * kept them on the calling thread (num_threads == 1: a loop below parallel_min), explicit
  * barriers (GOMP_barrier) and the barriers at the end of worksharing loops (GOMP_loop_end).
  * The join at the end of a forked region is a barrier too: regions forked + barriers is the
- * number of times the threads wait for each other. */
+ * number of times the threads wait for each other.
+ *
+ * Per call site too: each region's outlined function (its address less its object's load
+ * address, which `nm` of the binary names) with the regions it forked and those it kept serial,
+ * as lines "site OFFSET OBJECT forked kept_serial". */
 #include <dlfcn.h>
 
 #include <cstdio>
@@ -15,6 +19,25 @@
 
 namespace {
 unsigned long long forked, kept_serial, barriers, loop_ends;
+
+// Open addressing on the outlined function's address; a run has a few hundred sites. Only the
+// thread that forks a region counts it (regions are not nested here).
+struct Site {
+  void (*fn)(void*);
+  unsigned long long forked, kept_serial;
+};
+constexpr unsigned kSites = 4096;
+Site sites[kSites];
+
+void count_site(void (*fn)(void*), bool forks) {
+  auto h = (reinterpret_cast<unsigned long>(fn) >> 4) % kSites;
+  for (unsigned probe = 0; probe < kSites; ++probe, h = (h + 1) % kSites) {
+    if (sites[h].fn == nullptr) sites[h].fn = fn;
+    if (sites[h].fn != fn) continue;
+    ++(forks ? sites[h].forked : sites[h].kept_serial);
+    return;
+  }
+}
 using parallel_fn = void (*)(void (*)(void*), void*, unsigned, unsigned);
 using void_fn = void (*)();
 
@@ -24,6 +47,15 @@ __attribute__((destructor)) void report() {
   if (!f) return;
   std::fprintf(f, "forked %llu\nkept_serial %llu\nbarrier %llu\nloop_end %llu\n", forked,
                kept_serial, barriers, loop_ends);
+  for (const Site& site : sites) {
+    if (!site.fn) continue;
+    Dl_info info{};
+    const bool known = dladdr(reinterpret_cast<void*>(site.fn), &info) && info.dli_fbase;
+    const auto offset = reinterpret_cast<unsigned long>(site.fn) -
+                        (known ? reinterpret_cast<unsigned long>(info.dli_fbase) : 0ul);
+    std::fprintf(f, "site %#lx %s %llu %llu\n", offset,
+                 known && info.dli_fname ? info.dli_fname : "?", site.forked, site.kept_serial);
+  }
   if (f != stderr) std::fclose(f);
 }
 }  // namespace
@@ -37,6 +69,7 @@ void GOMP_parallel(void (*fn)(void*), void* data, unsigned num_threads, unsigned
     ++kept_serial;
   else
     ++forked;
+  count_site(fn, num_threads != 1);
   real(fn, data, num_threads, flags);
 }
 

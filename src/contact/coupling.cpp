@@ -45,17 +45,21 @@ void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForce
     n = static_cast<Index>(pts->position->size());
   else if (const auto surf = parts[k]->contact_surface())
     n = static_cast<Index>(surf->node_position->size());
-  // The buffers are kept from call to call: zeroed in parallel, reallocated when the count changes.
-  auto zero = [n](auto& v, const auto& z) {
-    if (static_cast<Index>(v.size()) != n) {
-      v.assign(at(n), z);
-      return;
-    }
-    parallel::for_each(n, [&](Index i) { v[at(i)] = z; });
-  };
-  zero(out.force[k], Vec<D>::Zero());
-  if (const auto pts = parts[k]->contact_points(); pts && pts->angular_velocity)
-    zero(out.torque[k], axial_zero<D>());
+  const auto pts = parts[k]->contact_points();
+  const bool spins = pts && pts->angular_velocity;
+  std::vector<Vec<D>>& force = out.force[k];
+  std::vector<AxialVec<D>>& torque = out.torque[k];
+  // The buffers are kept from call to call: zeroed in one parallel pass, reallocated when the
+  // count changes.
+  if (static_cast<Index>(force.size()) != n || (spins && static_cast<Index>(torque.size()) != n)) {
+    force.assign(at(n), Vec<D>::Zero());
+    if (spins) torque.assign(at(n), axial_zero<D>());
+    return;
+  }
+  parallel::for_each(n, [&](Index i) {
+    force[at(i)] = Vec<D>::Zero();
+    if (spins) torque[at(i)] = axial_zero<D>();
+  });
 }
 
 template <int D>

@@ -231,27 +231,32 @@ void DemPart<D>::compact_slots(std::vector<std::int64_t>& key, std::span<const s
   if (key.empty()) return;
   constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
   const std::span<const std::uint8_t> keep = outflow_.survivors();
-  std::size_t out = 0;  // the first slot of the next kept grain; never past the one read
-  for (std::size_t i = 0; i < keep.size(); ++i) {
-    if (!keep[i]) continue;
-    std::size_t k = out;
+  const std::vector<Index> kept =
+      parallel::select(static_cast<Index>(keep.size()), [&](Index i) { return keep[at(i)] != 0; });
+  // Where each new slot comes from (-1: emptied), per kept grain in parallel; then key and
+  // payloads gathered by it.
+  std::vector<std::int64_t> from(kept.size() * slots, -1);
+  parallel::for_each(static_cast<Index>(kept.size()), [&](Index q) {
+    std::size_t k = at(q) * slots;
     for (std::size_t s = 0; s < slots; ++s) {
-      const std::size_t from = i * slots + s;
-      const std::int64_t p = key[from];
+      const std::size_t src = at(kept[at(q)]) * slots + s;
+      const std::int64_t p = key[src];
       if (p == kNoContact) break;
       if (std::binary_search(gone.begin(), gone.end(), p)) continue;
-      key[k] = p;
-      ((payload.empty() ? void() : void(payload[k] = payload[from])), ...);
-      ++k;
+      from[k++] = static_cast<std::int64_t>(src);
     }
-    for (; k < out + slots; ++k) {
-      key[k] = kNoContact;
-      ((payload.empty() ? void() : void(payload[k] = blank<D, Payload>())), ...);
-    }
-    out += slots;
-  }
-  key.resize(out);
-  ((payload.empty() ? void() : payload.resize(out)), ...);
+  });
+  auto gather = [&](auto& v, const auto& empty) {
+    if (v.empty()) return;
+    std::remove_reference_t<decltype(v)> out(from.size());
+    parallel::for_each(static_cast<Index>(from.size()), [&](Index k) {
+      const std::int64_t src = from[at(k)];
+      out[at(k)] = src >= 0 ? v[static_cast<std::size_t>(src)] : empty;
+    });
+    v.swap(out);
+  };
+  gather(key, kNoContact);
+  (gather(payload, blank<D, Payload>()), ...);
 }
 
 // The grain that owns pair k (a binary search in pair_begin_; outflow only).
