@@ -1,0 +1,115 @@
+// Recursive coordinate bisection (RCB): which rank owns each entity of a decomposition over all
+// parts (issue 29, docs/distributed.md, "Decomposition, halos, migration").
+//
+// The entities of a set are cut across the longest side of their bounding box, at the point
+// where the weight on the lower side first reaches its share: the set's weight times the ranks
+// given to that side over the set's ranks (a set of r ranks gives floor(r / 2) to the lower
+// side). Each side is cut again until one rank remains. An entity's weight is its method's
+// measured cost per step (run.time_by_part_s over the part's entities), so that a rank's box
+// holds about the same work, not the same count.
+//
+// Along a cut, entities are ordered by the coordinate and then by their index, and the weights
+// are summed in that order, so the owners depend only on the positions, weights and rank count:
+// not on threads, and not on the order of the input beyond the index that breaks exact ties of
+// a coordinate. The boxes are those of the owned entities; two ranks' boxes meet at most on the
+// plane of their cut.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace crater::parallel {
+
+/// What RCB gives: each entity's rank, and each rank's weight and entity count.
+struct Decomposition {
+  std::vector<int> owner;    // per entity, in [0, ranks)
+  std::vector<Real> weight;  // per rank
+  std::vector<Index> count;  // per rank
+};
+
+namespace detail {
+
+template <int D>
+void bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Index>& ids,
+            std::size_t first, std::size_t last, int rank0, int ranks, std::vector<int>& owner) {
+  if (ranks == 1 || last - first <= 1) {
+    for (std::size_t k = first; k < last; ++k)
+      owner[static_cast<std::size_t>(ids[k])] = rank0;
+    return;
+  }
+  Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity());
+  Vec<D> hi = -lo;
+  for (std::size_t k = first; k < last; ++k) {
+    const auto i = static_cast<std::size_t>(ids[k]);
+    lo = lo.cwiseMin(x[i]);
+    hi = hi.cwiseMax(x[i]);
+  }
+  int axis = 0;  // the longest side; the lowest axis on ties
+  for (int a = 1; a < D; ++a)
+    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  const auto begin = ids.begin() + static_cast<std::ptrdiff_t>(first);
+  const auto end = ids.begin() + static_cast<std::ptrdiff_t>(last);
+  std::sort(begin, end, [&](Index a, Index b) {
+    const Real xa = x[static_cast<std::size_t>(a)][axis], xb = x[static_cast<std::size_t>(b)][axis];
+    return xa < xb || (xa == xb && a < b);
+  });
+  Real total = 0;  // in the sorted order: the same bits whatever order the set came in
+  for (auto it = begin; it != end; ++it)
+    total += w[static_cast<std::size_t>(*it)];
+  const int lower_ranks = ranks / 2;
+  const Real share = total * static_cast<Real>(lower_ranks) / static_cast<Real>(ranks);
+  // The lower side takes entities until its weight reaches its share, and keeps the one that
+  // crosses it when that leaves the two sides closer to their shares; each side keeps at least
+  // one entity while there are enough.
+  std::size_t cut = first;
+  Real below = 0;
+  while (cut < last) {
+    const Real next = below + w[static_cast<std::size_t>(ids[cut])];
+    if (next > share) {
+      if (next - share < share - below) {
+        below = next;
+        ++cut;
+      }
+      break;
+    }
+    below = next;
+    ++cut;
+  }
+  cut = std::clamp(cut, first + 1, last - 1);
+  bisect<D>(x, w, ids, first, cut, rank0, lower_ranks, owner);
+  bisect<D>(x, w, ids, cut, last, rank0 + lower_ranks, ranks - lower_ranks, owner);
+}
+
+}  // namespace detail
+
+/// The owner of each entity (positions x, weights w >= 0, one each) among `ranks` ranks by
+/// recursive coordinate bisection. With fewer entities than ranks, some ranks own none.
+template <int D>
+Decomposition rcb(std::span<const Vec<D>> x, std::span<const Real> w, int ranks) {
+  if (ranks < 1) throw std::invalid_argument("rcb: the rank count must be at least 1");
+  if (x.size() != w.size()) throw std::invalid_argument("rcb: one weight per entity is needed");
+  for (const Real wi : w)
+    if (!(wi >= 0) || !std::isfinite(wi))
+      throw std::invalid_argument("rcb: weights must be finite and not negative");
+  Decomposition d;
+  d.owner.assign(x.size(), 0);
+  std::vector<Index> ids(x.size());
+  std::iota(ids.begin(), ids.end(), Index{0});
+  detail::bisect<D>(x, w, ids, 0, ids.size(), 0, ranks, d.owner);
+  d.weight.assign(static_cast<std::size_t>(ranks), 0);
+  d.count.assign(static_cast<std::size_t>(ranks), 0);
+  for (std::size_t i = 0; i < x.size(); ++i) {  // in entity order: the same sums every time
+    d.weight[static_cast<std::size_t>(d.owner[i])] += w[i];
+    ++d.count[static_cast<std::size_t>(d.owner[i])];
+  }
+  return d;
+}
+
+}  // namespace crater::parallel
