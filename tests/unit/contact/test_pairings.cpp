@@ -303,6 +303,17 @@ TEST(ContactParticleSurface, StableStepIsHalfOverOmegaOfTheStiffestSpring) {
     EXPECT_EQ(s.entity_id, 0);
     EXPECT_NE(s.reason.find("surface node 0"), std::string::npos) << s.reason;
   }
+  // The particles lifted clear: the sums of the next apply() hold none of the springs that
+  // ended, and the pair's spring alone limits the step again (m* of a 1e6 kg particle and the
+  // 1 kg node).
+  for (Vec<3>& x : stub(parts, 1).x)
+    x.z() = 10 * r;
+  c.apply(parts, 0);
+  const parts::StableStep apart = c.stable_step(parts);
+  const Real m_star = 1e6 * 1.0 / (1e6 + 1.0);
+  const Real expected = 0.5 / std::sqrt(k / m_star);
+  EXPECT_NEAR(apart.dt_s, expected, kRel * expected);
+  EXPECT_EQ(apart.entity_id, -1) << apart.reason;
 }
 
 // ---- surface-surface ----------------------------------------------------------------------
