@@ -40,12 +40,13 @@ std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
 
 template <int D>
 void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const {
+  // One view of the part (an SPH part's view computes its particles' contact radii).
   Index n = 0;
-  if (const auto pts = parts[k]->contact_points())
+  const auto pts = parts[k]->contact_points();
+  if (pts)
     n = static_cast<Index>(pts->position->size());
   else if (const auto surf = parts[k]->contact_surface())
     n = static_cast<Index>(surf->node_position->size());
-  const auto pts = parts[k]->contact_points();
   const bool spins = pts && pts->angular_velocity;
   std::vector<Vec<D>>& force = out.force[k];
   std::vector<AxialVec<D>>& torque = out.torque[k];
