@@ -9,6 +9,7 @@ packages=(
   g++ cmake ninja-build make pkg-config
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin
   python3 python3-numpy python3-matplotlib
   clang-format universal-ctags
 )

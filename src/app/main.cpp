@@ -30,6 +30,7 @@
 #include "io/scenario/load.hpp"
 #include "io/scenario/schema.hpp"
 #include "io/scenario/validate.hpp"
+#include "parallel/comm.hpp"
 #include "solver/memory_estimate.hpp"
 #include "solver/simulation.hpp"
 
@@ -309,6 +310,19 @@ int main(int argc, char** argv) {
   // Log lines (info, warnings) on stderr: stdout is for what a command prints (check's table).
   spdlog::set_default_logger(spdlog::stderr_color_mt("crater"));
   spdlog::set_pattern("crater: %^%l%$: %v");
+  // MPI, when a launcher started this process (parallel/comm.hpp). Runs are not decomposed
+  // across ranks yet (issue 29): several ranks would each run the whole scene into one output
+  // directory, so they stop before reading anything. One rank under mpirun runs as without it.
+  crater::parallel::Session mpi_session(argc, argv);
+  if (const auto& world = crater::parallel::Comm::world(); world.size() > 1) {
+    if (world.root())
+      spdlog::error(
+          "started on {} MPI ranks, but crater does not decompose a run across ranks yet "
+          "(docs/distributed.md): run it without mpirun, or with one rank and OpenMP threads "
+          "(--threads N)",
+          world.size());
+    return kExitInput;
+  }
   CommandLine cl;
   try {
     cl.app.parse(argc, argv);

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <deque>
 #include <span>
 #include <stdexcept>
@@ -28,6 +30,9 @@ enum Role : unsigned {
   kHalo = 1u << 2,     // exchanged between ranks (later, MPI)
 };
 inline constexpr unsigned kStateRoles = kOutput | kRestart | kHalo;
+/// For FieldSet::pack(): every field, whatever its roles (an entity that migrates to another
+/// rank takes all of its data).
+inline constexpr unsigned kEveryField = ~0u;
 
 struct FieldInfo {
   std::string name;
@@ -160,6 +165,66 @@ class FieldSet {
     }
   }
 
+  /// Bytes one entity takes in pack() for `roles`.
+  std::size_t packed_bytes(unsigned roles) const {
+    std::size_t n = 0;
+    for (const auto& c : columns_)
+      if (takes(c.info.roles, roles))
+        n += std::visit(
+            [](const auto& v) {
+              return entry_bytes<typename std::decay_t<decltype(v)>::value_type>();
+            },
+            c.data);
+    return n;
+  }
+
+  /// Appends to `out` the entries of the entities `which` (in that order) of the fields having
+  /// any of `roles` (kEveryField: all), field after field in registration order: what an
+  /// exchange between ranks sends (fields/exchange.hpp).
+  void pack(std::span<const Index> which, unsigned roles, std::vector<std::byte>& out) const {
+    std::size_t at = out.size();
+    out.resize(at + which.size() * packed_bytes(roles));
+    for (const auto& c : columns_) {
+      if (!takes(c.info.roles, roles)) continue;
+      std::visit(
+          [&](const auto& v) {
+            using T = typename std::decay_t<decltype(v)>::value_type;
+            for (Index i : which) {
+              std::memcpy(out.data() + at, entry_data(v[static_cast<std::size_t>(i)]),
+                          entry_bytes<T>());
+              at += entry_bytes<T>();
+            }
+          },
+          c.data);
+    }
+  }
+
+  /// Appends the entities that pack() with the same `roles` wrote to `in`, on a set with the
+  /// same fields; the fields without those roles get zeros. Returns the number appended.
+  Index unpack_append(std::span<const std::byte> in, unsigned roles) {
+    const std::size_t per = packed_bytes(roles);
+    if (per == 0 ? !in.empty() : in.size() % per != 0)
+      throw std::logic_error("FieldSet::unpack_append: the bytes are not whole entities");
+    const Index n = per == 0 ? 0 : static_cast<Index>(in.size() / per);
+    const Index first = size_;
+    resize(size_ + n);
+    std::size_t at = 0;
+    for (auto& c : columns_) {
+      if (!takes(c.info.roles, roles)) continue;
+      std::visit(
+          [&](auto& v) {
+            using T = typename std::decay_t<decltype(v)>::value_type;
+            for (Index i = first; i < first + n; ++i) {
+              std::memcpy(entry_data(v[static_cast<std::size_t>(i)]), in.data() + at,
+                          entry_bytes<T>());
+              at += entry_bytes<T>();
+            }
+          },
+          c.data);
+    }
+    return n;
+  }
+
   /// Views of the fields having any of `roles`, in registration order.
   std::vector<FieldView> views(unsigned roles) const {
     std::vector<FieldView> out;
@@ -188,6 +253,25 @@ class FieldSet {
     FieldInfo info;
     Column data;
   };
+
+  static bool takes(unsigned field_roles, unsigned roles) {
+    return roles == kEveryField || (field_roles & roles) != 0;
+  }
+  // An entry's bytes: a number, or an Eigen vector's or tensor's coefficients.
+  template <class T>
+  static constexpr std::size_t entry_bytes() {
+    if constexpr (std::is_arithmetic_v<T>)
+      return sizeof(T);
+    else
+      return sizeof(typename T::Scalar) * static_cast<std::size_t>(T::SizeAtCompileTime);
+  }
+  template <class T>
+  static auto* entry_data(T& e) {
+    if constexpr (std::is_arithmetic_v<std::remove_const_t<T>>)
+      return &e;
+    else
+      return e.data();
+  }
 
   template <class T>
   static T zero() {

@@ -68,6 +68,22 @@ class ReproducibleSum {
     nonfinite_ += other.nonfinite_;
   }
 
+  /// The levels' sums and the non-finite terms' sum: what ranks add up to merge their sums
+  /// (each entry is exact, so any order of those additions gives the same bits).
+  using Partials = std::array<Real, kLevels + 1>;
+  Partials partials() const {
+    Partials p{};
+    for (std::size_t k = 0; k < kLevels; ++k)
+      p[k] = sum_[k];
+    p[kLevels] = nonfinite_;
+    return p;
+  }
+  void set_partials(const Partials& p) {
+    for (std::size_t k = 0; k < kLevels; ++k)
+      sum_[k] = p[k];
+    nonfinite_ = p[kLevels];
+  }
+
   Real value() const {
     if (nonfinite_ != 0 || std::isnan(nonfinite_)) return nonfinite_;
     Real s = 0;

@@ -1,0 +1,182 @@
+#include "parallel/comm.hpp"
+
+#include <climits>
+#include <cstdlib>
+#include <string>
+
+#ifdef CRATER_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace crater::parallel {
+
+namespace {
+
+Comm& world_mutable() {
+  static Comm w;
+  return w;
+}
+
+#ifdef CRATER_HAVE_MPI
+bool g_started = false;
+
+// The environment a launcher gives its processes: Open MPI's mpirun, PMIx (Open MPI, Slurm's
+// srun --mpi=pmix), PMI (MPICH's hydra, srun --mpi=pmi2).
+bool launched() {
+  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    if (std::getenv(v)) return true;
+  const char* forced = std::getenv("CRATER_MPI");
+  return forced && std::string(forced) == "1";
+}
+
+int to_int_count(std::size_t n) {
+  if (n > static_cast<std::size_t>(INT_MAX))
+    throw std::runtime_error("a message of " + std::to_string(n) +
+                             " bytes exceeds MPI's int counts (2 GiB per rank pair)");
+  return static_cast<int>(n);
+}
+#endif
+
+}  // namespace
+
+const Comm& Comm::world() {
+  return world_mutable();
+}
+
+Session::Session([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
+#ifdef CRATER_HAVE_MPI
+  if (!launched()) return;
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  g_started = true;
+  Comm& w = world_mutable();
+  MPI_Comm_rank(MPI_COMM_WORLD, &w.rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &w.size_);
+  w.mpi_ = true;
+#endif
+}
+
+Session::~Session() {
+#ifdef CRATER_HAVE_MPI
+  if (g_started) {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized) MPI_Finalize();
+    g_started = false;
+  }
+#endif
+}
+
+const char* Session::why_single() {
+#ifdef CRATER_HAVE_MPI
+  return g_started ? "" : "not started by a launcher (mpirun, srun)";
+#else
+  return "this crater was built without MPI (install libopenmpi-dev and rebuild)";
+#endif
+}
+
+void Comm::barrier() const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+Real Comm::max(Real x) const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+#endif
+  return x;
+}
+
+Real Comm::min(Real x) const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+#endif
+  return x;
+}
+
+std::int64_t Comm::sum(std::int64_t x) const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+#endif
+  return x;
+}
+
+Comm::ValueId Comm::min_with_id(ValueId x) const {
+  if (size_ == 1) return x;
+  // MPI_MINLOC carries an int, too narrow for ids: gather the pairs and pick in rank order.
+  const auto all = parallel::all_gather(*this, std::span<const ValueId>(&x, 1));
+  ValueId best = all.front();
+  for (const ValueId& v : all)
+    if (v.value < best.value || (v.value == best.value && v.id < best.id)) best = v;
+  return best;
+}
+
+void Comm::sum_exact([[maybe_unused]] std::span<Real> x) const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_)
+    MPI_Allreduce(MPI_IN_PLACE, x.data(), to_int_count(x.size()), MPI_DOUBLE, MPI_SUM,
+                  MPI_COMM_WORLD);
+#endif
+}
+
+std::vector<std::byte> Comm::all_gather(std::span<const std::byte> mine,
+                                        std::vector<std::int64_t>* counts) const {
+  if (!mpi_ || size_ == 1) {
+    if (counts) *counts = {static_cast<std::int64_t>(mine.size())};
+    return {mine.begin(), mine.end()};
+  }
+#ifdef CRATER_HAVE_MPI
+  int n = to_int_count(mine.size());
+  std::vector<int> count(static_cast<std::size_t>(size_)), offset(static_cast<std::size_t>(size_));
+  MPI_Allgather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < count.size(); ++r) {
+    offset[r] = to_int_count(total);
+    total += static_cast<std::size_t>(count[r]);
+  }
+  std::vector<std::byte> out(total);
+  MPI_Allgatherv(mine.data(), n, MPI_BYTE, out.data(), count.data(), offset.data(), MPI_BYTE,
+                 MPI_COMM_WORLD);
+  if (counts) counts->assign(count.begin(), count.end());
+  return out;
+#else
+  return {};
+#endif
+}
+
+std::vector<std::vector<std::byte>> Comm::all_to_all(
+    const std::vector<std::vector<std::byte>>& send) const {
+  if (static_cast<int>(send.size()) != size_)
+    throw std::logic_error("Comm::all_to_all: one buffer per rank expected");
+  if (!mpi_ || size_ == 1) return send;
+#ifdef CRATER_HAVE_MPI
+  const auto p = static_cast<std::size_t>(size_);
+  std::vector<int> send_count(p), send_offset(p), recv_count(p), recv_offset(p);
+  std::vector<std::byte> send_all;
+  for (std::size_t r = 0; r < p; ++r) {
+    send_count[r] = to_int_count(send[r].size());
+    send_offset[r] = to_int_count(send_all.size());
+    send_all.insert(send_all.end(), send[r].begin(), send[r].end());
+  }
+  MPI_Alltoall(send_count.data(), 1, MPI_INT, recv_count.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::size_t total = 0;
+  for (std::size_t r = 0; r < p; ++r) {
+    recv_offset[r] = to_int_count(total);
+    total += static_cast<std::size_t>(recv_count[r]);
+  }
+  std::vector<std::byte> recv_all(total);
+  MPI_Alltoallv(send_all.data(), send_count.data(), send_offset.data(), MPI_BYTE, recv_all.data(),
+                recv_count.data(), recv_offset.data(), MPI_BYTE, MPI_COMM_WORLD);
+  std::vector<std::vector<std::byte>> out(p);
+  for (std::size_t r = 0; r < p; ++r) {
+    const auto first = recv_all.begin() + recv_offset[r];
+    out[r].assign(first, first + recv_count[r]);
+  }
+  return out;
+#else
+  return send;
+#endif
+}
+
+}  // namespace crater::parallel
