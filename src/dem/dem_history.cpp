@@ -44,7 +44,10 @@ void DemPart<D>::update_neighbors() {
   if (!stale) return;
   if (!packed_) pack_history(partner_, xi_, roll_);
   packed_ = true;
-  const auto order = neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin));
+  // Within a cell by id: the order then depends only on the grains' positions and ids
+  // (cell_sort_order), as a rank's share of the bed will need.
+  const auto order = neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin),
+                                                   std::span<const std::int64_t>(id_));
   f_.permute(order);
   permute_slots(order);
   skin_.built(std::span<const Vec<D>>(x_), need);

@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include "parallel/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -90,16 +92,20 @@ GridSpec<D> make_grid_spec(std::span<const Vec<D>> x, Real cell_size) {
   }
   g.cell_size = h;
 
-  // The origin snaps to a multiple of the cell size, so cell faces stay fixed in space while
-  // the box moves: between two re-sorts a point changes cell only by crossing a face, and a part
-  // sorted by cell_sort_order stays (nearly) in cell order.
+  // Cells are those of the lattice anchored at 0 (GridSpec::base), so cell faces stay fixed in
+  // space while the box moves: between two re-sorts a point changes cell only by crossing a
+  // face, and a part sorted by cell_sort_order stays (nearly) in cell order. The expressions are
+  // cell_coords', so that the lowest and the highest point land in the first and the last cell.
   for (int k = 0; k < D; ++k) {
-    // Rounding can miss when |lo| / h is huge; then the unsnapped minimum does.
-    const Real snapped = std::floor(lo[k] / h) * h;
-    const bool ok = std::isfinite(snapped) && snapped <= lo[k] && lo[k] - snapped < h;
-    g.origin[k] = ok ? snapped : lo[k];
-    // Same expression as cell_coords, so a point on the max face lands in the last cell.
-    g.dims[k] = static_cast<Index>(std::floor((hi[k] - g.origin[k]) / h)) + 1;
+    Real first = std::floor(lo[k] / h);
+    Real last = std::floor(hi[k] / h);
+    if (!(std::abs(first) < 0x1p52 && std::abs(last) < 0x1p52)) {
+      g.origin[k] = lo[k];  // the lattice index would not be exact: cells from the lowest point
+      first = 0;
+      last = std::floor((hi[k] - lo[k]) / h);
+    }
+    g.base[k] = static_cast<Index>(first);
+    g.dims[k] = static_cast<Index>(last - first) + 1;
   }
   return g;
 }
@@ -143,12 +149,29 @@ void bucket_by_cell(std::span<const Vec<D>> x, const GridSpec<D>& grid,
 }  // namespace detail
 
 template <int D>
-std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size) {
+std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size,
+                                   std::span<const std::int64_t> key) {
+  if (!key.empty() && key.size() != x.size())
+    throw std::invalid_argument("cell_sort_order: one key per point expected");
   const GridSpec<D> grid = make_grid_spec<D>(x, cell_size);
   std::vector<Index> cell_start;
   std::vector<Index> order;
   std::vector<Index> cell;
   detail::bucket_by_cell<D>(x, grid, cell_start, order, cell);
+  if (!key.empty()) {
+    // Each cell's few points by key (a grain's cell holds a handful).
+    const Index ncell = grid.cell_count();
+    parallel::for_each_block(ncell, 256, [&](Index first, Index last) {
+      for (Index c = first; c < last; ++c) {
+        const auto b = order.begin() + cell_start[static_cast<std::size_t>(c)];
+        const auto e = order.begin() + cell_start[static_cast<std::size_t>(c) + 1];
+        if (e - b > 1)
+          std::sort(b, e, [&](Index i, Index j) {
+            return key[static_cast<std::size_t>(i)] < key[static_cast<std::size_t>(j)];
+          });
+      }
+    });
+  }
   return order;
 }
 
@@ -156,8 +179,10 @@ template struct GridSpec<2>;
 template struct GridSpec<3>;
 template GridSpec<2> make_grid_spec<2>(std::span<const Vec<2>>, Real);
 template GridSpec<3> make_grid_spec<3>(std::span<const Vec<3>>, Real);
-template std::vector<Index> cell_sort_order<2>(std::span<const Vec<2>>, Real);
-template std::vector<Index> cell_sort_order<3>(std::span<const Vec<3>>, Real);
+template std::vector<Index> cell_sort_order<2>(std::span<const Vec<2>>, Real,
+                                               std::span<const std::int64_t>);
+template std::vector<Index> cell_sort_order<3>(std::span<const Vec<3>>, Real,
+                                               std::span<const std::int64_t>);
 template void detail::bucket_by_cell<2>(std::span<const Vec<2>>, const GridSpec<2>&,
                                         std::vector<Index>&, std::vector<Index>&,
                                         std::vector<Index>&);

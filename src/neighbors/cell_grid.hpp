@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -18,7 +19,14 @@ namespace crater::neighbors {
 
 template <int D>
 struct GridSpec {
+  /// Cell coordinates are floor((p - origin) / cell_size) - base. Normally origin is 0 and base
+  /// the grid's first cell on the lattice of cells anchored at 0: the lattice cell of a point
+  /// does not depend on the other points, so two point sets (the entities of two ranks) sorted
+  /// with the same cell size put a point shared by both in the same lattice cell. Where the
+  /// lattice index would not be exact (|p| / cell_size >= 2^52: far outliers, or a tiny cell),
+  /// origin is the lowest point and base 0 instead.
   Vec<D> origin = Vec<D>::Zero();
+  IVec<D> base = IVec<D>::Zero();
   /// Edge of a (square/cubic) cell; >= the requested size (see make_grid_spec).
   Real cell_size = 1;
   /// Number of cells per axis, each >= 1.
@@ -31,9 +39,9 @@ struct GridSpec {
     IVec<D> c;
     for (int k = 0; k < D; ++k) {
       // Clamp in floating point first: a far-away query point must not overflow the cast.
-      const Real t = (p[k] - origin[k]) / cell_size;
+      const Real t = std::floor((p[k] - origin[k]) / cell_size) - static_cast<Real>(base[k]);
       const Real top = static_cast<Real>(dims[k] - 1);
-      c[k] = static_cast<Index>(std::clamp(std::floor(t), Real(0), top));
+      c[k] = static_cast<Index>(std::clamp(t, Real(0), top));
     }
     return c;
   }
@@ -62,10 +70,20 @@ template <int D>
 GridSpec<D> make_grid_spec(std::span<const Vec<D>> x, Real cell_size);
 
 /// Permutation `order` such that x[order[0]], x[order[1]], ... are grouped by cell of
-/// make_grid_spec(x, cell_size), cells in ascending linear index, original order kept within a
-/// cell (stable counting sort). A part re-sorts its arrays with new[i] = old[order[i]].
+/// make_grid_spec(x, cell_size), cells in ascending linear index, and within a cell in
+/// ascending `key` when one is given (each entity's global id), else in their original order
+/// (stable counting sort). A part re-sorts its arrays with new[i] = old[order[i]].
+///
+/// With keys, the order of two entities depends only on their positions, keys and the grid's
+/// cell size: cells follow the lattice anchored at 0 (GridSpec::base), and the lexicographic
+/// order of lattice cells is the order of the linear index on any grid that holds both. So any
+/// subset of the points (one rank's entities and ghosts) sorts into the restriction of the
+/// whole set's order, provided its grid has the same cell size (make_grid_spec's memory guard
+/// not enlarging it), and the neighbour lists built on it list each entity's partners in
+/// the same order as on the whole set (docs/distributed.md).
 template <int D>
-std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size);
+std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size,
+                                   std::span<const std::int64_t> key = {});
 
 namespace detail {
 

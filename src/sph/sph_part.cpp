@@ -486,8 +486,8 @@ class SphPart final : public parts::Part<D> {
   }
 
   void resort() {
-    const auto order =
-        neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
+    const auto order = neighbors::cell_sort_order<D>(  // within a cell by id: canonical
+        std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_, std::span(id_));
     f_.permute(order);
   }
 

@@ -686,24 +686,24 @@ TEST(CellGrid, MaxFaceInsideAndCellSizeAtLeastRequested) {
   EXPECT_EQ(g.cell_coords(Vec<2>(-1e300, 1e300)), (IVec<2>(0, 1)));
 }
 
-// The origin snaps to a multiple of the cell size: shifting the points a little (without
-// crossing a face) leaves every cell index unchanged, so a re-sorted part stays sorted.
-TEST(CellGrid, OriginSnapsToCellMultiples) {
+// The grid's cells are those of the lattice anchored at 0: its first cell holds the lowest
+// point, and shifting the points a little (without crossing a face) leaves every cell index
+// unchanged, so a re-sorted part stays sorted.
+TEST(CellGrid, CellsAreOnTheLatticeAnchoredAtZero) {
   auto x = random_points<2>(500, 0.3, 9.7, 17);
   x.push_back(Vec<2>(0.3, 0.3));
   x.push_back(Vec<2>(9.7, 9.7));
   const GridSpec<2> g = make_grid_spec<2>(sp(x), 0.5);
   for (int k = 0; k < 2; ++k) {
-    const Real cells = g.origin[k] / g.cell_size;
-    EXPECT_NEAR(cells, std::round(cells), 1e-9);
-    EXPECT_LE(g.origin[k], 0.3);
-    EXPECT_GT(g.origin[k], 0.3 - g.cell_size);
+    const Real first_face = static_cast<Real>(g.base[k]) * g.cell_size;
+    EXPECT_LE(first_face, 0.3);
+    EXPECT_GT(first_face, 0.3 - g.cell_size);
   }
   std::vector<Vec<2>> shifted = x;
   for (auto& p : shifted)
     p += Vec<2>(0.01, -0.01);
   const GridSpec<2> gs = make_grid_spec<2>(sp(shifted), 0.5);
-  EXPECT_EQ(gs.origin, g.origin);
+  EXPECT_EQ(gs.base, g.base);
   Index moved = 0;
   for (std::size_t i = 0; i < x.size(); ++i) {
     moved += g.cell_index(x[i]) != gs.cell_index(shifted[i]);
