@@ -52,13 +52,16 @@ void Pairing<D>::limit_sides(PairLimits& limits, Real k_max, Real m_points, Real
 
 template <int D>
 void Pairing<D>::limit_by_summed_springs(StepSearch& search, const BodyLoads& load,
-                                         const std::vector<Real>& mass, const char* what) const {
-  // Ascending body order, strictly smaller wins: the first body that sets the smallest step.
+                                         const std::vector<Real>& mass, const char* what,
+                                         const std::vector<std::int64_t>* id) const {
+  // Bodies are named by id (a particle's index moves at each re-sort; a node's is its id), and
+  // on equal steps the smallest id wins (StepSearch).
   for (Index i : load.loaded()) {
     if (at(i) >= mass.size() || !(load[at(i)] > 0) || !(mass[at(i)] > 0)) continue;
-    search.consider(spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio), i, [&] {
+    const Index body = id && at(i) < id->size() ? (*id)[at(i)] : i;
+    search.consider(spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio), body, [&] {
       return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m", name_,
-                         what, i, load[at(i)]);
+                         what, body, load[at(i)]);
     });
   }
 }

@@ -32,9 +32,12 @@ using PartList = std::vector<std::unique_ptr<parts::Part<D>>>;
 struct StepSearch {
   parts::StableStep best;
   StepSearch() { best.dt_s = std::numeric_limits<Real>::infinity(); }
+  /// entity: the body's id (-1: none in particular). On equal steps the smallest id wins,
+  /// whatever order the bodies come in (the order a rank holds them in: docs/distributed.md).
   template <class Reason>
   void consider(Real dt, Index entity, Reason&& reason) {
-    if (dt < best.dt_s) {
+    if (dt < best.dt_s ||
+        (dt == best.dt_s && entity >= 0 && (best.entity_id < 0 || entity < best.entity_id))) {
       best.dt_s = dt;
       best.entity_id = entity;
       best.reason = reason();
@@ -151,9 +154,11 @@ class Pairing {
   /// below know of it). Never below the pair's limit (the reduced mass is the smaller).
   void limit_sides(PairLimits& limits, Real k_max, Real m_points, Real m_other) const;
   /// Offers the step limit of every body of one side pressed by several springs at once:
-  /// dt = spring_step(sum k, m) of each, the first body that sets the smallest.
+  /// dt = spring_step(sum k, m) of each, named by id (`id`: the particles' ids; null: the index
+  /// is the id, as for nodes); on equal steps the smallest id.
   void limit_by_summed_springs(StepSearch& search, const BodyLoads& load,
-                               const std::vector<Real>& mass, const char* what) const;
+                               const std::vector<Real>& mass, const char* what,
+                               const std::vector<std::int64_t>* id = nullptr) const;
   /// Whether the spring sums must be found afresh for bodies of these counts: none since the
   /// last apply(), or bodies were removed since (the sums are per body index).
   bool load_stale(std::size_t n_points, std::size_t n_other) const {

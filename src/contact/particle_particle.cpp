@@ -33,9 +33,9 @@ void ParticleParticle<D>::limit_step(const PartList<D>& parts, PairLimits& limit
   // Bodies pressed by several springs at once (found afresh when particles were removed
   // since the last apply(): the cached sums are per particle index).
   if (this->load_stale(pts->mass->size(), grains->mass->size())) measure_load(parts);
-  this->limit_by_summed_springs(limits.points, this->load_.points, *pts->mass, "particle");
+  this->limit_by_summed_springs(limits.points, this->load_.points, *pts->mass, "particle", pts->id);
   this->limit_by_summed_springs(limits.other, this->load_.other, *grains->mass,
-                                "particle of the other part");
+                                "particle of the other part", grains->id);
 }
 
 template <int D>

@@ -166,7 +166,7 @@ class SphPart final : public parts::Part<D> {
       const Real dt_f = an > 0 ? std::sqrt(h_[i] / an) : kInf;
       const Real dt_v = mu > 0 ? Real(0.125) * h_[i] * h_[i] * rho_[i] / mu : kInf;
       const Real dt_i = std::min(cfg_.cfl * std::min(dt_f, dt_cv_[i]), dt_v);
-      if (dt_i < s.dt_s) {
+      if (dt_i < s.dt_s || (dt_i == s.dt_s && id_[i] < s.entity_id)) {  // ties: smallest id
         s.dt_s = dt_i;
         s.entity_id = id_[i];
         s.reason = dt_i == dt_v ? fmt::format("viscous limit, mu = {:.3g} Pa s", mu)

@@ -41,6 +41,7 @@ class StubPart final : public parts::Part<D> {
   std::vector<Vec<D>> x, v;
   std::vector<Real> m, r;
   std::vector<AxialVec<D>> w;
+  std::vector<std::int64_t> ids;  // the particles' ids (empty: none offered)
   mutable std::vector<Real> offset, last_overlap;
   // A surface (contact_surface) when has_surface.
   bool has_surface = false;
@@ -74,6 +75,7 @@ class StubPart final : public parts::Part<D> {
     p.velocity = &v;
     p.mass = &m;
     p.radius = &r;
+    if (!ids.empty()) p.id = &ids;
     if (rotating) p.angular_velocity = &w;
     if (offsets) {
       offset.resize(x.size(), -1);
@@ -478,6 +480,44 @@ TEST(ContactParticleParticle, NoForceWhenApartAndStepFromTheStiffestGrain) {
   const parts::StableStep s = c.stable_step(parts);
   const Real expected = 0.5 / std::sqrt(0.1 * 1e9 * 0.03 / 1.0);
   EXPECT_NEAR(s.dt_s, expected, kRel * expected);
+}
+
+TEST(ContactParticleParticle, ABodyIsNamedByItsIdAndEqualStepsGoToTheSmallestId) {
+  // Two light particles, each squeezed alike between two heavy grains: their summed springs
+  // (2 k on 1 g) set equal steps, below the pair's (k on 1 g). Their ids are 7 and 3, in that
+  // order: the step names particle 3, not the index 1 (an index moves at each re-sort, and
+  // the first in index order is not the same on every rank).
+  PartList<3> parts;
+  set_particles<3>(add_part(parts, "gas"), {Vec<3>::Zero(), Vec<3>(0.5, 0, 0)}, 0.01, 1e-3, false);
+  set_particles<3>(
+      add_part(parts, "grains"),
+      {Vec<3>(-0.029, 0, 0), Vec<3>(0.029, 0, 0), Vec<3>(0.471, 0, 0), Vec<3>(0.529, 0, 0)}, 0.02,
+      1e3, true);
+  stub(parts, 0).ids = {7, 3};
+  ContactSettings cs = settings(0, 1, 0.1, 0.3);
+  cs.grain_modulus_pa = {0, 1e9};
+  Coupling<3> c({cs}, parts);
+  c.apply(parts, 0);
+  const parts::StableStep s = c.stable_step(parts);
+  const Real k = 0.1 * 1e9 * 0.02;
+  EXPECT_NEAR(s.dt_s, 0.5 / std::sqrt(2 * k / 1e-3), kRel * s.dt_s);
+  EXPECT_EQ(s.entity_id, 3) << s.reason;
+  EXPECT_NE(s.reason.find("particle 3 held"), std::string::npos) << s.reason;
+}
+
+TEST(StepSearch, EqualStepsGoToTheSmallestIdInAnyOrder) {
+  for (const std::vector<Index>& order : {std::vector<Index>{5, 3, 9}, {9, 3, 5}, {3, 9, 5}}) {
+    StepSearch s;
+    s.consider(2.0, -1, [] { return "none in particular"; });
+    for (Index id : order)
+      s.consider(1.0, id, [id] { return std::to_string(id); });
+    EXPECT_EQ(s.best.entity_id, 3);
+    EXPECT_EQ(s.best.reason, "3");
+    s.consider(1.0, -1, [] { return "none"; });  // a limit of no body does not displace one
+    EXPECT_EQ(s.best.entity_id, 3);
+    s.consider(0.5, 11, [] { return "11"; });  // a smaller step wins whatever its id
+    EXPECT_EQ(s.best.entity_id, 11);
+  }
 }
 
 // ---- registration -------------------------------------------------------------------------
