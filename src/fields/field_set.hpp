@@ -27,7 +27,7 @@ enum Role : unsigned {
   kNone = 0,
   kOutput = 1u << 0,   // written to VTU
   kRestart = 1u << 1,  // written to checkpoints
-  kHalo = 1u << 2,     // exchanged between ranks (later, MPI)
+  kHalo = 1u << 2,     // copied to other ranks as ghosts (fields/exchange.hpp)
 };
 inline constexpr unsigned kStateRoles = kOutput | kRestart | kHalo;
 /// For FieldSet::pack(): every field, whatever its roles (an entity that migrates to another
