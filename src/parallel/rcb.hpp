@@ -34,15 +34,44 @@ struct Decomposition {
   std::vector<Index> count;  // per rank
 };
 
+/// The cuts of an RCB as a tree, which gives an owner to any point, not only to the entities
+/// it was made from: a point below a node's cut (x[axis] < at) goes to its lower side. An
+/// entity exactly on a cut may go to the other side than RCB gave it (RCB breaks such ties by
+/// index); the tree is a function of the position alone, which is what a rank needs to send a
+/// moving entity to its owner without a gather.
+struct RcbNode {
+  int axis = -1;  // -1: a leaf, owned by `rank`
+  Real at = 0;
+  int rank = 0;
+  int lower = -1, upper = -1;  // children (nodes)
+};
+template <int D>
+struct RcbTree {
+  std::vector<RcbNode> nodes;  // nodes[0]: the root
+  int owner(const Vec<D>& x) const {
+    int k = 0;
+    while (nodes[static_cast<std::size_t>(k)].axis >= 0) {
+      const RcbNode& n = nodes[static_cast<std::size_t>(k)];
+      k = x[n.axis] < n.at ? n.lower : n.upper;  // NaN: the upper side
+    }
+    return nodes[static_cast<std::size_t>(k)].rank;
+  }
+};
+
 namespace detail {
 
+// Bisects entities ids[first, last) among ranks [rank0, rank0 + ranks); records its cuts in
+// `tree` (if given) and returns the node it made there (-1 without a tree).
 template <int D>
-void bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Index>& ids,
-            std::size_t first, std::size_t last, int rank0, int ranks, std::vector<int>& owner) {
+int bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Index>& ids,
+           std::size_t first, std::size_t last, int rank0, int ranks, std::vector<int>& owner,
+           std::vector<RcbNode>* tree = nullptr) {
+  const int node = tree ? static_cast<int>(tree->size()) : -1;
+  if (tree) tree->push_back(RcbNode{.rank = rank0});
   if (ranks == 1 || last - first <= 1) {
     for (std::size_t k = first; k < last; ++k)
       owner[static_cast<std::size_t>(ids[k])] = rank0;
-    return;
+    return node;
   }
   Vec<D> lo = Vec<D>::Constant(std::numeric_limits<Real>::infinity());
   Vec<D> hi = -lo;
@@ -83,8 +112,20 @@ void bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Inde
     ++cut;
   }
   cut = std::clamp(cut, first + 1, last - 1);
-  bisect<D>(x, w, ids, first, cut, rank0, lower_ranks, owner);
-  bisect<D>(x, w, ids, cut, last, rank0 + lower_ranks, ranks - lower_ranks, owner);
+  // The cut at the first upper entity's coordinate (entities sharing it go upper); read before
+  // the sides are sorted again.
+  const Real at = x[static_cast<std::size_t>(ids[cut])][axis];
+  const int lower = bisect<D>(x, w, ids, first, cut, rank0, lower_ranks, owner, tree);
+  const int upper =
+      bisect<D>(x, w, ids, cut, last, rank0 + lower_ranks, ranks - lower_ranks, owner, tree);
+  if (tree) {
+    RcbNode& n = (*tree)[static_cast<std::size_t>(node)];
+    n.axis = axis;
+    n.at = at;
+    n.lower = lower;
+    n.upper = upper;
+  }
+  return node;
 }
 
 }  // namespace detail
@@ -110,6 +151,19 @@ Decomposition rcb(std::span<const Vec<D>> x, std::span<const Real> w, int ranks)
     ++d.count[static_cast<std::size_t>(d.owner[i])];
   }
   return d;
+}
+
+/// The tree of the cuts RCB makes for these entities (RcbTree).
+template <int D>
+RcbTree<D> rcb_tree(std::span<const Vec<D>> x, std::span<const Real> w, int ranks) {
+  if (ranks < 1) throw std::invalid_argument("rcb: the rank count must be at least 1");
+  if (x.size() != w.size()) throw std::invalid_argument("rcb: one weight per entity is needed");
+  RcbTree<D> t;
+  std::vector<int> owner(x.size(), 0);
+  std::vector<Index> ids(x.size());
+  std::iota(ids.begin(), ids.end(), Index{0});
+  detail::bisect<D>(x, w, ids, 0, ids.size(), 0, ranks, owner, &t.nodes);
+  return t;
 }
 
 }  // namespace crater::parallel

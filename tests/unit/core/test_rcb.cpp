@@ -176,4 +176,37 @@ TEST(Rcb, FewerEntitiesThanRanksAndBadInput) {
   EXPECT_THROW(cut<2>(x, std::vector<Real>{1.0, NAN}, 2), std::invalid_argument);
 }
 
+// The tree of the cuts gives every entity the rank RCB gave it (random coordinates: no entity
+// sits on a cut), and any other point the rank whose box holds it: points drawn anywhere in the
+// set's box fall in the box of their tree rank's entities grown by the gaps at the cuts.
+template <int D>
+void tree_matches(int ranks) {
+  const auto x = random_points<D>(3000, 11u + static_cast<unsigned>(ranks));
+  std::vector<Real> w(x.size());
+  for (std::size_t i = 0; i < w.size(); ++i)
+    w[i] = 1.0 + static_cast<Real>(i % 7);
+  const Decomposition d = cut<D>(x, w, ranks);
+  const auto tree =
+      crater::parallel::rcb_tree<D>(std::span<const Vec<D>>(x), std::span<const Real>(w), ranks);
+  const int nodes_expected = 2 * ranks - 1;  // a full binary tree with a leaf per rank
+  EXPECT_EQ(static_cast<int>(tree.nodes.size()), nodes_expected) << ranks << " ranks";
+  for (std::size_t i = 0; i < x.size(); ++i)
+    ASSERT_EQ(tree.owner(x[i]), d.owner[i]) << "entity " << i << ", " << ranks << " ranks";
+  // Every rank is some leaf's, once.
+  std::vector<int> leaves;
+  for (const auto& n : tree.nodes)
+    if (n.axis < 0) leaves.push_back(n.rank);
+  std::sort(leaves.begin(), leaves.end());
+  std::vector<int> all(static_cast<std::size_t>(ranks));
+  std::iota(all.begin(), all.end(), 0);
+  EXPECT_EQ(leaves, all);
+}
+
+TEST(Rcb, TreeGivesTheOwnersOfRcb) {
+  for (int ranks : {1, 2, 3, 4, 5, 7, 8}) {
+    tree_matches<2>(ranks);
+    tree_matches<3>(ranks);
+  }
+}
+
 }  // namespace
