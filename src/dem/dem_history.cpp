@@ -41,15 +41,19 @@ void DemPart<D>::update_neighbors() {
   const bool stale = moved_sq_ >= 0 ? skin_.stale_given(moved_sq_, f_.size(), need)
                                     : skin_.stale(std::span<const Vec<D>>(x_), need);
   moved_sq_ = -1;
-  if (!stale) return;
+  // On ranks, all rebuild when one must: the decision of one rank holding every grain.
+  const bool rebuild = comm_ ? comm_->max(stale ? 1.0 : 0.0) > 0 : stale;
+  if (!rebuild) return;
   if (!packed_) pack_history(partner_, xi_, roll_);
   packed_ = true;
+  if (comm_) redistribute(need * (1 + kSkin));  // the list's reach (VerletSkin::built)
   // Within a cell by id: the order then depends only on the grains' positions and ids
-  // (cell_sort_order), as a rank's share of the bed will need.
+  // (cell_sort_order), the same for a rank's share of the bed and its ghosts as on one rank.
   const auto order = neighbors::cell_sort_order<D>(std::span<const Vec<D>>(x_), need * (1 + kSkin),
                                                    std::span<const std::int64_t>(id_));
   f_.permute(order);
   permute_slots(order);
+  if (comm_) reorder_halo(order);
   skin_.built(std::span<const Vec<D>>(x_), need);
   build_lists();
 }
@@ -62,35 +66,39 @@ void DemPart<D>::build_lists() {
   neighbors::build_neighbor_list<D>(skin_.positions(), skin_.radius(), neighbors::Pairs::Full,
                                     list_);
   const Index n = list_.size();
-  // Owned pairs: the entries (i, j) with id_i < id_j, per grain in list order.
+  // Owned pairs: the entries (i, j) with id_i < id_j, per grain in list order; on ranks, not
+  // those of two ghosts (no rank needs them).
+  const bool ghosts = !ghost_.empty();
+  auto kept = [&](Index i, Index j) { return !ghosts || !(ghost_[at(i)] & ghost_[at(j)]); };
   pair_begin_.assign(static_cast<std::size_t>(n) + 1, 0);
-  parallel::for_each(n, [&](Index i) {
-    Index owned = 0;
-    for (const Index j : list_.of(i))
-      owned += id_[i] < id_[j];
-    pair_begin_[static_cast<std::size_t>(i) + 1] = owned;
-  });
-  for (Index i = 0; i < n; ++i)
-    pair_begin_[static_cast<std::size_t>(i) + 1] += pair_begin_[static_cast<std::size_t>(i)];
-  pair_j_.resize(static_cast<std::size_t>(pair_begin_.back()));
   recv_begin_.assign(static_cast<std::size_t>(n) + 1, 0);
+  parallel::for_each(n, [&](Index i) {
+    Index owned = 0, received = 0;
+    for (const Index j : list_.of(i)) {
+      if (!kept(i, j)) continue;
+      owned += id_[i] < id_[j];
+      received += id_[j] < id_[i];
+    }
+    pair_begin_[static_cast<std::size_t>(i) + 1] = owned;
+    recv_begin_[static_cast<std::size_t>(i) + 1] = received;
+  });
+  for (Index i = 0; i < n; ++i) {
+    pair_begin_[static_cast<std::size_t>(i) + 1] += pair_begin_[static_cast<std::size_t>(i)];
+    recv_begin_[static_cast<std::size_t>(i) + 1] += recv_begin_[static_cast<std::size_t>(i)];
+  }
+  pair_j_.resize(static_cast<std::size_t>(pair_begin_.back()));
   parallel::for_each(n, [&](Index i) {
     Index p = pair_begin_[static_cast<std::size_t>(i)];
     for (const Index j : list_.of(i))
-      if (id_[i] < id_[j]) pair_j_[static_cast<std::size_t>(p++)] = j;
-    recv_begin_[static_cast<std::size_t>(i) + 1] =
-        static_cast<Index>(list_.of(i).size()) -
-        (pair_begin_[static_cast<std::size_t>(i) + 1] - pair_begin_[static_cast<std::size_t>(i)]);
+      if (id_[i] < id_[j] && kept(i, j)) pair_j_[static_cast<std::size_t>(p++)] = j;
   });
-  for (Index i = 0; i < n; ++i)
-    recv_begin_[static_cast<std::size_t>(i) + 1] += recv_begin_[static_cast<std::size_t>(i)];
   // The pairs (j, i) that grain i receives (pairs are ascending in j's
   // row: binary search).
   recv_pair_.resize(pair_j_.size());
   parallel::for_each(n, [&](Index i) {
     Index e = recv_begin_[static_cast<std::size_t>(i)];
     for (const Index j : list_.of(i)) {
-      if (id_[i] < id_[j]) continue;
+      if (id_[i] < id_[j] || !kept(i, j)) continue;
       const auto b = pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j)];
       const auto it =
           std::lower_bound(b, pair_j_.begin() + pair_begin_[static_cast<std::size_t>(j) + 1], i);

@@ -26,6 +26,7 @@ thread_local std::array<Candidate, N> scan_candidates;
 template <int D>
 void DemPart<D>::compute_forces(Real t) {
   time_s_ = t;
+  if (comm_) refresh_ghosts();
   update_neighbors();
   const Index n = f_.size();
   const Real dt = contact_.last_dt_s;  // the step just taken
@@ -42,10 +43,15 @@ void DemPart<D>::compute_forces(Real t) {
             n, kPairBlock, [&](Index first, Index last) { pair_pass<Law>(first, last, dt, laws); });
         // A frame's stage sums the walls' stress moments in an instance of grain_pass of its
         // own: the other steps' has no trace of them.
+        // Ghosts are their owners' to move.
         if (stress_step_)
-          parallel::for_each(n, [&](Index i) { grain_pass<Law, true>(i, dt, laws); });
+          parallel::for_each(n, [&](Index i) {
+            if (!ghost(i)) grain_pass<Law, true>(i, dt, laws);
+          });
         else
-          parallel::for_each(n, [&](Index i) { grain_pass<Law, false>(i, dt, laws); });
+          parallel::for_each(n, [&](Index i) {
+            if (!ghost(i)) grain_pass<Law, false>(i, dt, laws);
+          });
       },
       laws_);
   measure_walls();
@@ -55,31 +61,9 @@ void DemPart<D>::compute_forces(Real t) {
   // Bonds of this step become last step's (contact histories are updated in place).
   bond_partner_.swap(bond_partner_new_);
   bond_.swap(bond_new_);
-  // Energy taken out over the last step by contacts and local damping (rates times dt), and
-  // the energy the bonds that broke held.
-  struct Sums {
-    Real dissipated = 0, local = 0, released = 0, breaks = 0, wall_work = 0;
-    Sums& operator+=(const Sums& o) {
-      dissipated += o.dissipated;
-      local += o.local;
-      released += o.released;
-      breaks += o.breaks;
-      wall_work += o.wall_work;
-      return *this;
-    }
-  };
-  const bool bonded = !bond_partner_.empty();
-  const bool damped = cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty();
-  const Sums s = parallel::deterministic_sum<Sums>(n, [&](Index i) {
-    // The models that are off leave their fields at zero (grain_pass): not read.
-    if (!bonded && !damped) return Sums{dissipated_[i]};
-    return Sums{dissipated_[i], local_power_[i], bond_released_[i], bond_breaks_[i],
-                static_power_[i]};
-  });
-  contact_dissipated_ += dt * s.dissipated + s.released;
-  local_dissipated_ += dt * s.local;
-  external_work_ += dt * s.wall_work;
-  bonds_broken_ += s.breaks;
+  // The energy taken out over the last step went to the grains' books (grain_pass).
+  if (!bond_partner_.empty())
+    bonds_broken_ += parallel::deterministic_sum<Real>(n, [&](Index i) { return bond_breaks_[i]; });
 }
 
 // Slot of the bond between `owner` and `partner` (last step's buffer), or -1.
@@ -328,15 +312,20 @@ inline void DemPart<D>::grain_pass(Index i, Real dt, const LawPair<Law>& laws) {
   contacts_[i] = tally.slots;
   elastic_[i] = elastic;
   dissipated_[i] = dissipated;
+  // The work of the last step (rates times dt) into the grain's books.
+  work_contact_[i] += dt * dissipated;
   // Fields of models that are off stay zero, unwritten (compute_forces does not read them).
   if (cfg_.local_damping > 0 || !cfg_.absorbing_walls.empty()) {
     local_power_[i] = local_power;
     static_power_[i] = static_power;
+    work_damping_[i] += dt * local_power;
+    work_external_[i] += dt * static_power;
   }
   if (!bond_partner_.empty()) {
     bonds_[i] = bonds;
     bond_breaks_[i] = tally.breaks;
     bond_released_[i] = tally.released;
+    work_contact_[i] += tally.released;
   }
 }
 

@@ -127,6 +127,7 @@ template <int D>
 DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* grains,
                     std::optional<Real> local_damping)
     : name_(settings.part.name),
+      where_(settings.part.where),
       cfg_(settings.dem),
       gravity_(to_vec<D>(settings.part.domain.gravity_m_s2)),
       domain_lo_(to_vec<D>(settings.part.domain.min_m)),
@@ -158,7 +159,11 @@ DemPart<D>::DemPart(const PartSettings& settings, const std::vector<Grain<D>>* g
       contact_torque_(add_angular<D>(f_, "coupling_torque", "N m", kRestart)),
       surface_offset_(f_.add_scalar("coupling_surface_offset", "m", kRestart)),
       surface_overlap_(f_.add_scalar("coupling_surface_overlap", "m", kRestart)),
-      stress_(f_.add_tensor(kStressField, "Pa", kOutput)) {
+      stress_(f_.add_tensor(kStressField, "Pa", kOutput)),
+      work_external_(f_.add_scalar("work_external", "J", kRestart)),
+      work_contact_(f_.add_scalar("work_contact", "J", kRestart)),
+      work_damping_(f_.add_scalar("work_damping", "J", kRestart)),
+      reflections_(f_.add_scalar("wall_reflections", "1", kRestart)) {
   symmetry_ = settings.part.domain.symmetry_planes;
   init_laws(settings);
   if (local_damping) {
@@ -248,11 +253,11 @@ void DemPart<D>::place_grains(const std::vector<Vec<D>>& pts, const std::vector<
 template <int D>
 parts::StableStep DemPart<D>::stable_step() const {
   parts::StableStep s;
+  // The smallest grain of smallest id (r_min_ is the whole bed's, on every rank): the same
+  // entity named on any rank count.
+  std::int64_t smallest = std::numeric_limits<std::int64_t>::max();
   for (Index i = 0; i < f_.size(); ++i)
-    if (r_[i] == r_min_) {
-      s.entity_id = id_[i];
-      break;
-    }
+    if (r_[i] == r_min_ && !ghost(i)) smallest = std::min(smallest, id_[i]);
   // The law's own step (Hertz-Mindlin: the Rayleigh step) and its springs' stiffness.
   const LawStep law = std::visit(
       [&]<class Law>(const LawPair<Law>& /*laws*/) {
@@ -294,6 +299,8 @@ parts::StableStep DemPart<D>::stable_step() const {
           eta);
     }
   }
+  if (comm_) smallest = comm_->min_with_id({s.dt_s, smallest}).id;
+  if (smallest != std::numeric_limits<std::int64_t>::max()) s.entity_id = smallest;
   return s;
 }
 
@@ -324,15 +331,12 @@ void DemPart<D>::advance(Real t, Real dt) {
   contact_.moved(dt);
   next_contact_.started();
   move_walls(t, dt);  // the planes of t + dt, before the grains meet them
-  // One pass: kick, drift, the wall guard (reflect), the power of gravity at the new
+  // One pass: kick, drift, the wall guard (reflect), the work of gravity at the new
   // velocities (before any reflection) and the largest squared displacement since the list
   // was built, which update_neighbors then needs not measure again.
   struct Pass {
-    Real power = 0, reflections = 0, lost = 0, moved_sq = 0;
+    Real moved_sq = 0;
     Pass& operator+=(const Pass& o) {
-      power += o.power;
-      reflections += o.reflections;
-      lost += o.lost;
       moved_sq = std::max(moved_sq, o.moved_sq);  // as VerletSkin::stale's max
       return *this;
     }
@@ -343,19 +347,15 @@ void DemPart<D>::advance(Real t, Real dt) {
   const bool measure = built.size() == static_cast<std::size_t>(f_.size());
   const Pass sum = parallel::deterministic_sum<Pass>(f_.size(), [&](Index i) {
     Pass p;
+    if (ghost(i)) return p;  // its owner's to move (refresh_ghosts)
     v_[i] += (half / m_[i]) * force_[i];
     w_[i] += (half / inertia_[i]) * torque_[i];
     x_[i] += dt * v_[i];
-    if (gravity) p.power = m_[i] * gravity_.dot(v_[i]);
-    if (guard && !inside_guard(i)) reflect_at_walls(i, p.reflections, p.lost);
+    if (gravity) work_external_[i] += dt * (m_[i] * gravity_.dot(v_[i]));
+    if (guard && !inside_guard(i)) reflect_at_walls(i, reflections_[i], work_contact_[i]);
     if (measure) p.moved_sq = (x_[i] - built[static_cast<std::size_t>(i)]).squaredNorm();
     return p;
   });
-  if (gravity) external_work_ += dt * sum.power;
-  if (guard) {
-    wall_reflections_ += sum.reflections;
-    contact_dissipated_ += sum.lost;
-  }
   moved_sq_ = measure ? sum.moved_sq : -1;
 }
 
@@ -363,6 +363,7 @@ template <int D>
 void DemPart<D>::finish_step(Real dt) {
   const Real half = 0.5 * dt;
   parallel::for_each(f_.size(), [&](Index i) {
+    if (ghost(i)) return;
     v_[i] += (half / m_[i]) * force_[i];
     w_[i] += (half / inertia_[i]) * torque_[i];
   });

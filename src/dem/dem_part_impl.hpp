@@ -38,6 +38,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/error.hpp"
 #include "dem/contact_laws.hpp"
 #include "dem/dem_part.hpp"
 #include "dem/laws/absorbing_wall.hpp"
@@ -51,7 +52,9 @@
 #include "fields/field_set.hpp"
 #include "neighbors/neighbor_list.hpp"
 #include "neighbors/verlet_skin.hpp"
+#include "parallel/comm.hpp"
 #include "parallel/parallel.hpp"
+#include "parallel/rcb.hpp"
 #include "parts/contact_points.hpp"
 #include "parts/outflow.hpp"
 #include "parts/part.hpp"
@@ -248,6 +251,16 @@ class DemPart final : public parts::Part<D> {
   /// The grains' unbalanced force over their weight, sum |F_i| / sum m_i |g| (1 for grains
   /// falling freely, 0 in static equilibrium; F_i after local damping).
   Real unbalanced_ratio() const;
+
+  /// Spreads the grains over the ranks of `comm` (issue 29, docs/distributed.md, "The DEM part
+  /// on ranks"; dem_ranks.cpp), once, before the first step, when every rank has built the whole
+  /// part: each rank keeps the grains of its box of a recursive coordinate bisection and, from
+  /// the next force stage on, holds copies (ghosts) of the other ranks' grains within reach of
+  /// its own. Results are then those of one rank, bit for bit. Throws InputError for a model
+  /// that does not run on several ranks yet (bonds, outflow, moving walls, settling).
+  void distribute(const parallel::Comm& comm);
+  /// Grain i is a ghost: a copy of a grain another rank owns.
+  bool ghost(Index i) const { return !ghost_.empty() && ghost_[at(i)] != 0; }
 
  private:
   // A rigid face of the domain box as the loops use it, or (body set) a fixed body: the
@@ -446,7 +459,12 @@ class DemPart final : public parts::Part<D> {
   }
   void reflect_at_walls(Index i, Real& count, Real& lost);  // dem_walls.cpp
   void add_bed_measures(const PartSettings& settings);      // dem_part.cpp
-  void grain_stresses();                                    // dem_stress.cpp
+  // The sum of term(i) over the grains this rank owns, and over the ranks, plus each rank's
+  // `extra`: the bits of one sum of all the terms in any order (parallel::reproducible_sum;
+  // collective on ranks). dem_state.cpp.
+  template <class Term>
+  Real total(Term&& term, Real extra = 0) const;
+  void grain_stresses();  // dem_stress.cpp
 
   // The pitch of evaluate_contact: r_1 + r_2 (a wall: r_1 = r_2 = r) with hertz_2d =
   // "row_of_spheres", else 0 (the law as it is).
@@ -464,6 +482,14 @@ class DemPart final : public parts::Part<D> {
   // writing), so that save_state and load_state cannot drift apart (dem_state.cpp).
   template <class Archive, class Self>
   static void archive_bonds_and_ledgers(Archive& a, Self& s);
+
+  // Ranks (dem_ranks.cpp): at a rebuild, the ghosts go, grains that left this rank's box move
+  // to their owner with their packed histories, and the new ghosts arrive with theirs (within
+  // `reach` of this rank's grains); at every force stage, the ghosts' motion is refreshed.
+  void redistribute(Real reach);
+  void keep_grains(std::span<const std::uint8_t> keep);  // with their packed slots
+  void reorder_halo(std::span<const Index> order);
+  void refresh_ghosts();
 
   // Neighbour lists and contact histories (dem_history.cpp).
   void update_neighbors();
@@ -505,6 +531,7 @@ class DemPart final : public parts::Part<D> {
   inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
 
   std::string name_;
+  SourceLocation where_;  // of the part in the scenario (errors)
   Settings cfg_;
   Vec<D> gravity_, domain_lo_, domain_hi_;
   bool leave_domain_ = false;    // domain.outflow = "remove": grains outside it are removed
@@ -575,6 +602,18 @@ class DemPart final : public parts::Part<D> {
   // fraction of its V_i: 1 when the part's has none.
   static constexpr const char* kStressField = "stress_pa";
   std::vector<SymTensor>& stress_;
+  // The work books, per grain (fields, so that they move with it to another rank): summed over
+  // the grains, and the ranks, only when the energies are asked for, by the reproducible sum
+  // (total), which gives the same bits whichever rank holds which grain. The part's scalars
+  // (external_work_, contact_dissipated_, local_dissipated_, wall_reflections_) keep what is
+  // not a grain's: the books of grains removed, the work of moving walls.
+  std::vector<Real>& work_external_;  // done on it by gravity and the absorbing walls' static
+                                      // reactions [J]
+  std::vector<Real>& work_contact_;   // dissipated in the contacts it keeps (its pairs as body
+                                      // 1, its walls'), in its bonds that broke (the energy they
+                                      // held) and at its reflections off a wall [J]
+  std::vector<Real>& work_damping_;   // taken out by local damping and absorbing walls [J]
+  std::vector<Real>& reflections_;    // times it was put back from beyond a wall
   bool stress_step_ = false, stress_current_ = false;
   Real solid_fraction_ = 1;
 
@@ -625,6 +664,15 @@ class DemPart final : public parts::Part<D> {
   // current removal, and how many left, their mass and the energy booked with them (eroded_j).
   parts::OutflowRemoval outflow_;
   Real time_s_ = 0;  // of the last force stage, for the log
+
+  // Ranks (distribute): the communicator (null: one rank, no ghosts), the cuts that give each
+  // position its owner, per local grain whether it is a ghost (empty: none), and per rank the
+  // local grains whose motion goes there (halo_send_) and the ghosts that come from it
+  // (halo_recv_), each in the order of the exchange.
+  const parallel::Comm* comm_ = nullptr;
+  parallel::RcbTree<D> cuts_;
+  std::vector<std::uint8_t> ghost_;
+  std::vector<std::vector<Index>> halo_send_, halo_recv_;
 };
 
 }  // namespace crater::dem::detail

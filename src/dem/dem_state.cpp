@@ -65,25 +65,30 @@ std::optional<parts::Fault> DemPart<D>::check() const {
 }
 
 template <int D>
+template <class Term>
+Real DemPart<D>::total(Term&& term, Real extra) const {
+  std::vector<Real> terms;
+  terms.reserve(static_cast<std::size_t>(f_.size()) + 1);
+  for (Index i = 0; i < f_.size(); ++i)
+    if (!ghost(i)) terms.push_back(term(i));
+  terms.push_back(extra);
+  return parallel::reproducible_sum(comm_ ? *comm_ : parallel::Comm{}, terms);
+}
+
+// Sums over the grains by the reproducible sum: the same bits for any thread count, and for
+// any rank count once the grains are spread over ranks (collective then).
+template <int D>
 parts::Energies DemPart<D>::energies() const {
-  struct KE {
-    Real k = 0, e = 0;
-    KE& operator+=(const KE& o) {
-      k += o.k;
-      e += o.e;
-      return *this;
-    }
-  };
-  const KE s = parallel::deterministic_sum<KE>(f_.size(), [&](Index i) {
-    return KE{0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]),
-              elastic_[i]};
-  });
   parts::Energies en;
-  en.kinetic_j = s.k;
+  en.kinetic_j = total([&](Index i) {
+    return 0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]);
+  });
   // Stored in the springs + lost in contacts, minus the work of contacts with other parts.
-  en.contact_j = s.e + contact_dissipated_ - contact_.work_j;
-  en.damping_j = local_dissipated_;
-  en.external_work_j = external_work_;
+  en.contact_j = total([&](Index i) { return elastic_[i]; }) +
+                 total([&](Index i) { return work_contact_[i]; }, contact_dissipated_) -
+                 contact_.work_j;
+  en.damping_j = total([&](Index i) { return work_damping_[i]; }, local_dissipated_);
+  en.external_work_j = total([&](Index i) { return work_external_[i]; }, external_work_);
   en.eroded_j = outflow_.energy_j();
   return en;
 }
@@ -92,7 +97,8 @@ template <int D>
 std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const {
   std::vector<parts::Diagnostic> d = diagnostics_;
   if (!cfg_.walls.empty() || !cfg_.absorbing_walls.empty())
-    d.push_back({"wall_reflections", wall_reflections_});
+    d.push_back(
+        {"wall_reflections", total([&](Index i) { return reflections_[i]; }, wall_reflections_)});
   if (cfg_.bonds.enabled) {
     d.push_back({"bonds_initial", static_cast<Real>(bonds_initial_)});
     d.push_back({"bonds_broken", bonds_broken_});
@@ -199,6 +205,25 @@ void DemPart<D>::remove_outflow() {
                                      : "domain.outflow = \"remove\"; absorbing walls transmit")
                               : "absorbing walls transmit");
 
+  // The leaving grains' work books stay with the part.
+  struct Books {
+    Real external = 0, contact = 0, damping = 0, reflections = 0;
+    Books& operator+=(const Books& o) {
+      external += o.external;
+      contact += o.contact;
+      damping += o.damping;
+      reflections += o.reflections;
+      return *this;
+    }
+  };
+  const Books books = parallel::deterministic_sum<Books>(n, [&](Index i) {
+    if (outflow_.kept(i)) return Books{};
+    return Books{work_external_[i], work_contact_[i], work_damping_[i], reflections_[i]};
+  });
+  external_work_ += books.external;
+  contact_dissipated_ += books.contact;
+  local_dissipated_ += books.damping;
+  wall_reflections_ += books.reflections;
   std::vector<std::int64_t> gone;  // ids of the leaving grains, sorted
   for (Index i = 0; i < n; ++i)
     if (!outflow_.kept(i)) gone.push_back(id_[i]);

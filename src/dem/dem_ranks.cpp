@@ -1,0 +1,288 @@
+// The DEM part on several ranks (issue 29, docs/distributed.md, "The DEM part on ranks").
+//
+// Each rank owns the grains of its box of a recursive coordinate bisection (the cuts made once,
+// from the whole bed, parallel::RcbTree) and holds, beside them, copies of the other ranks'
+// grains within the neighbour list's reach of its own (ghosts), in the same arrays. Owned grains
+// and ghosts are sorted together in the canonical cell order (cell_sort_order by id), so every
+// list row, and every sum of a grain's forces, runs over the same partners in the same order as
+// on one rank. A pair across a cut is evaluated by both ranks, each from the same numbers: the
+// pair's body 1 (the lower id) holds its history on both, so both get the same force bit for bit.
+// Ghosts are never integrated; their motion comes from their owner at every force stage.
+//
+// At each rebuild of the lists (a global decision: the largest displacement over all ranks):
+//   1. the ghosts go;
+//   2. grains whose position now lies in another rank's box move to it with all their fields
+//      and their packed contact histories (partner ids and springs), which then survive the move;
+//   3. each rank sends the others copies of its grains within reach of their boxes, with their
+//      histories (a ghost of lower id than its owned partner evaluates their contact);
+//   4. all are sorted in the canonical order and the lists are built.
+// Pairs of two ghosts are left out of the lists: no rank needs them.
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "dem/dem_part_impl.hpp"
+#include "fields/exchange.hpp"
+
+namespace crater::dem::detail {
+namespace {
+
+template <int D>
+constexpr std::size_t kAngular = D == 2 ? 1 : 3;
+
+// Reals of a vector or an angular vector (a Real in 2D).
+template <int D>
+const Real* reals(const Vec<D>& v) {
+  return v.data();
+}
+template <int D>
+Real* reals(Vec<D>& v) {
+  return v.data();
+}
+inline const Real* reals(const Real& v) {
+  return &v;
+}
+inline Real* reals(Real& v) {
+  return &v;
+}
+template <int D>
+const Real* angular_reals(const AngularVec<D>& w) {
+  if constexpr (D == 2)
+    return &w;
+  else
+    return w.data();
+}
+template <int D>
+Real* angular_reals(AngularVec<D>& w) {
+  if constexpr (D == 2)
+    return &w;
+  else
+    return w.data();
+}
+
+void put(std::vector<std::byte>& out, const void* p, std::size_t bytes) {
+  const std::size_t at = out.size();
+  out.resize(at + bytes);
+  if (bytes) std::memcpy(out.data() + at, p, bytes);
+}
+
+// Reads bytes off the front of a received message.
+struct Reader {
+  std::span<const std::byte> in;
+  std::size_t at = 0;
+  void get(void* p, std::size_t bytes) {
+    if (at + bytes > in.size()) throw std::logic_error("dem ranks: a message is cut short");
+    if (bytes) std::memcpy(p, in.data() + at, bytes);
+    at += bytes;
+  }
+  std::span<const std::byte> take(std::size_t bytes) {
+    if (at + bytes > in.size()) throw std::logic_error("dem ranks: a message is cut short");
+    const auto s = in.subspan(at, bytes);
+    at += bytes;
+    return s;
+  }
+};
+
+}  // namespace
+
+template <int D>
+void DemPart<D>::distribute(const parallel::Comm& comm) {
+  auto refuse = [&](const char* key, const char* what) {
+    throw InputError(where_, "parts[" + name_ + "]." + key,
+                     std::string(what) +
+                         " does not run on several MPI ranks yet (issue 29; "
+                         "docs/distributed.md): run it on one rank");
+  };
+  if (comm_) throw std::logic_error("dem: distribute() twice");
+  if (cfg_.bonds.enabled) refuse("dem.bonds", "a bonded bed");
+  if (outflow_remove_) refuse("dem", "a bed whose grains leave (outflow, absorbing walls)");
+  if (!moving_.empty()) refuse("dem.wall_motion", "a moving wall");
+  if (!bodies_.empty()) refuse("packing", "settling around fixed bodies");
+  comm_ = &comm;
+  if (!packed_) pack_history(partner_, xi_, roll_);
+  packed_ = true;
+  // Every rank holds the whole bed now: the same cuts everywhere, weighted by count.
+  const std::vector<Real> weight(static_cast<std::size_t>(f_.size()), 1.0);
+  cuts_ = parallel::rcb_tree<D>(std::span<const Vec<D>>(x_), weight, comm.size());
+  std::vector<std::uint8_t> keep(static_cast<std::size_t>(f_.size()));
+  for (Index i = 0; i < f_.size(); ++i)
+    keep[at(i)] = cuts_.owner(x_[i]) == comm.rank();
+  keep_grains(keep);
+  ghost_.assign(static_cast<std::size_t>(f_.size()), 0);
+  halo_send_.assign(static_cast<std::size_t>(comm.size()), {});
+  halo_recv_.assign(static_cast<std::size_t>(comm.size()), {});
+  skin_.invalidate();  // the first force stage builds the lists, and the ghosts
+  moved_sq_ = -1;
+}
+
+template <int D>
+void DemPart<D>::keep_grains(std::span<const std::uint8_t> keep) {
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  auto compact = [&](auto& v) {
+    if (v.empty()) return;
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < keep.size(); ++i) {
+      if (!keep[i]) continue;
+      if (k != i)
+        for (std::size_t s = 0; s < slots; ++s)
+          v[k * slots + s] = v[i * slots + s];
+      ++k;
+    }
+    v.resize(k * slots);
+  };
+  compact(partner_);
+  compact(xi_);
+  compact(roll_);
+  f_.compact(keep);
+}
+
+template <int D>
+void DemPart<D>::redistribute(Real reach) {
+  const parallel::Comm& comm = *comm_;
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  const bool rolling = !roll_.empty();
+  // A message: the grains' count, their fields (every field) and their packed slots.
+  auto pack = [&](std::span<const Index> which, std::vector<std::byte>& out) {
+    const auto count = static_cast<std::int64_t>(which.size());
+    put(out, &count, sizeof count);
+    f_.pack(which, fields::kEveryField, out);
+    for (const Index i : which) {
+      const std::size_t base = at(i) * slots;
+      put(out, partner_.data() + base, slots * sizeof(std::int64_t));
+      for (std::size_t s = 0; s < slots; ++s)
+        put(out, reals<D>(xi_[base + s]), D * sizeof(Real));
+      if (rolling)
+        for (std::size_t s = 0; s < slots; ++s)
+          put(out, angular_reals<D>(roll_[base + s]), kAngular<D> * sizeof(Real));
+    }
+  };
+  auto unpack = [&](std::span<const std::byte> in) {
+    Reader r{in};
+    std::int64_t count = 0;
+    r.get(&count, sizeof count);
+    const auto n = static_cast<std::size_t>(count);
+    f_.unpack_append(r.take(n * f_.packed_bytes(fields::kEveryField)), fields::kEveryField);
+    for (std::size_t q = 0; q < n; ++q) {
+      const std::size_t base = partner_.size();
+      partner_.resize(base + slots);
+      xi_.resize(base + slots);
+      r.get(partner_.data() + base, slots * sizeof(std::int64_t));
+      for (std::size_t s = 0; s < slots; ++s)
+        r.get(reals<D>(xi_[base + s]), D * sizeof(Real));
+      if (rolling) {
+        roll_.resize(base + slots);
+        for (std::size_t s = 0; s < slots; ++s)
+          r.get(angular_reals<D>(roll_[base + s]), kAngular<D> * sizeof(Real));
+      }
+    }
+    if (r.at != in.size()) throw std::logic_error("dem ranks: a message is too long");
+  };
+
+  // 1. The ghosts go.
+  std::vector<std::uint8_t> keep(static_cast<std::size_t>(f_.size()));
+  for (Index i = 0; i < f_.size(); ++i)
+    keep[at(i)] = !ghost(i);
+  keep_grains(keep);
+
+  // 2. Grains now in another rank's box move there.
+  std::vector<std::vector<Index>> leaving(ranks);
+  keep.assign(static_cast<std::size_t>(f_.size()), 1);
+  for (Index i = 0; i < f_.size(); ++i) {
+    const int owner = cuts_.owner(x_[i]);
+    if (owner == comm.rank()) continue;
+    leaving[static_cast<std::size_t>(owner)].push_back(i);
+    keep[at(i)] = 0;
+  }
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r)
+    if (static_cast<int>(r) != comm.rank()) pack(leaving[r], send[r]);
+  auto received = comm.all_to_all(send);
+  keep_grains(keep);
+  for (std::size_t r = 0; r < ranks; ++r)
+    if (static_cast<int>(r) != comm.rank()) unpack(received[r]);
+  const Index owned = f_.size();
+
+  // 3. The ghosts: the other ranks' grains within reach of this rank's.
+  fields::Halo<D> halo;
+  halo.build(comm, std::span<const Vec<D>>(x_), reach);
+  halo_send_ = halo.send_lists();
+  for (std::size_t r = 0; r < ranks; ++r) {
+    send[r].clear();
+    if (static_cast<int>(r) != comm.rank()) pack(halo_send_[r], send[r]);
+  }
+  received = comm.all_to_all(send);
+  halo_recv_.assign(ranks, {});
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (static_cast<int>(r) == comm.rank()) continue;
+    const Index first = f_.size();
+    unpack(received[r]);
+    for (Index i = first; i < f_.size(); ++i)
+      halo_recv_[r].push_back(i);
+  }
+  ghost_.assign(static_cast<std::size_t>(f_.size()), 1);
+  std::fill_n(ghost_.begin(), at(owned), std::uint8_t{0});
+  // The walls' histories per grain are unpacked from the slots into arrays of the new count.
+  const std::size_t wall_slots = static_cast<std::size_t>(f_.size()) * wall_planes_.size();
+  wall_xi_.assign(wall_slots, Vec<D>::Zero());
+  if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
+  wall_live_.assign(static_cast<std::size_t>(f_.size()), 0);
+}
+
+// After the canonical sort (order[k]: the grain now at k): the ghost flags and the halo's
+// lists follow the grains.
+template <int D>
+void DemPart<D>::reorder_halo(std::span<const Index> order) {
+  std::vector<Index> to(order.size());
+  std::vector<std::uint8_t> ghost(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    to[at(order[k])] = static_cast<Index>(k);
+    ghost[k] = ghost_[at(order[k])];
+  }
+  ghost_.swap(ghost);
+  for (auto* lists : {&halo_send_, &halo_recv_})
+    for (auto& list : *lists)
+      for (Index& i : list)
+        i = to[at(i)];
+}
+
+// The ghosts' positions, velocities and angular velocities, from their owners.
+template <int D>
+void DemPart<D>::refresh_ghosts() {
+  const parallel::Comm& comm = *comm_;
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  constexpr std::size_t per = (2 * D + kAngular<D>)*sizeof(Real);
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    send[r].reserve(halo_send_[r].size() * per);
+    for (const Index i : halo_send_[r]) {
+      put(send[r], reals<D>(x_[i]), D * sizeof(Real));
+      put(send[r], reals<D>(v_[i]), D * sizeof(Real));
+      put(send[r], angular_reals<D>(w_[i]), kAngular<D> * sizeof(Real));
+    }
+  }
+  const auto received = comm.all_to_all(send);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (static_cast<int>(r) == comm.rank()) continue;
+    if (received[r].size() != halo_recv_[r].size() * per)
+      throw std::logic_error("dem ranks: the ghosts' motion does not match the halo");
+    Reader in{received[r]};
+    for (const Index i : halo_recv_[r]) {
+      in.get(reals<D>(x_[i]), D * sizeof(Real));
+      in.get(reals<D>(v_[i]), D * sizeof(Real));
+      in.get(angular_reals<D>(w_[i]), kAngular<D> * sizeof(Real));
+    }
+  }
+}
+
+#define CRATER_DEM_RANKS(D)                                             \
+  template void DemPart<D>::distribute(const parallel::Comm&);          \
+  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>); \
+  template void DemPart<D>::redistribute(Real);                         \
+  template void DemPart<D>::reorder_halo(std::span<const Index>);       \
+  template void DemPart<D>::refresh_ghosts();
+CRATER_DEM_RANKS(2)
+CRATER_DEM_RANKS(3)
+#undef CRATER_DEM_RANKS
+
+}  // namespace crater::dem::detail

@@ -1,0 +1,251 @@
+// The DEM part on ranks (src/dem/dem_ranks.cpp, docs/distributed.md "The DEM part on ranks"),
+// on however many ranks the launcher gives (ctest: 1 without a launcher, mpirun -np 1 to 4).
+//
+// A box of polydisperse grains, a touching lattice in its lower half agitated at 6 m/s per
+// component (restitution 0.9): the block bursts into the empty half and the grains cross the
+// cuts between ranks again and again, with friction, rolling resistance and gravity. Every rank
+// first runs the whole bed alone, on one thread and without a communicator (the code path of a
+// run without MPI), as the reference; then the ranks run it together, each with its share, on
+// the threads the environment gives (ctest: 1, and 2 on 2 ranks). At every tenth of the run,
+// every rank gathers all ranks' owned grains and checks them against the reference, bit for
+// bit: each grain owned exactly once (count and ids), its position, velocity and angular
+// velocity; and the part's energies and work books, summed over the ranks. The verdict is then
+// the same on every rank.
+//
+// On more than one rank the test also checks that it tests something: grains changed ranks
+// and ghosts were held.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "dem/dem_part_impl.hpp"
+#include "io/scenario/load.hpp"
+#include "parallel/comm.hpp"
+#include "solver/assembly.hpp"
+
+namespace crater::dem::detail {
+namespace {
+
+// 3D: 6 x 12 x 6 lattice sites in a 3.6 x 7.2 x 3.6 cm box; 2D: 16 x 24 in 6.4 x 9.6 cm.
+std::string scenario(int dim) {
+  const bool three = dim == 3;
+  std::string s = R"([scenario]
+name = "dem-ranks"
+dimension = )" + std::to_string(dim) +
+                  R"(
+end_time_s = 1.0
+
+[domain]
+)";
+  s += three ? "min_m = [0.0, 0.0, 0.0]\nmax_m = [0.054, 0.108, 0.054]\n"
+             : "min_m = [0.0, 0.0]\nmax_m = [0.144, 0.216]\n";
+  s += three ? "gravity_m_s2 = [0.0, -9.81, 0.0]\n" : "gravity_m_s2 = [0.0, -9.81]\n";
+  s += R"(
+[[materials]]
+name = "sand"
+model = "granular"
+rho0_kg_m3 = 2650.0
+shear_modulus_pa = 2.0e8
+poisson_ratio = 0.25
+friction = 0.5
+restitution = 0.9
+
+[[parts]]
+name = "bed"
+method = "dem"
+material = "sand"
+spacing_m = 0.006
+)";
+  s += three ? "region = { type = \"box\", min_m = [0.0, 0.0, 0.0], max_m = [0.054, 0.054, "
+               "0.054] }\n"
+             : "region = { type = \"box\", min_m = [0.0, 0.0], max_m = [0.144, 0.108] }\n";
+  s += R"(
+[parts.dem]
+radius_min_m = 0.0021
+radius_max_m = 0.0029
+rolling_friction = 0.1
+local_damping = 0.0
+)";
+  s += three ? "walls = [\"left\", \"right\", \"bottom\", \"top\", \"back\", \"front\"]\n"
+             : "walls = [\"left\", \"right\", \"bottom\", \"top\"]\n";
+  s += R"(
+[parts.packing]
+agitation_m_s = 6.0
+)";
+  return s;
+}
+
+template <int D>
+std::unique_ptr<DemPart<D>> make_bed() {
+  const io::Config config = io::load_scenario_text(scenario(D), "dem-ranks.toml", {});
+  return std::make_unique<DemPart<D>>(solver::dem_settings(config, config.parts.at(0)));
+}
+
+// A grain's state as the ranks exchange it: id, then position, velocity, angular velocity.
+template <int D>
+constexpr std::size_t kWords = 1 + 2 * D + (D == 2 ? 1 : 3);
+
+template <int D>
+std::vector<Real> owned_state(const DemPart<D>& part) {
+  const auto p = *part.contact_points();
+  const std::vector<Vec<D>>& x = *part.geometry().points;
+  std::vector<Real> out;
+  for (Index i = 0; i < part.count(); ++i) {
+    if (part.ghost(i)) continue;
+    Real id;
+    const std::int64_t k = (*p.id)[at(i)];
+    std::memcpy(&id, &k, sizeof id);
+    out.push_back(id);
+    for (int d = 0; d < D; ++d)
+      out.push_back(x[at(i)][d]);
+    for (int d = 0; d < D; ++d)
+      out.push_back((*p.velocity)[at(i)][d]);
+    if constexpr (D == 2)
+      out.push_back((*p.angular_velocity)[at(i)]);
+    else
+      for (int d = 0; d < 3; ++d)
+        out.push_back((*p.angular_velocity)[at(i)][d]);
+  }
+  return out;
+}
+
+// The part's energies and work books (history.csv's columns of the part).
+std::vector<Real> energy_words(const parts::Energies& e) {
+  return {e.kinetic_j, e.internal_j, e.external_work_j, e.damping_j, e.contact_j, e.eroded_j};
+}
+
+// Grain states ordered by id (ids stored as their bits in a Real).
+template <int D>
+std::vector<std::vector<Real>> by_id(const std::vector<Real>& flat) {
+  std::vector<std::vector<Real>> g;
+  for (std::size_t k = 0; k + kWords<D> <= flat.size(); k += kWords<D>)
+    g.emplace_back(flat.begin() + static_cast<std::ptrdiff_t>(k),
+                   flat.begin() + static_cast<std::ptrdiff_t>(k + kWords<D>));
+  auto id = [](const std::vector<Real>& s) {
+    std::int64_t k;
+    std::memcpy(&k, s.data(), sizeof k);
+    return k;
+  };
+  std::sort(g.begin(), g.end(), [&](const auto& a, const auto& b) { return id(a) < id(b); });
+  return g;
+}
+
+// How many grains of the reference differ from the ranks' (or are missing or doubled), by bits.
+template <int D>
+Index mismatches(const std::vector<std::vector<Real>>& ref,
+                 const std::vector<std::vector<Real>>& got) {
+  Index bad = ref.size() > got.size() ? static_cast<Index>(ref.size() - got.size())
+                                      : static_cast<Index>(got.size() - ref.size());
+  for (std::size_t k = 0; k < std::min(ref.size(), got.size()); ++k)
+    bad += std::memcmp(ref[k].data(), got[k].data(), kWords<D> * sizeof(Real)) != 0;
+  return bad;
+}
+
+template <int D>
+void ranks_match_one_rank(int steps) {
+  const auto& comm = parallel::Comm::world();
+  constexpr int kChecks = 10;
+  auto ref = make_bed<D>();
+  auto bed = make_bed<D>();
+  ASSERT_EQ(ref->count(), bed->count());
+  const Index grains = ref->count();
+  const Real dt = 0.5 * ref->stable_step().dt_s;
+  bed->distribute(comm);
+  // The reference: the whole bed on this rank, without a communicator, on one thread (the
+  // ranks run on the threads the environment gives: ctest runs 1 and 2).
+  const int threads = parallel::max_threads();
+  parallel::set_threads(1);
+  std::vector<std::vector<std::vector<Real>>> expected;
+  std::vector<std::vector<Real>> expected_energy;
+  ref->compute_forces(0);
+  for (int s = 1; s <= steps; ++s) {
+    ref->advance((s - 1) * dt, dt);
+    ref->compute_forces(s * dt);
+    ref->finish_step(dt);
+    if (s % (steps / kChecks) == 0) {
+      expected.push_back(by_id<D>(owned_state<D>(*ref)));
+      expected_energy.push_back(energy_words(ref->energies()));
+    }
+  }
+  parallel::set_threads(threads);
+  // The ranks together.
+  Index ghosts = 0, arrived = 0;  // arrived: grains owned here that were not the step before
+  std::vector<std::uint8_t> here(static_cast<std::size_t>(grains), 0), now = here;
+  bed->compute_forces(0);
+  std::vector<Index> bad;
+  int bad_energy = 0;
+  for (int s = 1; s <= steps; ++s) {
+    bed->advance((s - 1) * dt, dt);
+    bed->compute_forces(s * dt);
+    bed->finish_step(dt);
+    const auto* ids = bed->contact_points()->id;
+    std::fill(now.begin(), now.end(), std::uint8_t{0});
+    for (Index i = 0; i < bed->count(); ++i) {
+      if (bed->ghost(i)) {
+        ++ghosts;
+        continue;
+      }
+      const auto id = at((*ids)[at(i)]);
+      now[id] = 1;
+      arrived += s > 1 && !here[id];
+    }
+    here.swap(now);
+    if (s % (steps / kChecks) == 0) {
+      const auto mine = owned_state<D>(*bed);
+      const auto all = by_id<D>(parallel::all_gather(comm, std::span<const Real>(mine)));
+      const auto energy = energy_words(bed->energies());  // collective
+      bad_energy += std::memcmp(energy.data(), expected_energy[bad.size()].data(),
+                                energy.size() * sizeof(Real)) != 0;
+      bad.push_back(mismatches<D>(expected[bad.size()], all));
+    }
+  }
+  EXPECT_EQ(bad_energy, 0) << "checks at which the energies or work books differ from one rank's";
+  for (std::size_t c = 0; c < bad.size(); ++c)
+    EXPECT_EQ(bad[c], 0) << "grains that differ from one rank's run at check " << c + 1 << " of "
+                         << kChecks << " (" << comm.size() << " ranks, " << grains << " grains)";
+  // Against a vacuous pass: on several ranks, grains changed hands, ghosts were held.
+  const std::int64_t moves = comm.sum(static_cast<std::int64_t>(arrived));
+  const std::int64_t held = comm.sum(static_cast<std::int64_t>(ghosts));
+  if (comm.root())
+    std::printf(
+        "  %d ranks x %d threads, %lld grains, %d steps: %lld arrivals of a grain on a rank, %lld "
+        "ghosts "
+        "held (summed over the steps)\n",
+        comm.size(), threads, static_cast<long long>(grains), steps, static_cast<long long>(moves),
+        static_cast<long long>(held));
+  if (comm.size() > 1) {
+    EXPECT_GT(moves, grains / 20) << "grains that changed rank over the run";
+    EXPECT_LT(moves, 100 * grains) << "grains that changed rank: more than a stirred bed can";
+    EXPECT_GT(held, 0) << "ghosts held over the run";
+  }
+}
+
+TEST(DemRanks, BedOnRanksMatchesOneRankBitForBit3D) {
+  ranks_match_one_rank<3>(5000);
+}
+TEST(DemRanks, BedOnRanksMatchesOneRankBitForBit2D) {
+  ranks_match_one_rank<2>(5000);
+}
+
+TEST(DemRanks, ModelsNotYetOnRanksAreRefused) {
+  const io::Config config = io::load_scenario_text(
+      scenario(2), "dem-ranks.toml",
+      {"parts.bed.dem.bonds.enabled=true", "parts.bed.dem.bonds.normal_stiffness_pa_m=1e12",
+       "parts.bed.dem.bonds.shear_stiffness_pa_m=1e12",
+       "parts.bed.dem.bonds.tensile_strength_pa=1e6", "parts.bed.dem.bonds.shear_strength_pa=1e6"});
+  DemPart<2> part(solver::dem_settings(config, config.parts.at(0)));
+  try {
+    part.distribute(parallel::Comm::world());
+    ADD_FAILURE() << "a bonded bed was spread over ranks";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("parts[bed].dem.bonds"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("does not run on several MPI ranks"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace crater::dem::detail
