@@ -272,10 +272,14 @@ void resolve_run(CommandLine& cl, int argc, char** argv) {
 
 // The exit code of what a command threw, with its message on stderr.
 int report_failure(const std::exception_ptr& failure, const std::string& out_dir_for_resume) {
+  // On several ranks, input and numerical errors are found by every rank alike (collective
+  // checks): the root says them once. Any other failure may be one rank's alone: that rank
+  // says it, and ends the others, which would otherwise wait for it.
+  const auto& world = crater::parallel::Comm::world();
   try {
     std::rethrow_exception(failure);
   } catch (const InputError& e) {
-    print_input_error(e);
+    if (world.root()) print_input_error(e);
     return kExitInput;
   } catch (const Interrupted& e) {
     std::fprintf(stderr,
@@ -284,6 +288,7 @@ int report_failure(const std::exception_ptr& failure, const std::string& out_dir
                  e.what(), out_dir_for_resume.c_str());
     return kExitInterrupted;
   } catch (const NumericalError& e) {
+    if (!world.root()) return kExitNumerical;
     std::fprintf(stderr,
                  "error: %s\n(the state at failure is in the run directory, "
                  "*_failure.vtu)\n",
@@ -300,6 +305,7 @@ int report_failure(const std::exception_ptr& failure, const std::string& out_dir
     return in_loop ? kExitNumerical : kExitInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
+    if (world.size() > 1) world.abort(1);
     return 1;
   }
 }
@@ -310,19 +316,12 @@ int main(int argc, char** argv) {
   // Log lines (info, warnings) on stderr: stdout is for what a command prints (check's table).
   spdlog::set_default_logger(spdlog::stderr_color_mt("crater"));
   spdlog::set_pattern("crater: %^%l%$: %v");
-  // MPI, when a launcher started this process (parallel/comm.hpp). Runs are not decomposed
-  // across ranks yet (issue 29): several ranks would each run the whole scene into one output
-  // directory, so they stop before reading anything. One rank under mpirun runs as without it.
+  // MPI, when a launcher started this process (parallel/comm.hpp). On several ranks, `crater
+  // run` spreads the parts over them (docs/distributed.md) and the root rank alone writes and
+  // logs; the other ranks print only errors that are theirs alone.
   crater::parallel::Session mpi_session(argc, argv);
-  if (const auto& world = crater::parallel::Comm::world(); world.size() > 1) {
-    if (world.root())
-      spdlog::error(
-          "started on {} MPI ranks, but crater does not decompose a run across ranks yet "
-          "(docs/distributed.md): run it without mpirun, or with one rank and OpenMP threads "
-          "(--threads N)",
-          world.size());
-    return kExitInput;
-  }
+  const auto& world = crater::parallel::Comm::world();
+  if (!world.root()) spdlog::set_level(spdlog::level::off);
   CommandLine cl;
   try {
     cl.app.parse(argc, argv);
@@ -339,6 +338,10 @@ int main(int argc, char** argv) {
 
   std::string out_dir_for_resume;  // the run directory, for the interrupted message
   try {
+    if (world.size() > 1 && !cl.app.got_subcommand("run"))
+      throw InputError(
+          {}, "command",
+          fmt::format("only `crater run` runs on several MPI ranks (started on {})", world.size()));
     if (cl.app.got_subcommand("list")) return cmd_list();
     if (cl.app.got_subcommand("schema")) {
       fmt::print("{}", cl.markdown ? io::schema_markdown() : io::schema_text());
@@ -348,7 +351,7 @@ int main(int argc, char** argv) {
     if (cl.app.got_subcommand("sweep")) return crater::app::cmd_sweep(cl.sweep->remaining());
     if (cl.app.got_subcommand("verify")) return crater::app::cmd_verify(cl.verify->remaining());
     if (cl.app.got_subcommand("check")) return cmd_check(cl.scenario, cl.sets, cl.level);
-    if (cl.opt.quiet) spdlog::set_level(spdlog::level::warn);
+    if (cl.opt.quiet && world.root()) spdlog::set_level(spdlog::level::warn);
     resolve_run(cl, argc, argv);
     out_dir_for_resume = cl.opt.out_dir.string();
     if (cl.scenario.empty())

@@ -181,17 +181,17 @@ class DemPart final : public parts::Part<D> {
 
   const std::string& name() const override { return name_; }
   const char* method() const override { return "dem"; }
-  Index count() const override { return f_.size(); }
-  Real mass_kg() const override {
-    return parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return m_[i]; });
-  }
+  Index count() const override;   // dem_ranks.cpp (on ranks: the grains of every rank)
+  Real mass_kg() const override;  // dem_state.cpp
   parts::StableStep stable_step() const override;
   void compute_forces(Real t) override;  // dem_pair_loop.cpp
   void expect_frame() override {
     stress_step_ = true;
     frame_step_ = true;
   }
-  std::optional<parts::Fault> check() const override;
+  std::optional<parts::Fault> check() const override;  // dem_state.cpp; on ranks, dem_ranks.cpp
+  // check() of this rank's grains alone.
+  std::optional<parts::Fault> local_check() const;
   std::optional<parts::ContactPoints<D>> contact_points() const override {
     parts::ContactPoints<D> p;
     p.position = lagged_.view(x_);
@@ -258,7 +258,11 @@ class DemPart final : public parts::Part<D> {
   /// the next force stage on, holds copies (ghosts) of the other ranks' grains within reach of
   /// its own. Results are then those of one rank, bit for bit. Throws InputError for a model
   /// that does not run on several ranks yet (bonds, outflow, moving walls, settling).
-  void distribute(const parallel::Comm& comm);
+  void distribute(const parallel::Comm& comm) override;
+  std::optional<parts::GatheredPoints<D>> gathered_points() const override;
+  std::vector<parts::Diagnostic> rank_figures() const override;
+  /// The grains in this rank's arrays: its own and, on ranks, the ghosts.
+  Index local_count() const { return f_.size(); }
   /// Grain i is a ghost: a copy of a grain another rank owns.
   bool ghost(Index i) const { return !ghost_.empty() && ghost_[at(i)] != 0; }
 

@@ -18,7 +18,9 @@
 //   4. all are sorted in the canonical order and the lists are built.
 // Pairs of two ghosts are left out of the lists: no rank needs them.
 #include <cstring>
+#include <limits>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "dem/dem_part_impl.hpp"
@@ -275,12 +277,75 @@ void DemPart<D>::refresh_ghosts() {
   }
 }
 
-#define CRATER_DEM_RANKS(D)                                             \
-  template void DemPart<D>::distribute(const parallel::Comm&);          \
-  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>); \
-  template void DemPart<D>::redistribute(Real);                         \
-  template void DemPart<D>::reorder_halo(std::span<const Index>);       \
-  template void DemPart<D>::refresh_ghosts();
+template <int D>
+Index DemPart<D>::count() const {
+  if (!comm_) return f_.size();
+  Index owned = 0;
+  for (Index i = 0; i < f_.size(); ++i)
+    owned += !ghost(i);
+  return static_cast<Index>(comm_->sum(static_cast<std::int64_t>(owned)));
+}
+
+// On ranks: the fault of smallest grain id over the ranks, its message from the rank that
+// found it (a ghost's fault is its owner's too, so the same grain is named).
+template <int D>
+std::optional<parts::Fault> DemPart<D>::check() const {
+  std::optional<parts::Fault> mine = local_check();
+  if (!comm_) return mine;
+  constexpr auto kNone = std::numeric_limits<std::int64_t>::max();
+  const auto first = comm_->min_with_id({mine ? 0.0 : 1.0, mine ? mine->entity_id : kNone});
+  if (first.value > 0) return std::nullopt;
+  const std::string what = mine && mine->entity_id == first.id ? mine->what : std::string();
+  std::vector<std::int64_t> bytes;
+  const auto all = comm_->all_gather(std::as_bytes(std::span<const char>(what)), &bytes);
+  // The first rank's that found it (an owner and a ghost's rank may both have).
+  std::size_t at = 0;
+  for (const std::int64_t b : bytes) {
+    if (b > 0)
+      return parts::Fault{first.id, std::string(reinterpret_cast<const char*>(all.data()) + at,
+                                                static_cast<std::size_t>(b))};
+    at += static_cast<std::size_t>(b);
+  }
+  return parts::Fault{first.id, "a grain failed on another rank"};
+}
+
+template <int D>
+std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const {
+  if (!comm_) return std::nullopt;
+  return parts::gather_points<D>(*comm_, std::span<const std::int64_t>(id_),
+                                 std::span<const Vec<D>>(x_), point_fields(),
+                                 [&](Index i) { return !ghost(i); });
+}
+
+// The grains each rank owns (fewest, most) and the ghosts it holds (mean, most), and the bytes
+// of one refresh of the ghosts' motion summed over the ranks.
+template <int D>
+std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const {
+  if (!comm_) return {};
+  Index owned = 0;
+  for (Index i = 0; i < f_.size(); ++i)
+    owned += !ghost(i);
+  const Index ghosts = f_.size() - owned;
+  const auto ranks = static_cast<Real>(comm_->size());
+  const auto all_ghosts = static_cast<Real>(comm_->sum(static_cast<std::int64_t>(ghosts)));
+  constexpr Real kRefreshBytes = (2 * D + kAngular<D>)*sizeof(Real);
+  return {{"owned_min", comm_->min(static_cast<Real>(owned))},
+          {"owned_max", comm_->max(static_cast<Real>(owned))},
+          {"ghosts_mean", all_ghosts / ranks},
+          {"ghosts_max", comm_->max(static_cast<Real>(ghosts))},
+          {"ghost_refresh_bytes_per_step", all_ghosts * kRefreshBytes}};
+}
+
+#define CRATER_DEM_RANKS(D)                                                             \
+  template void DemPart<D>::distribute(const parallel::Comm&);                          \
+  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>);                 \
+  template void DemPart<D>::redistribute(Real);                                         \
+  template void DemPart<D>::reorder_halo(std::span<const Index>);                       \
+  template void DemPart<D>::refresh_ghosts();                                           \
+  template Index DemPart<D>::count() const;                                             \
+  template std::optional<parts::Fault> DemPart<D>::check() const;                       \
+  template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const; \
+  template std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const;
 CRATER_DEM_RANKS(2)
 CRATER_DEM_RANKS(3)
 #undef CRATER_DEM_RANKS

@@ -36,7 +36,12 @@ T blank() {
 }  // namespace
 
 template <int D>
-std::optional<parts::Fault> DemPart<D>::check() const {
+Real DemPart<D>::mass_kg() const {
+  return total([&](Index i) { return m_[i]; });
+}
+
+template <int D>
+std::optional<parts::Fault> DemPart<D>::local_check() const {
   const Index n = f_.size();
   if (overflow_ < n)
     return parts::Fault{id_[overflow_],
@@ -350,7 +355,8 @@ void DemPart<D>::load_state(parts::StateReader& r) {
 }
 
 #define CRATER_DEM_STATE(D)                                                \
-  template std::optional<parts::Fault> DemPart<D>::check() const;          \
+  template std::optional<parts::Fault> DemPart<D>::local_check() const;    \
+  template Real DemPart<D>::mass_kg() const;                               \
   template parts::Energies DemPart<D>::energies() const;                   \
   template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const; \
   template std::vector<Grain<D>> DemPart<D>::grains() const;               \

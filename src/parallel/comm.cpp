@@ -75,6 +75,13 @@ const char* Session::why_single() {
 #endif
 }
 
+void Comm::abort(int code) const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  std::exit(code);
+}
+
 void Comm::barrier() const {
 #ifdef CRATER_HAVE_MPI
   if (mpi_) MPI_Barrier(MPI_COMM_WORLD);

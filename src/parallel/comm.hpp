@@ -36,6 +36,9 @@ class Comm {
   bool mpi() const { return mpi_; }
 
   void barrier() const;
+  /// Ends every rank of the run with `code` (MPI_Abort): for a failure one rank found alone,
+  /// while the others would wait for it in a collective. Without MPI, std::exit(code).
+  [[noreturn]] void abort(int code) const;
   Real max(Real x) const;
   Real min(Real x) const;
   std::int64_t sum(std::int64_t x) const;

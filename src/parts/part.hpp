@@ -11,8 +11,11 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/types.hpp"
 #include "fields/field_set.hpp"
+#include "parallel/comm.hpp"
+#include "parts/gathered_points.hpp"
 #include "parts/state_archive.hpp"
 
 namespace crater::parts {
@@ -152,6 +155,26 @@ class Part {
   virtual const std::vector<Vec<D>>& points() const { return *geometry().points; }
   virtual std::vector<fields::FieldView> point_fields() const = 0;
   virtual std::vector<fields::FieldView> cell_fields() const { return {}; }
+
+  /// Spreads the part over the ranks of `comm` (issue 29, docs/distributed.md), once, before
+  /// the first step, when every rank has built it whole. From then on the part's count(),
+  /// mass_kg(), stable_step(), check(), energies(), diagnostics() and gathered_points() are
+  /// collective: every rank calls them at the same point of the run, and they give every rank
+  /// the whole part's values. A method that does not run on ranks yet throws InputError.
+  virtual void distribute(const parallel::Comm& /*comm*/) {
+    throw InputError({}, "parts[" + name() + "]",
+                     std::string("a part of method '") + method() +
+                         "' does not run on several MPI ranks yet (issue 29, "
+                         "docs/distributed.md): run the scenario on one rank");
+  }
+  /// A spread part's frame: its points and point fields from every rank in id order, on the
+  /// root rank (collective; empty elsewhere). nullopt: the part is whole here, as geometry()
+  /// and point_fields() give it.
+  virtual std::optional<GatheredPoints<D>> gathered_points() const { return std::nullopt; }
+  /// A spread part's share among the ranks (collective): e.g. the fewest and most entities a
+  /// rank owns, the ghosts a rank holds. Empty on one rank. They depend on the rank count, so
+  /// they go to summary.json's "run" block, not to the part's diagnostics.
+  virtual std::vector<Diagnostic> rank_figures() const { return {}; }
 
   /// Checkpoints: everything the part needs to continue bit for bit after load_state() on a
   /// part freshly built from the same scenario (fields, accumulators, contact histories, and

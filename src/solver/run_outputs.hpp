@@ -32,20 +32,26 @@ class Outputs {
   // `extra_columns` follow the energy columns (history_columns: contact forces, part totals).
   // gauges.csv ([[gauges]]) likewise: `gauges_header` for a new run (empty: no gauges), the
   // file's first bytes as the checkpoint saw them for a resumed one.
-  Outputs(const io::Config& c, io::RunManifest& manifest,
+  // On several ranks (Part::distribute) only the root rank writes: the others pass a null
+  // manifest and write nothing, but take part in gathering the frames (frame()).
+  Outputs(const io::Config& c, io::RunManifest* manifest,
           const std::vector<std::unique_ptr<Part<D>>>& parts,
           const std::vector<std::string>& extra_columns, std::string history_prefix = {},
           const std::string& gauges_header = {}, std::string gauges_prefix = {})
-      : config_(c), manifest_(manifest), dir_(manifest.dir()), history_(open_history(manifest)) {
+      : config_(c), writer_(manifest) {
+    if (!writer_) return;
+    io::RunManifest& m = *writer_;
+    dir_ = m.dir();
+    history_.emplace(open_history(m));
     if (!gauges_header.empty()) {
-      manifest_.record("gauges.csv");
+      m.record("gauges.csv");
       gauges_.emplace(dir_ / "gauges.csv");
       const std::string& start = gauges_prefix.empty() ? gauges_header : gauges_prefix;
       gauges_->write(start);
       gauges_bytes_ = start.size();
     }
     for (const auto& p : parts) {
-      manifest_.record(p->name() + ".pvd");
+      m.record(p->name() + ".pvd");
       pvd_.emplace_back(dir_ / (p->name() + ".pvd"));
     }
     if (history_prefix.empty()) {
@@ -56,7 +62,7 @@ class Outputs {
         history_prefix += "," + col;
       history_prefix += "\n";
     }
-    history_.write(history_prefix);
+    history_->write(history_prefix);
     history_bytes_ = history_prefix.size();
   }
 
@@ -99,23 +105,35 @@ class Outputs {
   void frame(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, const std::string& tag) {
     if (!config_.output.vtu) return;
     for (std::size_t k = 0; k < parts.size(); ++k) {
+      // A part spread over ranks is gathered by every rank, and written by the root.
+      const std::optional<parts::GatheredPoints<D>> gathered = parts[k]->gathered_points();
+      if (!writer_) continue;
       const std::string file = fmt::format("{}_{}.vtu", parts[k]->name(), tag);
-      manifest_.record(file);
-      write_part(*parts[k], dir_ / file, t);
+      writer_->record(file);
+      if (gathered)
+        write_points(gathered->points, gathered->views(), dir_ / file, t);
+      else
+        write_part(*parts[k], dir_ / file, t);
       if (tag != "failure") pvd_[k].add(t, file);
     }
   }
 
   void write_part(const Part<D>& p, const fs::path& path, Real t) {
     const Geometry<D> g = p.geometry();
+    write_points(*g.points, p.point_fields(), path, t, &g, p.cell_fields());
+  }
+
+  void write_points(const std::vector<Vec<D>>& points, const std::vector<fields::FieldView>& pf,
+                    const fs::path& path, Real t, const Geometry<D>* cells = nullptr,
+                    const std::vector<fields::FieldView>& cf = {}) {
     io::VtuMesh mesh;
-    mesh.num_points = static_cast<Index>(g.points->size());
+    mesh.num_points = static_cast<Index>(points.size());
     mesh.dimension = D;
-    mesh.points = g.points->empty() ? nullptr : g.points->front().data();
-    if (!g.connectivity.empty()) {
-      mesh.connectivity = &g.connectivity;
-      mesh.offsets = &g.offsets;
-      mesh.cell_types = &g.cell_types;
+    mesh.points = points.empty() ? nullptr : points.front().data();
+    if (cells && !cells->connectivity.empty()) {
+      mesh.connectivity = &cells->connectivity;
+      mesh.offsets = &cells->offsets;
+      mesh.cell_types = &cells->cell_types;
     }
     auto arrays = [](const std::vector<fields::FieldView>& views) {
       std::vector<io::VtuArray> out;
@@ -124,7 +142,7 @@ class Outputs {
                                    v.components == D && D == 2});
       return out;
     };
-    io::write_vtu(path, t, mesh, arrays(p.point_fields()), arrays(p.cell_fields()),
+    io::write_vtu(path, t, mesh, arrays(pf), arrays(cf),
                   config_.output.vtu_encoding == io::VtuEncoding::Base64 ? io::VtuFormat::Base64
                                                                          : io::VtuFormat::Appended);
   }
@@ -139,18 +157,20 @@ class Outputs {
     for (Real v : extra)
       row += fmt::format(",{:.17g}", v);
     row += "\n";
-    history_.write(row);
+    if (!writer_) return;
+    history_->write(row);
     history_bytes_ += row.size();
   }
   void gauges(const std::string& row) {
+    if (!writer_) return;
     gauges_->write(row);
     gauges_bytes_ += row.size();
   }
   void flush() {
-    history_.flush();
+    if (history_) history_->flush();
     if (gauges_) gauges_->flush();
   }
-  io::RunManifest& manifest() { return manifest_; }
+  io::RunManifest& manifest() { return *writer_; }
 
  private:
   static fs::path open_history(io::RunManifest& manifest) {
@@ -159,9 +179,9 @@ class Outputs {
   }
 
   const io::Config& config_;
-  io::RunManifest& manifest_;
+  io::RunManifest* writer_;  // null: another rank writes
   fs::path dir_;
-  io::AppendFile history_;
+  std::optional<io::AppendFile> history_;
   std::size_t history_bytes_ = 0;
   std::optional<io::AppendFile> gauges_;
   std::size_t gauges_bytes_ = 0;
@@ -232,7 +252,7 @@ inline void write_command(io::JsonWriter& j, const io::RunCommand& command) {
 
 /// What summary.json reports of the run besides the parts: its state and how it was started.
 struct SummaryInputs {
-  io::RunManifest& manifest;
+  io::RunManifest* manifest;  // null: another rank writes the summary
   const io::RunCommand& command;
   const RunResult& r;
   Real dt_min, dt_max;
@@ -247,6 +267,10 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
                    const std::string& message, const contact::Coupling<D>* coupling = nullptr,
                    const std::vector<Diagnostic>& metrics = {}) {
   const RunResult& r = in.r;
+  // Collective on ranks: every rank asks, in the same order.
+  std::vector<std::pair<std::string, std::vector<Diagnostic>>> shares;
+  for (const auto& p : parts)
+    if (auto f = p->rank_figures(); !f.empty()) shares.emplace_back(p->name(), std::move(f));
   const Real dt_min = in.dt_min, dt_max = in.dt_max;
   const Energies &e0 = in.e0, &e = in.e;
   const Real energy_error = in.energy_error;
@@ -314,6 +338,18 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
   // Everything above is identical for any thread count; this block is not.
   j.key("run").begin_object();
   j.field("wall_time_s", r.wall_s).field("threads", r.threads);
+  if (r.ranks > 1) j.field("ranks", r.ranks);
+  if (!shares.empty()) {
+    // Each spread part's share among the ranks (Part::rank_figures).
+    j.key("ranks_by_part").begin_object();
+    for (const auto& [name, figures] : shares) {
+      j.key(name).begin_object();
+      for (const auto& d : figures)
+        j.field(d.name, d.value);
+      j.end_object();
+    }
+    j.end_object();
+  }
   // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.
   j.field("loop_time_s", r.loop_s);
   // This process's steps over its own wall time (a resumed run counts from where it resumed).
@@ -333,8 +369,9 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
   write_command(j, in.command);
   j.end_object();
   j.end_object();
-  in.manifest.record("summary.json");
-  io::write_file_atomic(in.manifest.dir() / "summary.json", j.str());
+  if (!in.manifest) return;  // another rank writes it
+  in.manifest->record("summary.json");
+  io::write_file_atomic(in.manifest->dir() / "summary.json", j.str());
 }
 
 }  // namespace crater::solver

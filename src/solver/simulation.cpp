@@ -13,6 +13,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 #include "contact/coupling.hpp"
@@ -71,6 +72,7 @@ class Run {
         multi_rate_(c.time.safety_factor, c.time.multi_rate_max_ratio) {}
 
   RunResult go() {
+    spread();
     if (!opt_.restart.empty())
       resume();
     else
@@ -78,7 +80,11 @@ class Run {
     for (const auto& w : c_.warnings)
       spdlog::warn("{}", w);
     r_.threads = parallel::max_threads();
-    SignalGuard signals;
+    r_.ranks = comm_.size();
+    // On ranks a signal ends every rank at once (mpirun passes it on); a checkpoint on it is
+    // for one rank.
+    std::optional<SignalGuard> signals;
+    if (comm_.size() == 1) signals.emplace();
     if (opt_.restart.empty()) {
       record_start();
       if (c_.time.multi_rate) start_multi_rate();
@@ -88,11 +94,11 @@ class Run {
     // A summary from the start (status "running"), brought up to date at every checkpoint: a
     // run that is killed or runs out of disk still leaves one for `crater report` and --resume.
     summary("running", "");
-    Progress progress(c_.end_time_s, opt_.quiet, st_.steps, st_.t);
+    Progress progress(c_.end_time_s, opt_.quiet || !comm_.root(), st_.steps, st_.t);
     loop_start_s_ = elapsed();
     set_activity(Activity::TimeLoop);  // an allocation that fails from here on exits 3 (main.cpp)
     loop(progress);
-    if (c_.output.checkpoint_at_end) {
+    if (c_.output.checkpoint_at_end && comm_.size() == 1) {
       // The last state, before the probes finish: --resume with a later end time extends it.
       out_->flush();
       if (c_.time.multi_rate) st_.rate_carried = multi_rate_.carried();
@@ -102,7 +108,8 @@ class Run {
     progress.finish(r_.steps, st_.t, st_.dt);
     out_->flush();
     std::vector<Diagnostic> metrics = probes_.finish(parts_, opt_.out_dir);
-    if (fs::exists(opt_.out_dir / "surface_profile.csv")) manifest_->record("surface_profile.csv");
+    if (manifest_ && fs::exists(opt_.out_dir / "surface_profile.csv"))
+      manifest_->record("surface_profile.csv");
     summary("completed", "", metrics);
     return r_;
   }
@@ -165,7 +172,7 @@ class Run {
     io::write_run_command(opt_.out_dir, opt_.command);
     manifest_->record(io::kCommandName);
     const bool fresh_history = history.empty();
-    out_ = std::make_unique<Outputs<D>>(c_, *manifest_, parts_,
+    out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), parts_,
                                         history_columns(parts_, coupling_, probes_),
                                         std::move(history), gauges_header(), std::move(gauge_rows));
     if (fresh_history) out_->flush();
@@ -186,13 +193,30 @@ class Run {
     check_step_count(c_, lim.allowed_s);
     for (const auto& w : check_output_cadence(c_, parts_, lim.allowed_s, opt_.out_dir))
       spdlog::warn("{}", w);
-    io::prepare_new_run_directory(opt_.out_dir, opt_.force);
-    manifest_ = std::make_unique<io::RunManifest>(opt_.out_dir);
-    manifest_->record(io::kCommandName);
-    io::write_run_command(opt_.out_dir, opt_.command);
-    out_ = std::make_unique<Outputs<D>>(c_, *manifest_, parts_,
+    if (comm_.root()) {  // on ranks, the root alone writes
+      io::prepare_new_run_directory(opt_.out_dir, opt_.force);
+      manifest_ = std::make_unique<io::RunManifest>(opt_.out_dir);
+      manifest_->record(io::kCommandName);
+      io::write_run_command(opt_.out_dir, opt_.command);
+    }
+    out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), parts_,
                                         history_columns(parts_, coupling_, probes_), std::string(),
                                         gauges_header());
+  }
+
+  // Several MPI ranks: every part is spread over them (Part::distribute; the scenario was
+  // checked by check_ranks before the parts were built). What runs on one rank only is refused
+  // there, or, for the end-of-run checkpoint (on by default), left out with a warning.
+  void spread() {
+    if (comm_.size() == 1) return;
+    for (auto& p : parts_)
+      p->distribute(comm_);
+    if (c_.output.checkpoint_at_end || c_.output.checkpoint_every_steps > 0 ||
+        c_.output.checkpoint_every_s > 0)
+      spdlog::warn(
+          "no checkpoint is written on {} MPI ranks yet (output.checkpoint_*; issue 29, "
+          "docs/distributed.md): a run on ranks cannot be resumed",
+          comm_.size());
   }
 
   // The energies at t = 0 (the balance's reference, each part's for the energy guard), the
@@ -394,10 +418,12 @@ class Run {
   // ends the run (Interrupted: exit 130) with an "interrupted" summary.
   void checkpoint_or_stop(bool last) {
     const int sig = g_signal.load();
-    const bool due = (c_.output.checkpoint_every_steps > 0 &&
-                      r_.steps % c_.output.checkpoint_every_steps == 0) ||
-                     (c_.output.checkpoint_every_s > 0 &&
-                      elapsed() - last_checkpoint_s_ >= c_.output.checkpoint_every_s);
+    // On ranks, none yet (spread() says so).
+    const bool due =
+        comm_.size() == 1 && ((c_.output.checkpoint_every_steps > 0 &&
+                               r_.steps % c_.output.checkpoint_every_steps == 0) ||
+                              (c_.output.checkpoint_every_s > 0 &&
+                               elapsed() - last_checkpoint_s_ >= c_.output.checkpoint_every_s));
     if ((due || sig != 0) && !last) {
       out_->flush();
       if (c_.time.multi_rate) st_.rate_carried = multi_rate_.carried();
@@ -421,7 +447,8 @@ class Run {
     EnergyTrack track = st_.track;  // a copy: the scale it keeps must not move between rows
     const Real err = status == "failed" ? st_.err : track.error(now);
     write_summary(
-        c_, SummaryInputs{*manifest_, opt_.command, r_, st_.dt_min, st_.dt_max, st_.e0, now, err},
+        c_,
+        SummaryInputs{manifest_.get(), opt_.command, r_, st_.dt_min, st_.dt_max, st_.e0, now, err},
         parts_, status, message, &coupling_, metrics);
   }
 
@@ -451,6 +478,7 @@ class Run {
 
   const io::Config& c_;
   const RunOptions& opt_;
+  const parallel::Comm& comm_ = parallel::Comm::world();
   const std::chrono::steady_clock::time_point wall_start_;
   std::vector<std::unique_ptr<Part<D>>> parts_;
   contact::Coupling<D> coupling_;
@@ -468,8 +496,37 @@ class Run {
   double output_s_ = 0;      // history rows, frames, progress, checkpoints
 };
 
+// On several MPI ranks, before anything is built: what does not run there yet (issue 29,
+// docs/distributed.md). Every rank finds the same, from the scenario alone.
+void check_ranks(const io::Config& c, const RunOptions& opt) {
+  const parallel::Comm& comm = parallel::Comm::world();
+  if (comm.size() == 1) return;
+  const SourceLocation file{c.file, 0, 0};
+  auto refuse = [&](const SourceLocation& where, const std::string& key, const std::string& what) {
+    throw InputError(where, key,
+                     fmt::format("{} does not run on several MPI ranks yet (started on {}; issue "
+                                 "29, docs/distributed.md): run it on one rank",
+                                 what, comm.size()));
+  };
+  if (!opt.restart.empty()) refuse({}, "--resume", "a resumed run");
+  for (const io::PartConfig& p : c.parts) {
+    if (!p.is(io::Method::Dem))
+      refuse(p.where, "parts[" + p.name + "].method",
+             "a part of method '" + std::string(io::method_name(p.method())) +
+                 "' (only DEM parts are spread yet)");
+    if (p.packing().settle)
+      refuse(p.where, "parts[" + p.name + "].packing.settle",
+             "settling a packing (every rank would settle it and write the cache)");
+  }
+  if (!c.contacts.empty()) refuse(file, "contacts", "a contact between parts");
+  if (c.probes.any()) refuse(file, "probes", "the probes");
+  if (!c.gauges.empty()) refuse(file, "gauges", "a gauge");
+  if (c.time.multi_rate) refuse(file, "time.multi_rate", "multi-rate stepping");
+}
+
 template <int D>
 RunResult run(const io::Config& c, const RunOptions& opt) {
+  check_ranks(c, opt);
   return Run<D>(c, opt).go();
 }
 

@@ -48,6 +48,7 @@ struct RunResult {
   double wall_s = 0;
   double loop_s = 0;  // the time loop alone: wall_s without the setup and the final output
   int threads = 1;
+  int ranks = 1;  // MPI ranks the parts were spread over (Part::distribute)
   // Multi-rate stepping: the steps each part took (scenario order); empty otherwise.
   std::vector<std::pair<std::string, std::int64_t>> steps_by_part;
   // loop_s split by where it went: each part's stages (scenario order), the contacts between

@@ -94,7 +94,7 @@ std::vector<Real> owned_state(const DemPart<D>& part) {
   const auto p = *part.contact_points();
   const std::vector<Vec<D>>& x = *part.geometry().points;
   std::vector<Real> out;
-  for (Index i = 0; i < part.count(); ++i) {
+  for (Index i = 0; i < part.local_count(); ++i) {
     if (part.ghost(i)) continue;
     Real id;
     const std::int64_t k = (*p.id)[at(i)];
@@ -184,7 +184,7 @@ void ranks_match_one_rank(int steps) {
     bed->finish_step(dt);
     const auto* ids = bed->contact_points()->id;
     std::fill(now.begin(), now.end(), std::uint8_t{0});
-    for (Index i = 0; i < bed->count(); ++i) {
+    for (Index i = 0; i < bed->local_count(); ++i) {
       if (bed->ghost(i)) {
         ++ghosts;
         continue;

@@ -1,0 +1,112 @@
+// A part spread over ranks (Part::distribute, issue 29) written as one: its points and point
+// fields gathered from every rank and ordered by the entities' global ids, so that a frame has
+// the same bits on any rank count (docs/distributed.md, "crater run on ranks").
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <numeric>
+#include <span>
+#include <vector>
+
+#include "core/types.hpp"
+#include "fields/field_set.hpp"
+#include "parallel/comm.hpp"
+
+namespace crater::parts {
+
+/// The gathered frame of a part: points and point fields, in ascending id.
+template <int D>
+struct GatheredPoints {
+  std::vector<Vec<D>> points;
+  std::vector<fields::FieldInfo> infos;
+  std::vector<int> components;
+  std::vector<std::uint8_t> integer;                // per field: its values are integers
+  std::vector<std::vector<Real>> reals;             // per field (empty for integer fields)
+  std::vector<std::vector<std::int64_t>> integers;  // per field (empty for real fields)
+
+  /// Views over the fields, as Part::point_fields gives them.
+  std::vector<fields::FieldView> views() const {
+    std::vector<fields::FieldView> v;
+    for (std::size_t k = 0; k < infos.size(); ++k) {
+      const bool is_int = integer[k] != 0;
+      v.push_back(fields::FieldView{
+          &infos[k], components[k], is_int, is_int ? nullptr : reals[k].data(),
+          is_int ? integers[k].data() : nullptr, static_cast<Index>(points.size())});
+    }
+    return v;
+  }
+};
+
+/// Gathers the entities i of this rank with keep(i) (its own, not its ghosts): id[i], x[i] and
+/// every view's values, from every rank to the root, ordered by id. Collective; on the other
+/// ranks the result is empty. Every rank must pass the same fields in the same order.
+template <int D, class Keep>
+GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std::int64_t> id,
+                                std::span<const Vec<D>> x,
+                                const std::vector<fields::FieldView>& views, Keep&& keep) {
+  std::size_t words = 1 + D;  // id (its bits), the position, then every field's components
+  for (const auto& v : views)
+    words += static_cast<std::size_t>(v.components);
+  std::vector<Real> mine;
+  for (std::size_t i = 0; i < id.size(); ++i) {
+    if (!keep(static_cast<Index>(i))) continue;
+    Real bits;
+    std::memcpy(&bits, &id[i], sizeof bits);
+    mine.push_back(bits);
+    for (int d = 0; d < D; ++d)
+      mine.push_back(x[i][d]);
+    for (const auto& v : views)
+      for (int c = 0; c < v.components; ++c) {
+        const std::size_t at =
+            i * static_cast<std::size_t>(v.components) + static_cast<std::size_t>(c);
+        if (v.is_integer)
+          std::memcpy(&bits, &v.integer_data[at], sizeof bits);
+        else
+          bits = v.real_data[at];
+        mine.push_back(bits);
+      }
+  }
+  // Every rank gets every rank's entities (the root alone needs them; a gather to the root,
+  // then one piece per rank, PVTU, come next).
+  const std::vector<Real> all = parallel::all_gather(comm, std::span<const Real>(mine));
+  GatheredPoints<D> g;
+  if (!comm.root()) return g;
+  const std::size_t n = all.size() / words;
+  auto id_of = [&](std::size_t e) {
+    std::int64_t k;
+    std::memcpy(&k, &all[e * words], sizeof k);
+    return k;
+  };
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return id_of(a) < id_of(b); });
+  g.points.resize(n);
+  for (const auto& v : views) {
+    g.infos.push_back(*v.info);
+    g.components.push_back(v.components);
+    g.integer.push_back(v.is_integer ? 1 : 0);
+    const std::size_t size = n * static_cast<std::size_t>(v.components);
+    g.reals.emplace_back(v.is_integer ? 0 : size);
+    g.integers.emplace_back(v.is_integer ? size : 0);
+  }
+  for (std::size_t q = 0; q < n; ++q) {
+    const Real* e = &all[order[q] * words + 1];
+    for (int d = 0; d < D; ++d)
+      g.points[q][d] = *e++;
+    for (std::size_t k = 0; k < views.size(); ++k) {
+      const auto c = static_cast<std::size_t>(views[k].components);
+      for (std::size_t j = 0; j < c; ++j, ++e) {
+        if (views[k].is_integer)
+          std::memcpy(&g.integers[k][q * c + j], e, sizeof(Real));
+        else
+          g.reals[k][q * c + j] = *e;
+      }
+    }
+  }
+  return g;
+}
+
+}  // namespace crater::parts

@@ -1,0 +1,107 @@
+# ctest-processors: 2
+# ctest-timeout: 300
+"""`crater run` on several MPI ranks (issue 29, docs/distributed.md, "crater run on ranks").
+
+The DEM bed of tests/data/dem_ranks_3d.toml (729 spheres bursting into the empty half of a
+closed box) is run without a launcher on one thread (the reference), and under
+`mpirun -np 1, 2, 3, 4` on one thread and `-np 2` on two threads per rank (4 ranks
+oversubscribed on 2 cores). Every run must give the reference's files bit for bit:
+- history.csv, byte for byte (energies and work books summed over the ranks);
+- summary.json but its "run" block (counts, masses, diagnostics, energies, steps);
+- every VTU frame's points and point data, entity by entity (by id: one rank writes in its
+  memory order, the root of several ranks in id order), read with VTK's reader;
+- the same set of files (the root alone writes), with the PVD collection.
+Scenes with what does not run on ranks yet are refused with exit code 2 and a message naming
+the key.
+"""
+import os
+import shutil
+import subprocess
+import sys
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+from crater_test import BIN, SOURCE_DIR, read_vtu, scratch, summary_without_run_block
+
+MPIRUN = os.environ.get("CRATER_MPIRUN", "")
+SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
+
+
+def mpirun(np_, *args, threads=1, timeout=240):
+    env = dict(os.environ)
+    env.update({"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+                "OMPI_MCA_btl_vader_single_copy_mechanism": "none",
+                "OMPI_MCA_rmaps_base_oversubscribe": "1", "OMP_NUM_THREADS": str(threads),
+                # every loop parallel, even over these few grains (src/parallel/parallel.hpp)
+                "CRATER_PARALLEL_MIN": "0"})
+    return subprocess.run([MPIRUN, "-np", str(np_), BIN, *map(str, args)], env=env,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def by_id(path):
+    pts, arrays, _, time = read_vtu(path)
+    order = np.argsort(arrays["id"], kind="stable")
+    out = {name: a[order] for name, a in arrays.items()}
+    out["points"] = pts[order]
+    return out, time
+
+
+@unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")
+class CraterRunOnRanks(unittest.TestCase):
+    def test_dem_bed_bit_identical_on_1_to_4_ranks(self):
+        work = scratch("crater_ranks")
+        ref = work / "plain"
+        p = subprocess.run([BIN, "run", SCENE, "--out", ref, "--force", "--quiet", "--threads",
+                            "1"], capture_output=True, text=True, timeout=240)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        names = sorted(f.name for f in ref.iterdir() if f.is_file())
+        frames = [n for n in names if n.endswith(".vtu")]
+        self.assertEqual(len(frames), 5)
+        first, _ = by_id(ref / frames[0])
+        self.assertEqual(len(first["id"]), 729)
+        for np_, threads in ((1, 1), (2, 1), (3, 1), (4, 1), (2, 2)):
+            with self.subTest(ranks=np_, threads=threads):
+                out = work / f"ranks{np_}_threads{threads}"
+                p = mpirun(np_, "run", SCENE, "--out", out, "--force", "--quiet", "--threads",
+                           threads, threads=threads)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                self.assertEqual(sorted(f.name for f in out.iterdir() if f.is_file()), names)
+                self.assertEqual((out / "history.csv").read_bytes(),
+                                 (ref / "history.csv").read_bytes())
+                self.assertEqual(summary_without_run_block(out / "summary.json"),
+                                 summary_without_run_block(ref / "summary.json"))
+                self.assertEqual((out / "bed.pvd").read_bytes(), (ref / "bed.pvd").read_bytes())
+                for f in frames:
+                    a, ta = by_id(ref / f)
+                    b, tb = by_id(out / f)
+                    self.assertEqual(ta, tb, f)
+                    self.assertEqual(sorted(a), sorted(b), f)
+                    for name in a:
+                        # bit for bit: the bytes of the arrays, not their values
+                        self.assertTrue(np.array_equal(a[name].view(np.uint8),
+                                                       b[name].view(np.uint8)),
+                                        f"{f}: {name} differs on {np_} ranks x {threads} threads")
+
+    def test_what_does_not_run_on_ranks_is_refused(self):
+        work = scratch("crater_ranks_refused")
+        cases = [
+            (["demo"], "key 'parts[charge].method': a part of method 'sph' (only DEM parts"),
+            ([SCENE, "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
+        ]
+        for args, expected in cases:
+            with self.subTest(args=args):
+                p = mpirun(2, "run", *args, "--out", work / "out", "--force", "--quiet")
+                self.assertEqual(p.returncode, 2, p.stderr)
+                self.assertIn(expected, p.stderr)
+                self.assertIn("does not run on several MPI ranks yet", p.stderr)
+                # said once, by the root rank
+                self.assertEqual(p.stderr.count("does not run on several MPI ranks yet"), 1)
+        p = mpirun(2, "check", SCENE)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("only `crater run` runs on several MPI ranks", p.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1])
