@@ -484,13 +484,23 @@ class DemPart final : public parts::Part<D> {
   Index pair_owner(std::size_t k) const;
   // The checkpoint blocks after the contact history, for both directions (Self: const for
   // writing), so that save_state and load_state cannot drift apart (dem_state.cpp).
-  template <class Archive, class Self>
-  static void archive_bonds_and_ledgers(Archive& a, Self& s);
+  // `skin`: the part's own, or (a checkpoint written on ranks) the whole bed's.
+  template <class Archive, class Self, class Skin>
+  static void archive_bonds_and_ledgers(Archive& a, Self& s, Skin& skin);
+  // save_state on ranks: the whole part written by the root rank as one rank would (dem_ranks.cpp).
+  void save_gathered(parts::StateWriter& w) const;
 
   // Ranks (dem_ranks.cpp): at a rebuild, the ghosts go, grains that left this rank's box move
   // to their owner with their packed histories, and the new ghosts arrive with theirs (within
   // `reach` of this rank's grains); at every force stage, the ghosts' motion is refreshed.
   void redistribute(Real reach);
+  void distribute_restored();  // distribute() of a part loaded from a checkpoint
+  // Grains as the ranks send them: every field, then the packed slots of each (a message of
+  // pack_grains is read by unpack_grains into any set of the part's fields and slots).
+  void pack_grains(std::span<const Index> which, std::vector<std::byte>& out) const;
+  void unpack_grains(std::span<const std::byte> in, fields::FieldSet<D>& set,
+                     std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
+                     std::vector<AngularVec<D>>& roll) const;
   void keep_grains(std::span<const std::uint8_t> keep);  // with their packed slots
   void reorder_halo(std::span<const Index> order);
   void refresh_ghosts();

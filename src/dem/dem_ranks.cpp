@@ -25,6 +25,8 @@
 
 #include "dem/dem_part_impl.hpp"
 #include "fields/exchange.hpp"
+#include "neighbors/cell_grid.hpp"
+#include "parts/state_archive.hpp"
 
 namespace crater::dem::detail {
 namespace {
@@ -103,6 +105,10 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
   comm_ = &comm;
   if (!packed_) pack_history(partner_, xi_, roll_);
   packed_ = true;
+  if (skin_.radius() > 0 && skin_.positions().size() == static_cast<std::size_t>(f_.size())) {
+    distribute_restored();
+    return;
+  }
   // Every rank holds the whole bed now: the same cuts everywhere, weighted by count.
   const std::vector<Real> weight(static_cast<std::size_t>(f_.size()), 1.0);
   cuts_ = parallel::rcb_tree<D>(std::span<const Vec<D>>(x_), weight, comm.size());
@@ -115,6 +121,87 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
   halo_recv_.assign(static_cast<std::size_t>(comm.size()), {});
   skin_.invalidate();  // the first force stage builds the lists, and the ghosts
   moved_sq_ = -1;
+}
+
+// A part restored from a checkpoint, with the lists of the run that wrote it: the shares, the
+// ghosts and the lists are made from the positions at that build (skin_.positions()), as the
+// ranks would have made them then, so that the next rebuild comes at the same step as in the
+// run that was not interrupted. Every rank holds the whole part: no message is needed.
+template <int D>
+void DemPart<D>::distribute_restored() {
+  const parallel::Comm& comm = *comm_;
+  const auto ranks = static_cast<std::size_t>(comm.size());
+  const std::vector<Vec<D>> built(skin_.positions().begin(), skin_.positions().end());
+  const std::vector<Real> weight(built.size(), 1.0);
+  cuts_ = parallel::rcb_tree<D>(std::span<const Vec<D>>(built), weight, comm.size());
+  std::vector<int> owner(built.size());
+  std::vector<fields::Box<D>> box(ranks);
+  for (std::size_t i = 0; i < built.size(); ++i) {
+    owner[i] = cuts_.owner(built[i]);
+    box[static_cast<std::size_t>(owner[i])].add(built[i]);
+  }
+  const Real reach2 = skin_.radius() * skin_.radius();  // as Halo::build
+  const auto me = static_cast<std::size_t>(comm.rank());
+  auto near = [&](std::size_t r, std::size_t i) {
+    return !box[r].empty() && box[r].distance2(built[i]) <= reach2;
+  };
+  std::vector<std::uint8_t> keep(built.size()), is_ghost(built.size());
+  for (std::size_t i = 0; i < built.size(); ++i) {
+    const bool mine = owner[i] == comm.rank();
+    is_ghost[i] = !mine && near(me, i);
+    keep[i] = mine || is_ghost[i];
+  }
+  // The exchanges' lists in ascending id on both sides (before the sort, in old indices).
+  std::vector<std::vector<std::pair<std::int64_t, Index>>> send(ranks), recv(ranks);
+  for (std::size_t i = 0; i < built.size(); ++i) {
+    const auto idx = static_cast<Index>(i);
+    if (owner[i] == comm.rank()) {
+      for (std::size_t r = 0; r < ranks; ++r)
+        if (r != me && near(r, i)) send[r].emplace_back(id_[idx], idx);
+    } else if (is_ghost[i]) {
+      recv[static_cast<std::size_t>(owner[i])].emplace_back(id_[idx], idx);
+    }
+  }
+  // Old index -> index among the kept grains.
+  std::vector<Index> kept_at(built.size(), -1);
+  std::vector<Vec<D>> local_built;
+  Index k = 0;
+  for (std::size_t i = 0; i < built.size(); ++i)
+    if (keep[i]) {
+      kept_at[i] = k++;
+      local_built.push_back(built[i]);
+    }
+  ghost_.clear();
+  for (std::size_t i = 0; i < built.size(); ++i)
+    if (keep[i]) ghost_.push_back(is_ghost[i]);
+  keep_grains(keep);
+  auto lists = [&](std::vector<std::vector<std::pair<std::int64_t, Index>>>& from,
+                   std::vector<std::vector<Index>>& to) {
+    to.assign(ranks, {});
+    for (std::size_t r = 0; r < ranks; ++r) {
+      std::sort(from[r].begin(), from[r].end());
+      for (const auto& [id, i] : from[r])
+        to[r].push_back(kept_at[at(i)]);
+    }
+  };
+  lists(send, halo_send_);
+  lists(recv, halo_recv_);
+  // The order of the build: its positions' cells, by id within a cell.
+  const auto order = neighbors::cell_sort_order<D>(
+      std::span<const Vec<D>>(local_built), skin_.radius(), std::span<const std::int64_t>(id_));
+  f_.permute(order);
+  permute_slots(order);
+  reorder_halo(order);
+  std::vector<Vec<D>> sorted(local_built.size());
+  for (std::size_t q = 0; q < order.size(); ++q)
+    sorted[q] = local_built[at(order[q])];
+  skin_ = skin_.with_positions(std::move(sorted));
+  const std::size_t wall_slots = static_cast<std::size_t>(f_.size()) * wall_planes_.size();
+  wall_xi_.assign(wall_slots, Vec<D>::Zero());
+  if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
+  wall_live_.assign(static_cast<std::size_t>(f_.size()), 0);
+  moved_sq_ = -1;
+  build_lists();
 }
 
 template <int D>
@@ -138,48 +225,61 @@ void DemPart<D>::keep_grains(std::span<const std::uint8_t> keep) {
   f_.compact(keep);
 }
 
+// A message: the grains' count, their fields (every field) and their packed slots.
+template <int D>
+void DemPart<D>::pack_grains(std::span<const Index> which, std::vector<std::byte>& out) const {
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  const bool rolling = rolling_.friction > 0;
+  const auto count = static_cast<std::int64_t>(which.size());
+  put(out, &count, sizeof count);
+  f_.pack(which, fields::kEveryField, out);
+  for (const Index i : which) {
+    const std::size_t base = at(i) * slots;
+    put(out, partner_.data() + base, slots * sizeof(std::int64_t));
+    for (std::size_t s = 0; s < slots; ++s)
+      put(out, reals<D>(xi_[base + s]), D * sizeof(Real));
+    if (rolling)
+      for (std::size_t s = 0; s < slots; ++s)
+        put(out, angular_reals<D>(roll_[base + s]), kAngular<D> * sizeof(Real));
+  }
+}
+
+// Appends the grains of a message of pack_grains to `set` and their slots to the others.
+template <int D>
+void DemPart<D>::unpack_grains(std::span<const std::byte> in, fields::FieldSet<D>& set,
+                               std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
+                               std::vector<AngularVec<D>>& roll) const {
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  const bool rolling = rolling_.friction > 0;
+  Reader r{in};
+  std::int64_t count = 0;
+  r.get(&count, sizeof count);
+  const auto n = static_cast<std::size_t>(count);
+  set.unpack_append(r.take(n * set.packed_bytes(fields::kEveryField)), fields::kEveryField);
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::size_t base = partner.size();
+    partner.resize(base + slots);
+    xi.resize(base + slots);
+    r.get(partner.data() + base, slots * sizeof(std::int64_t));
+    for (std::size_t s = 0; s < slots; ++s)
+      r.get(reals<D>(xi[base + s]), D * sizeof(Real));
+    if (rolling) {
+      roll.resize(base + slots);
+      for (std::size_t s = 0; s < slots; ++s)
+        r.get(angular_reals<D>(roll[base + s]), kAngular<D> * sizeof(Real));
+    }
+  }
+  if (r.at != in.size()) throw std::logic_error("dem ranks: a message is too long");
+}
+
 template <int D>
 void DemPart<D>::redistribute(Real reach) {
   const parallel::Comm& comm = *comm_;
   const auto ranks = static_cast<std::size_t>(comm.size());
-  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
-  const bool rolling = !roll_.empty();
-  // A message: the grains' count, their fields (every field) and their packed slots.
   auto pack = [&](std::span<const Index> which, std::vector<std::byte>& out) {
-    const auto count = static_cast<std::int64_t>(which.size());
-    put(out, &count, sizeof count);
-    f_.pack(which, fields::kEveryField, out);
-    for (const Index i : which) {
-      const std::size_t base = at(i) * slots;
-      put(out, partner_.data() + base, slots * sizeof(std::int64_t));
-      for (std::size_t s = 0; s < slots; ++s)
-        put(out, reals<D>(xi_[base + s]), D * sizeof(Real));
-      if (rolling)
-        for (std::size_t s = 0; s < slots; ++s)
-          put(out, angular_reals<D>(roll_[base + s]), kAngular<D> * sizeof(Real));
-    }
+    pack_grains(which, out);
   };
-  auto unpack = [&](std::span<const std::byte> in) {
-    Reader r{in};
-    std::int64_t count = 0;
-    r.get(&count, sizeof count);
-    const auto n = static_cast<std::size_t>(count);
-    f_.unpack_append(r.take(n * f_.packed_bytes(fields::kEveryField)), fields::kEveryField);
-    for (std::size_t q = 0; q < n; ++q) {
-      const std::size_t base = partner_.size();
-      partner_.resize(base + slots);
-      xi_.resize(base + slots);
-      r.get(partner_.data() + base, slots * sizeof(std::int64_t));
-      for (std::size_t s = 0; s < slots; ++s)
-        r.get(reals<D>(xi_[base + s]), D * sizeof(Real));
-      if (rolling) {
-        roll_.resize(base + slots);
-        for (std::size_t s = 0; s < slots; ++s)
-          r.get(angular_reals<D>(roll_[base + s]), kAngular<D> * sizeof(Real));
-      }
-    }
-    if (r.at != in.size()) throw std::logic_error("dem ranks: a message is too long");
-  };
+  auto unpack = [&](std::span<const std::byte> in) { unpack_grains(in, f_, partner_, xi_, roll_); };
 
   // 1. The ghosts go.
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(f_.size()));
@@ -336,15 +436,107 @@ std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const {
           {"ghost_refresh_bytes_per_step", all_ghosts * kRefreshBytes}};
 }
 
-#define CRATER_DEM_RANKS(D)                                                             \
-  template void DemPart<D>::distribute(const parallel::Comm&);                          \
-  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>);                 \
-  template void DemPart<D>::redistribute(Real);                                         \
-  template void DemPart<D>::reorder_halo(std::span<const Index>);                       \
-  template void DemPart<D>::refresh_ghosts();                                           \
-  template Index DemPart<D>::count() const;                                             \
-  template std::optional<parts::Fault> DemPart<D>::check() const;                       \
-  template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const; \
+// A checkpoint on ranks: every rank sends its grains (fields, packed histories, and where each
+// was when the lists were built) to the root, which writes the whole part in the order one rank
+// would hold it, the cell order of the positions at that build (cell_sort_order is canonical):
+// the file is that of a run on one rank, byte for byte, and resumes there.
+template <int D>
+void DemPart<D>::save_gathered(parts::StateWriter& w) const {
+  const parallel::Comm& comm = *comm_;
+  std::vector<std::int64_t> partner;
+  std::vector<Vec<D>> xi;
+  std::vector<AngularVec<D>> roll;
+  if (!packed_) pack_history(partner, xi, roll);
+  // pack_grains sends partner_/xi_/roll_: the packed histories, as at a rebuild.
+  auto* self = const_cast<DemPart<D>*>(this);  // the slots are swapped in and back out
+  if (!packed_) {
+    self->partner_.swap(partner);
+    self->xi_.swap(xi);
+    self->roll_.swap(roll);
+  }
+  std::vector<Index> owned;
+  std::vector<Real> built;  // each owned grain's position at the lists' build
+  const std::span<const Vec<D>> at_build = skin_.positions();
+  for (Index i = 0; i < f_.size(); ++i) {
+    if (ghost(i)) continue;
+    owned.push_back(i);
+    for (int d = 0; d < D; ++d)
+      built.push_back(at_build[at(i)][d]);
+  }
+  std::vector<std::byte> mine;
+  pack_grains(owned, mine);
+  if (!packed_) {
+    self->partner_.swap(partner);
+    self->xi_.swap(xi);
+    self->roll_.swap(roll);
+  }
+  std::vector<std::int64_t> bytes;
+  const std::vector<std::byte> all = comm.all_gather(mine, &bytes);
+  const std::vector<Real> all_built = parallel::all_gather(comm, std::span<const Real>(built));
+  if (!comm.root()) return;  // the root writes
+  fields::FieldSet<D> whole = f_;
+  whole.resize(0);
+  std::vector<std::int64_t> w_partner;
+  std::vector<Vec<D>> w_xi;
+  std::vector<AngularVec<D>> w_roll;
+  std::size_t from = 0;
+  for (const std::int64_t b : bytes) {
+    unpack_grains(std::span<const std::byte>(all).subspan(from, static_cast<std::size_t>(b)), whole,
+                  w_partner, w_xi, w_roll);
+    from += static_cast<std::size_t>(b);
+  }
+  std::vector<Vec<D>> w_built(static_cast<std::size_t>(whole.size()));
+  for (std::size_t q = 0; q < w_built.size(); ++q)
+    for (int d = 0; d < D; ++d)
+      w_built[q][d] = all_built[q * D + static_cast<std::size_t>(d)];
+  const std::vector<fields::FieldView> views = whole.views(fields::kEveryField);
+  const fields::FieldView* id = fields::find_field(views, "id");
+  // The order of one rank: cells of the positions at the build, by id within a cell.
+  const auto order = neighbors::cell_sort_order<D>(
+      std::span<const Vec<D>>(w_built), skin_.radius(),
+      std::span<const std::int64_t>(id->integer_data, static_cast<std::size_t>(whole.size())));
+  whole.permute(order);
+  constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
+  auto permute = [&](auto& v, std::size_t per) {
+    if (v.empty()) return;
+    auto copy = v;
+    for (std::size_t k = 0; k < order.size(); ++k)
+      for (std::size_t s = 0; s < per; ++s)
+        v[k * per + s] = copy[at(order[k]) * per + s];
+  };
+  permute(w_partner, slots);
+  permute(w_xi, slots);
+  permute(w_roll, slots);
+  permute(w_built, 1);
+  w.tag("dem");
+  whole.save(w);
+  w.vector(w_partner);
+  w.vector(w_xi);
+  w.vector(w_roll);
+  const neighbors::VerletSkin<D> skin = skin_.with_positions(std::move(w_built));
+  // bond_lost_ is a grain index, the count when none was lost (no bonds on ranks): the whole
+  // part's count, as one rank holds it.
+  const Index lost = bond_lost_;
+  self->bond_lost_ = whole.size();
+  archive_bonds_and_ledgers(w, *this, skin);
+  self->bond_lost_ = lost;
+}
+
+#define CRATER_DEM_RANKS(D)                                                                     \
+  template void DemPart<D>::distribute(const parallel::Comm&);                                  \
+  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>);                         \
+  template void DemPart<D>::distribute_restored();                                              \
+  template void DemPart<D>::redistribute(Real);                                                 \
+  template void DemPart<D>::reorder_halo(std::span<const Index>);                               \
+  template void DemPart<D>::refresh_ghosts();                                                   \
+  template void DemPart<D>::save_gathered(parts::StateWriter&) const;                           \
+  template void DemPart<D>::pack_grains(std::span<const Index>, std::vector<std::byte>&) const; \
+  template void DemPart<D>::unpack_grains(std::span<const std::byte>, fields::FieldSet<D>&,     \
+                                          std::vector<std::int64_t>&, std::vector<Vec<D>>&,     \
+                                          std::vector<AngularVec<D>>&) const;                   \
+  template Index DemPart<D>::count() const;                                                     \
+  template std::optional<parts::Fault> DemPart<D>::check() const;                               \
+  template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const;         \
   template std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const;
 CRATER_DEM_RANKS(2)
 CRATER_DEM_RANKS(3)

@@ -297,8 +297,8 @@ Index DemPart<D>::pair_owner(std::size_t k) const {
 }
 
 template <int D>
-template <class Archive, class Self>
-void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s) {
+template <class Archive, class Self, class Skin>
+void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s, Skin& skin) {
   a.vector(s.bond_partner_);
   a.vector(s.bond_);
   a.value(s.contact_.last_dt_s);
@@ -311,7 +311,7 @@ void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s) {
   a.value(s.contact_.work_j);
   a.value(s.contact_.pending);
   a.value(s.wall_reflections_);
-  a.block(s.skin_);
+  a.block(skin);
   a.block(s.outflow_);
   a.value(s.outflow_wait_);
   // Moving walls (only then: the other parts' checkpoints are unchanged).
@@ -320,6 +320,10 @@ void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s) {
 
 template <int D>
 void DemPart<D>::save_state(parts::StateWriter& w) const {
+  if (comm_) {
+    save_gathered(w);
+    return;
+  }
   w.tag("dem");
   f_.save(w);
   if (packed_) {
@@ -335,7 +339,7 @@ void DemPart<D>::save_state(parts::StateWriter& w) const {
     w.vector(xi);
     w.vector(roll);
   }
-  archive_bonds_and_ledgers(w, *this);
+  archive_bonds_and_ledgers(w, *this, skin_);
 }
 
 template <int D>
@@ -348,24 +352,26 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   r.vector(roll_);
   packed_ = true;
   const std::size_t moving = moving_.size();
-  archive_bonds_and_ledgers(r, *this);
+  archive_bonds_and_ledgers(r, *this, skin_);
   if (moving_.size() != moving) r.fail("it holds another number of moving walls");
   set_wall_planes();
   if (skin_.radius() > 0) build_lists();
 }
 
-#define CRATER_DEM_STATE(D)                                                \
-  template std::optional<parts::Fault> DemPart<D>::local_check() const;    \
-  template Real DemPart<D>::mass_kg() const;                               \
-  template parts::Energies DemPart<D>::energies() const;                   \
-  template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const; \
-  template std::vector<Grain<D>> DemPart<D>::grains() const;               \
-  template std::pair<Real, Real> DemPart<D>::settling_measure() const;     \
-  template Real DemPart<D>::unbalanced_ratio() const;                      \
-  template void DemPart<D>::remove_outflow();                              \
-  template Index DemPart<D>::pair_owner(std::size_t) const;                \
-  template void DemPart<D>::save_state(parts::StateWriter&) const;         \
-  template void DemPart<D>::load_state(parts::StateReader&);
+#define CRATER_DEM_STATE(D)                                                                   \
+  template std::optional<parts::Fault> DemPart<D>::local_check() const;                       \
+  template Real DemPart<D>::mass_kg() const;                                                  \
+  template parts::Energies DemPart<D>::energies() const;                                      \
+  template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const;                    \
+  template std::vector<Grain<D>> DemPart<D>::grains() const;                                  \
+  template std::pair<Real, Real> DemPart<D>::settling_measure() const;                        \
+  template Real DemPart<D>::unbalanced_ratio() const;                                         \
+  template void DemPart<D>::remove_outflow();                                                 \
+  template Index DemPart<D>::pair_owner(std::size_t) const;                                   \
+  template void DemPart<D>::save_state(parts::StateWriter&) const;                            \
+  template void DemPart<D>::load_state(parts::StateReader&);                                  \
+  template void DemPart<D>::archive_bonds_and_ledgers(parts::StateWriter&, const DemPart<D>&, \
+                                                      const neighbors::VerletSkin<D>&);
 CRATER_DEM_STATE(2)
 CRATER_DEM_STATE(3)
 #undef CRATER_DEM_STATE

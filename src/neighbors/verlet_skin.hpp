@@ -51,6 +51,14 @@ class VerletSkin {
     radius_ = 0;
   }
 
+  /// This state with other positions of the last rebuild (the whole set's, gathered from
+  /// the ranks that each hold a share of it, for a checkpoint of one rank).
+  VerletSkin with_positions(std::vector<Vec<D>> built) const {
+    VerletSkin s = *this;
+    s.built_ = std::move(built);
+    return s;
+  }
+
   Real radius() const { return radius_; }
   /// The positions of the last rebuild (a restored list is rebuilt from them).
   std::span<const Vec<D>> positions() const { return built_; }

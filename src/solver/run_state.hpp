@@ -181,7 +181,9 @@ std::vector<std::string> check_output_cadence(const io::Config& c,
 void check_step_count(const io::Config& c, Real step_s);
 
 template <int D>
-void write_checkpoint(const io::Config& c, io::RunManifest& manifest, const LoopState& st,
+// On ranks every rank calls it (the parts gather their state, Part::save_state), and the root
+// alone, the one with a manifest, writes the file.
+void write_checkpoint(const io::Config& c, io::RunManifest* writer, const LoopState& st,
                       const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts,
                       const Probes<D>& probes) {
   parts::StateWriter w;
@@ -194,6 +196,8 @@ void write_checkpoint(const io::Config& c, io::RunManifest& manifest, const Loop
     p->save_state(w);
   }
   probes.save(w);
+  if (!writer) return;
+  io::RunManifest& manifest = *writer;
   manifest.record("checkpoints/");
   const fs::path cdir = manifest.dir() / "checkpoints";
   fs::create_directories(cdir);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
+#include <exception>
 #include <limits>
 #include <optional>
 #include <tuple>
@@ -72,11 +73,14 @@ class Run {
         multi_rate_(c.time.safety_factor, c.time.multi_rate_max_ratio) {}
 
   RunResult go() {
-    spread();
-    if (!opt_.restart.empty())
+    // On ranks, a resumed part is loaded whole on every rank, then spread.
+    if (!opt_.restart.empty()) {
       resume();
-    else
+      spread();
+    } else {
+      spread();
       start();
+    }
     for (const auto& w : c_.warnings)
       spdlog::warn("{}", w);
     r_.threads = parallel::max_threads();
@@ -98,11 +102,11 @@ class Run {
     loop_start_s_ = elapsed();
     set_activity(Activity::TimeLoop);  // an allocation that fails from here on exits 3 (main.cpp)
     loop(progress);
-    if (c_.output.checkpoint_at_end && comm_.size() == 1) {
+    if (c_.output.checkpoint_at_end) {
       // The last state, before the probes finish: --resume with a later end time extends it.
       out_->flush();
       if (c_.time.multi_rate) st_.rate_carried = multi_rate_.carried();
-      write_checkpoint<D>(c_, *manifest_, st_, *out_, parts_, probes_);
+      write_checkpoint<D>(c_, manifest_.get(), st_, *out_, parts_, probes_);
     }
     stamp();
     progress.finish(r_.steps, st_.t, st_.dt);
@@ -161,16 +165,29 @@ class Run {
     if (!rd.done()) rd.fail("it holds more than this scenario's state");
     const fs::path from = run_dir_of_checkpoint(opt_.restart);
     const bool same_dir = same_directory(from, opt_.out_dir);
-    std::string history = rows_at_checkpoint(opt_, from, "history.csv", history_bytes, same_dir);
-    std::string gauge_rows =
-        gauges_.empty() ? std::string()
-                        : rows_at_checkpoint(opt_, from, "gauges.csv", gauges_bytes, same_dir);
-    if (!same_dir) io::prepare_new_run_directory(opt_.out_dir, opt_.force);
-    manifest_ = std::make_unique<io::RunManifest>(opt_.out_dir);
-    if (!same_dir) carry_frames(from, *manifest_, pvd);
-    // The command as continued (its --set may extend the run): a later --resume takes it.
-    io::write_run_command(opt_.out_dir, opt_.command);
-    manifest_->record(io::kCommandName);
+    // On ranks, the root alone reads and writes the run directory (another rank reading
+    // history.csv while the root rewrites it would see it cut short), and its failure stops
+    // every rank.
+    std::string history, gauge_rows;
+    std::exception_ptr failed;
+    if (comm_.root()) {
+      try {
+        history = rows_at_checkpoint(opt_, from, "history.csv", history_bytes, same_dir);
+        if (!gauges_.empty())
+          gauge_rows = rows_at_checkpoint(opt_, from, "gauges.csv", gauges_bytes, same_dir);
+        if (!same_dir) io::prepare_new_run_directory(opt_.out_dir, opt_.force);
+        manifest_ = std::make_unique<io::RunManifest>(opt_.out_dir);
+        if (!same_dir) carry_frames(from, *manifest_, pvd);
+        // The command as continued (its --set may extend the run): a later --resume takes it.
+        io::write_run_command(opt_.out_dir, opt_.command);
+        manifest_->record(io::kCommandName);
+      } catch (...) {
+        failed = std::current_exception();
+      }
+    }
+    if (comm_.size() > 1 && comm_.max(failed ? 1.0 : 0.0) > 0 && !failed)
+      throw InputError({}, "--resume", "rank 0 could not continue the run directory");
+    if (failed) std::rethrow_exception(failed);
     const bool fresh_history = history.empty();
     out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), parts_,
                                         history_columns(parts_, coupling_, probes_),
@@ -205,18 +222,12 @@ class Run {
   }
 
   // Several MPI ranks: every part is spread over them (Part::distribute; the scenario was
-  // checked by check_ranks before the parts were built). What runs on one rank only is refused
-  // there, or, for the end-of-run checkpoint (on by default), left out with a warning.
+  // checked by check_ranks before the parts were built). Checkpoints are written by the root
+  // as one rank would (Part::save_state gathers): they resume on one rank.
   void spread() {
     if (comm_.size() == 1) return;
     for (auto& p : parts_)
       p->distribute(comm_);
-    if (c_.output.checkpoint_at_end || c_.output.checkpoint_every_steps > 0 ||
-        c_.output.checkpoint_every_s > 0)
-      spdlog::warn(
-          "no checkpoint is written on {} MPI ranks yet (output.checkpoint_*; issue 29, "
-          "docs/distributed.md): a run on ranks cannot be resumed",
-          comm_.size());
   }
 
   // The energies at t = 0 (the balance's reference, each part's for the energy guard), the
@@ -418,16 +429,18 @@ class Run {
   // ends the run (Interrupted: exit 130) with an "interrupted" summary.
   void checkpoint_or_stop(bool last) {
     const int sig = g_signal.load();
-    // On ranks, none yet (spread() says so).
-    const bool due =
-        comm_.size() == 1 && ((c_.output.checkpoint_every_steps > 0 &&
-                               r_.steps % c_.output.checkpoint_every_steps == 0) ||
-                              (c_.output.checkpoint_every_s > 0 &&
-                               elapsed() - last_checkpoint_s_ >= c_.output.checkpoint_every_s));
+    // By wall-clock time, the root's clock decides for every rank.
+    bool by_time = c_.output.checkpoint_every_s > 0 &&
+                   elapsed() - last_checkpoint_s_ >= c_.output.checkpoint_every_s;
+    if (comm_.size() > 1 && c_.output.checkpoint_every_s > 0)
+      by_time = comm_.max(comm_.root() && by_time ? 1.0 : 0.0) > 0;
+    const bool due = (c_.output.checkpoint_every_steps > 0 &&
+                      r_.steps % c_.output.checkpoint_every_steps == 0) ||
+                     by_time;
     if ((due || sig != 0) && !last) {
       out_->flush();
       if (c_.time.multi_rate) st_.rate_carried = multi_rate_.carried();
-      write_checkpoint<D>(c_, *manifest_, st_, *out_, parts_, probes_);
+      write_checkpoint<D>(c_, manifest_.get(), st_, *out_, parts_, probes_);
       stamp();
       if (sig == 0) summary("running", "");
       last_checkpoint_s_ = elapsed();
@@ -498,7 +511,7 @@ class Run {
 
 // On several MPI ranks, before anything is built: what does not run there yet (issue 29,
 // docs/distributed.md). Every rank finds the same, from the scenario alone.
-void check_ranks(const io::Config& c, const RunOptions& opt) {
+void check_ranks(const io::Config& c) {
   const parallel::Comm& comm = parallel::Comm::world();
   if (comm.size() == 1) return;
   const SourceLocation file{c.file, 0, 0};
@@ -508,7 +521,6 @@ void check_ranks(const io::Config& c, const RunOptions& opt) {
                                  "29, docs/distributed.md): run it on one rank",
                                  what, comm.size()));
   };
-  if (!opt.restart.empty()) refuse({}, "--resume", "a resumed run");
   for (const io::PartConfig& p : c.parts) {
     if (!p.is(io::Method::Dem))
       refuse(p.where, "parts[" + p.name + "].method",
@@ -526,7 +538,7 @@ void check_ranks(const io::Config& c, const RunOptions& opt) {
 
 template <int D>
 RunResult run(const io::Config& c, const RunOptions& opt) {
-  check_ranks(c, opt);
+  check_ranks(c);
   return Run<D>(c, opt).go();
 }
 

@@ -10,7 +10,11 @@ oversubscribed on 2 cores). Every run must give the reference's files bit for bi
 - summary.json but its "run" block (counts, masses, diagnostics, energies, steps);
 - every VTU frame's points and point data, entity by entity (by id: one rank writes in its
   memory order, the root of several ranks in id order), read with VTK's reader;
-- the same set of files (the root alone writes), with the PVD collection.
+- the same set of files (the root alone writes), with the PVD collection;
+- the same checkpoints (steps 1000 and 1224), byte for byte: the root writes the whole bed in
+  the order one rank holds it.
+Then the run is resumed from the 2-rank checkpoint of step 1000 on 3 ranks and on 1 (plain):
+every file is again the uninterrupted run's.
 Scenes with what does not run on ranks yet are refused with exit code 2 and a message naming
 the key.
 """
@@ -27,6 +31,8 @@ from crater_test import BIN, SOURCE_DIR, read_vtu, scratch, summary_without_run_
 
 MPIRUN = os.environ.get("CRATER_MPIRUN", "")
 SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
+# Checkpoints by step count only (a wall-clock one would come when a run is slow).
+CHECKPOINTS = ["--set", "output.checkpoint_every_steps=500", "--set", "output.checkpoint_every_s=0"]
 
 
 def mpirun(np_, *args, threads=1, timeout=240):
@@ -54,7 +60,7 @@ class CraterRunOnRanks(unittest.TestCase):
         work = scratch("crater_ranks")
         ref = work / "plain"
         p = subprocess.run([BIN, "run", SCENE, "--out", ref, "--force", "--quiet", "--threads",
-                            "1"], capture_output=True, text=True, timeout=240)
+                            "1", *CHECKPOINTS], capture_output=True, text=True, timeout=240)
         self.assertEqual(p.returncode, 0, p.stderr)
         names = sorted(f.name for f in ref.iterdir() if f.is_file())
         frames = [n for n in names if n.endswith(".vtu")]
@@ -65,7 +71,7 @@ class CraterRunOnRanks(unittest.TestCase):
             with self.subTest(ranks=np_, threads=threads):
                 out = work / f"ranks{np_}_threads{threads}"
                 p = mpirun(np_, "run", SCENE, "--out", out, "--force", "--quiet", "--threads",
-                           threads, threads=threads)
+                           threads, *CHECKPOINTS, threads=threads)
                 self.assertEqual(p.returncode, 0, p.stderr)
                 self.assertEqual(sorted(f.name for f in out.iterdir() if f.is_file()), names)
                 self.assertEqual((out / "history.csv").read_bytes(),
@@ -73,16 +79,47 @@ class CraterRunOnRanks(unittest.TestCase):
                 self.assertEqual(summary_without_run_block(out / "summary.json"),
                                  summary_without_run_block(ref / "summary.json"))
                 self.assertEqual((out / "bed.pvd").read_bytes(), (ref / "bed.pvd").read_bytes())
-                for f in frames:
-                    a, ta = by_id(ref / f)
-                    b, tb = by_id(out / f)
-                    self.assertEqual(ta, tb, f)
-                    self.assertEqual(sorted(a), sorted(b), f)
-                    for name in a:
-                        # bit for bit: the bytes of the arrays, not their values
-                        self.assertTrue(np.array_equal(a[name].view(np.uint8),
-                                                       b[name].view(np.uint8)),
-                                        f"{f}: {name} differs on {np_} ranks x {threads} threads")
+                self.assert_same_checkpoints(ref, out)
+                self.assert_same_frames(ref, out, frames, f"{np_} ranks x {threads} threads")
+        # Resumed from the checkpoint of 2 ranks at step 1000, on 3 ranks and on 1.
+        two = work / "ranks2_threads1"
+        for np_ in (3, 1):
+            with self.subTest(resumed_on=np_):
+                again = work / f"resumed_on_{np_}"
+                shutil.copytree(two, again)
+                (again / "summary.json").unlink()
+                args = ["run", SCENE, "--restart", again / "checkpoints" / "step_000000001000.ckpt",
+                        "--quiet", "--threads", "1", *CHECKPOINTS]
+                p = mpirun(np_, *args) if np_ > 1 else subprocess.run(
+                    [BIN, *map(str, args)], capture_output=True, text=True, timeout=240)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                for n in names:
+                    if n.endswith(".vtu") or n in ("summary.json", "crater-command.toml"):
+                        continue
+                    self.assertEqual((again / n).read_bytes(), (two / n).read_bytes(), n)
+                self.assertEqual(summary_without_run_block(again / "summary.json"),
+                                 summary_without_run_block(two / "summary.json"))
+                self.assert_same_checkpoints(two, again)
+                self.assert_same_frames(two, again, frames, f"resumed on {np_}")
+
+    def assert_same_checkpoints(self, a, b):
+        names = sorted(f.name for f in (a / "checkpoints").iterdir())
+        self.assertEqual(names, ["step_000000001000.ckpt", "step_000000001224.ckpt"])
+        self.assertEqual(sorted(f.name for f in (b / "checkpoints").iterdir()), names)
+        for n in names:
+            self.assertEqual((a / "checkpoints" / n).read_bytes(),
+                             (b / "checkpoints" / n).read_bytes(), n)
+
+    def assert_same_frames(self, ref, out, frames, what):
+        for f in frames:
+            a, ta = by_id(ref / f)
+            b, tb = by_id(out / f)
+            self.assertEqual(ta, tb, f)
+            self.assertEqual(sorted(a), sorted(b), f)
+            for name in a:
+                # bit for bit: the bytes of the arrays, not their values
+                self.assertTrue(np.array_equal(a[name].view(np.uint8), b[name].view(np.uint8)),
+                                f"{f}: {name} differs ({what})")
 
     def test_what_does_not_run_on_ranks_is_refused(self):
         work = scratch("crater_ranks_refused")
