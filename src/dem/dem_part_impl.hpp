@@ -497,7 +497,14 @@ class DemPart final : public parts::Part<D> {
   void distribute_restored();  // distribute() of a part loaded from a checkpoint
   // Grains as the ranks send them: every field, then the packed slots of each (a message of
   // pack_grains is read by unpack_grains into any set of the part's fields and slots).
-  void pack_grains(std::span<const Index> which, std::vector<std::byte>& out) const;
+  struct PackedSlots {
+    const std::vector<std::int64_t>& partner;
+    const std::vector<Vec<D>>& xi;
+    const std::vector<AngularVec<D>>& roll;
+  };
+  void pack_grains(std::span<const Index> which, std::vector<std::byte>& out,
+                   const PackedSlots& slots) const;
+  void clear_wall_slots();
   void unpack_grains(std::span<const std::byte> in, fields::FieldSet<D>& set,
                      std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
                      std::vector<AngularVec<D>>& roll) const;

@@ -196,12 +196,19 @@ void DemPart<D>::distribute_restored() {
   for (std::size_t q = 0; q < order.size(); ++q)
     sorted[q] = local_built[at(order[q])];
   skin_ = skin_.with_positions(std::move(sorted));
+  clear_wall_slots();
+  moved_sq_ = -1;
+  build_lists();
+}
+
+// The walls' histories per grain, emptied for the new count (unpack_history fills them from the
+// packed slots when the lists are built).
+template <int D>
+void DemPart<D>::clear_wall_slots() {
   const std::size_t wall_slots = static_cast<std::size_t>(f_.size()) * wall_planes_.size();
   wall_xi_.assign(wall_slots, Vec<D>::Zero());
   if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
   wall_live_.assign(static_cast<std::size_t>(f_.size()), 0);
-  moved_sq_ = -1;
-  build_lists();
 }
 
 template <int D>
@@ -225,9 +232,11 @@ void DemPart<D>::keep_grains(std::span<const std::uint8_t> keep) {
   f_.compact(keep);
 }
 
-// A message: the grains' count, their fields (every field) and their packed slots.
+// A message: the grains' count, their fields (every field) and their packed slots (those of
+// `slots_of`: partner_, xi_, roll_ at a rebuild; histories packed for the purpose otherwise).
 template <int D>
-void DemPart<D>::pack_grains(std::span<const Index> which, std::vector<std::byte>& out) const {
+void DemPart<D>::pack_grains(std::span<const Index> which, std::vector<std::byte>& out,
+                             const PackedSlots& slots_of) const {
   constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
   const bool rolling = rolling_.friction > 0;
   const auto count = static_cast<std::int64_t>(which.size());
@@ -235,12 +244,12 @@ void DemPart<D>::pack_grains(std::span<const Index> which, std::vector<std::byte
   f_.pack(which, fields::kEveryField, out);
   for (const Index i : which) {
     const std::size_t base = at(i) * slots;
-    put(out, partner_.data() + base, slots * sizeof(std::int64_t));
+    put(out, slots_of.partner.data() + base, slots * sizeof(std::int64_t));
     for (std::size_t s = 0; s < slots; ++s)
-      put(out, reals<D>(xi_[base + s]), D * sizeof(Real));
+      put(out, reals<D>(slots_of.xi[base + s]), D * sizeof(Real));
     if (rolling)
       for (std::size_t s = 0; s < slots; ++s)
-        put(out, angular_reals<D>(roll_[base + s]), kAngular<D> * sizeof(Real));
+        put(out, angular_reals<D>(slots_of.roll[base + s]), kAngular<D> * sizeof(Real));
   }
 }
 
@@ -277,7 +286,7 @@ void DemPart<D>::redistribute(Real reach) {
   const parallel::Comm& comm = *comm_;
   const auto ranks = static_cast<std::size_t>(comm.size());
   auto pack = [&](std::span<const Index> which, std::vector<std::byte>& out) {
-    pack_grains(which, out);
+    pack_grains(which, out, {partner_, xi_, roll_});
   };
   auto unpack = [&](std::span<const std::byte> in) { unpack_grains(in, f_, partner_, xi_, roll_); };
 
@@ -324,11 +333,7 @@ void DemPart<D>::redistribute(Real reach) {
   }
   ghost_.assign(static_cast<std::size_t>(f_.size()), 1);
   std::fill_n(ghost_.begin(), at(owned), std::uint8_t{0});
-  // The walls' histories per grain are unpacked from the slots into arrays of the new count.
-  const std::size_t wall_slots = static_cast<std::size_t>(f_.size()) * wall_planes_.size();
-  wall_xi_.assign(wall_slots, Vec<D>::Zero());
-  if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
-  wall_live_.assign(static_cast<std::size_t>(f_.size()), 0);
+  clear_wall_slots();
 }
 
 // After the canonical sort (order[k]: the grain now at k): the ghost flags and the halo's
@@ -447,13 +452,8 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   std::vector<Vec<D>> xi;
   std::vector<AngularVec<D>> roll;
   if (!packed_) pack_history(partner, xi, roll);
-  // pack_grains sends partner_/xi_/roll_: the packed histories, as at a rebuild.
-  auto* self = const_cast<DemPart<D>*>(this);  // the slots are swapped in and back out
-  if (!packed_) {
-    self->partner_.swap(partner);
-    self->xi_.swap(xi);
-    self->roll_.swap(roll);
-  }
+  const PackedSlots slots_of =
+      packed_ ? PackedSlots{partner_, xi_, roll_} : PackedSlots{partner, xi, roll};
   std::vector<Index> owned;
   std::vector<Real> built;  // each owned grain's position at the lists' build
   const std::span<const Vec<D>> at_build = skin_.positions();
@@ -464,12 +464,7 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
       built.push_back(at_build[at(i)][d]);
   }
   std::vector<std::byte> mine;
-  pack_grains(owned, mine);
-  if (!packed_) {
-    self->partner_.swap(partner);
-    self->xi_.swap(xi);
-    self->roll_.swap(roll);
-  }
+  pack_grains(owned, mine, slots_of);
   std::vector<std::int64_t> bytes;
   const std::vector<std::byte> all = comm.all_gather(mine, &bytes);
   const std::vector<Real> all_built = parallel::all_gather(comm, std::span<const Real>(built));
@@ -516,27 +511,30 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   const neighbors::VerletSkin<D> skin = skin_.with_positions(std::move(w_built));
   // bond_lost_ is a grain index, the count when none was lost (no bonds on ranks): the whole
   // part's count, as one rank holds it.
+  auto* self = const_cast<DemPart<D>*>(this);  // set for the write, then back
   const Index lost = bond_lost_;
   self->bond_lost_ = whole.size();
   archive_bonds_and_ledgers(w, *this, skin);
   self->bond_lost_ = lost;
 }
 
-#define CRATER_DEM_RANKS(D)                                                                     \
-  template void DemPart<D>::distribute(const parallel::Comm&);                                  \
-  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>);                         \
-  template void DemPart<D>::distribute_restored();                                              \
-  template void DemPart<D>::redistribute(Real);                                                 \
-  template void DemPart<D>::reorder_halo(std::span<const Index>);                               \
-  template void DemPart<D>::refresh_ghosts();                                                   \
-  template void DemPart<D>::save_gathered(parts::StateWriter&) const;                           \
-  template void DemPart<D>::pack_grains(std::span<const Index>, std::vector<std::byte>&) const; \
-  template void DemPart<D>::unpack_grains(std::span<const std::byte>, fields::FieldSet<D>&,     \
-                                          std::vector<std::int64_t>&, std::vector<Vec<D>>&,     \
-                                          std::vector<AngularVec<D>>&) const;                   \
-  template Index DemPart<D>::count() const;                                                     \
-  template std::optional<parts::Fault> DemPart<D>::check() const;                               \
-  template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const;         \
+#define CRATER_DEM_RANKS(D)                                                                 \
+  template void DemPart<D>::distribute(const parallel::Comm&);                              \
+  template void DemPart<D>::keep_grains(std::span<const std::uint8_t>);                     \
+  template void DemPart<D>::distribute_restored();                                          \
+  template void DemPart<D>::redistribute(Real);                                             \
+  template void DemPart<D>::reorder_halo(std::span<const Index>);                           \
+  template void DemPart<D>::refresh_ghosts();                                               \
+  template void DemPart<D>::save_gathered(parts::StateWriter&) const;                       \
+  template void DemPart<D>::pack_grains(std::span<const Index>, std::vector<std::byte>&,    \
+                                        const PackedSlots&) const;                          \
+  template void DemPart<D>::clear_wall_slots();                                             \
+  template void DemPart<D>::unpack_grains(std::span<const std::byte>, fields::FieldSet<D>&, \
+                                          std::vector<std::int64_t>&, std::vector<Vec<D>>&, \
+                                          std::vector<AngularVec<D>>&) const;               \
+  template Index DemPart<D>::count() const;                                                 \
+  template std::optional<parts::Fault> DemPart<D>::check() const;                           \
+  template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const;     \
   template std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const;
 CRATER_DEM_RANKS(2)
 CRATER_DEM_RANKS(3)
