@@ -25,6 +25,10 @@ Usage, from the repository root (a run directory with frame 0 written):
 --scale N evaluates the model for a scene of N entities refined uniformly from this one (the halo
 per rank depends only on the entities per rank when cutoffs shrink with the entity size, so the
 measured halo(n) is reused at n = N / P).
+--weak M evaluates weak scaling instead: M entities per rank, the scene refined to P x M on P
+ranks. Each rank's share is then this scene's cut into n / M pieces, whatever P; what grows
+with P is the reductions' tree (2 ceil(log2 P) latencies each). The efficiency is the time of
+one rank alone with M entities (no halo, no messages) over the time of a rank among P.
 
 Per entity-step costs default to the paper-3d coarse level's run (docs/performance.md: loop
 1,164 s on 2 threads, 16,786 steps; charge 110 s, plate 184 s, soil 739 s, contacts and other
@@ -146,6 +150,7 @@ def main():
     ap.add_argument("--ghost-cost", type=float, default=0.5,
                     help="a ghost's cost as a fraction of an owned entity's (default 0.5)")
     ap.add_argument("--scale", type=float, help="entities of a uniformly refined scene")
+    ap.add_argument("--weak", type=float, help="weak scaling: entities per rank")
     a = ap.parse_args()
     parts = entities(a.run_dir, a.frame)
     n = sum(len(p[2]) for p in parts)
@@ -158,6 +163,8 @@ def main():
     print("ranks  P_model  owned/rank  halo/rank (max)  halo/owned  neighbours (max)  "
           "MB/step (max rank)  step ms  efficiency")
     _, total = decompose(parts, 1)
+    if a.weak:
+        return weak(parts, n, total, a, lat, bw)
     target = a.scale or n
     for p in [int(v) for v in a.ranks.split(",")]:
         # Refined scene on P ranks = this scene at the same entities per rank.
@@ -173,6 +180,23 @@ def main():
               f"{max(r['neighbours'] for r in info):16d}  "
               f"{max(r['bytes'] for r in info) / 1e6:18.3f}  {tp * 1e3:7.3f}  "
               f"{t1 / (p * tp):10.2f}")
+    return 0
+
+
+def weak(parts, n, total, a, lat, bw):
+    """Weak scaling at a.weak entities per rank (see the module's docstring)."""
+    pieces = max(2, round(n / a.weak))
+    info, _ = decompose(parts, pieces, a.ghost_cost)
+    factor = a.weak / (n / pieces)  # work per rank relative to this scene's pieces
+    t1 = total * a.weak / n  # one rank alone: its entities, no halo, no messages
+    owned = np.mean([r["owned"] for r in info])
+    print(f"weak scaling at {a.weak:.0f} entities per rank (this scene cut into {pieces} "
+          f"pieces: halo/owned {np.mean([r['halo'] for r in info]) / owned:.2f}, at most "
+          f"{max(r['neighbours'] for r in info)} neighbours)")
+    print("ranks  entities  step ms  efficiency")
+    for p in [int(v) for v in a.ranks.split(",")]:
+        tp = step_time(info, total, p, lat, bw, scale=factor)
+        print(f"{p:5d}  {p * a.weak:8.3g}  {tp * 1e3:7.3f}  {t1 / tp:10.2f}")
     return 0
 
 
