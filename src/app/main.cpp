@@ -19,10 +19,12 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <thread>
 
 #include "app/report.hpp"
 #include "core/error.hpp"
@@ -271,15 +273,16 @@ void resolve_run(CommandLine& cl, int argc, char** argv) {
 }
 
 // The exit code of what a command threw, with its message on stderr.
-int report_failure(const std::exception_ptr& failure, const std::string& out_dir_for_resume) {
-  // On several ranks, input and numerical errors are found by every rank alike (collective
-  // checks): the root says them once. Any other failure may be one rank's alone: that rank
-  // says it, and ends the others, which would otherwise wait for it.
-  const auto& world = crater::parallel::Comm::world();
+// Says what failed; `quiet_shared`: not the errors every rank finds alike (another rank says
+// them), and then `*kept_quiet` tells whether it said nothing.
+int report_failure_here(const std::exception_ptr& failure, const std::string& out_dir_for_resume,
+                        bool quiet_shared, bool* kept_quiet = nullptr) {
+  if (kept_quiet) *kept_quiet = false;
   try {
     std::rethrow_exception(failure);
   } catch (const InputError& e) {
-    if (world.root()) print_input_error(e);
+    if (quiet_shared && kept_quiet) *kept_quiet = true;
+    if (!quiet_shared) print_input_error(e);
     return kExitInput;
   } catch (const Interrupted& e) {
     std::fprintf(stderr,
@@ -288,7 +291,10 @@ int report_failure(const std::exception_ptr& failure, const std::string& out_dir
                  e.what(), out_dir_for_resume.c_str());
     return kExitInterrupted;
   } catch (const NumericalError& e) {
-    if (!world.root()) return kExitNumerical;
+    if (quiet_shared) {
+      if (kept_quiet) *kept_quiet = true;
+      return kExitNumerical;
+    }
     std::fprintf(stderr,
                  "error: %s\n(the state at failure is in the run directory, "
                  "*_failure.vtu)\n",
@@ -305,9 +311,29 @@ int report_failure(const std::exception_ptr& failure, const std::string& out_dir
     return in_loop ? kExitNumerical : kExitInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    if (world.size() > 1) world.abort(1);
     return 1;
   }
+}
+
+// On several ranks, input and numerical errors are mostly found by every rank alike (the
+// scenario, the collective checks): rank 0 says them, once. Any other failure is said by the
+// rank that met it. Then the failing rank ends every rank (MPI_Abort with the exit code): a
+// failure of one rank alone (rank 0 refusing --out, a file one rank cannot read) would leave
+// the others waiting for it in their next collective, and a rank that returned normally would
+// wait for them in MPI_Finalize.
+int report_failure(const std::exception_ptr& failure, const std::string& out_dir_for_resume) {
+  const auto& world = crater::parallel::Comm::world();
+  if (world.size() == 1) return report_failure_here(failure, out_dir_for_resume, false);
+  // Another rank than 0 with an error rank 0 may share: rank 0 is given the time to say it and
+  // end the run; if it does not, the error was this rank's alone, and this rank says it.
+  bool kept_quiet = false;
+  int code = report_failure_here(failure, out_dir_for_resume, !world.root(), &kept_quiet);
+  if (kept_quiet) {
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    code = report_failure_here(failure, out_dir_for_resume, false);
+  }
+  std::fflush(stderr);
+  world.abort(code);
 }
 
 }  // namespace
