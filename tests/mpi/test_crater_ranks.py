@@ -138,6 +138,15 @@ class CraterRunOnRanks(unittest.TestCase):
         p = mpirun(2, "check", SCENE)
         self.assertEqual(p.returncode, 2, p.stderr)
         self.assertIn("only `crater run` runs on several MPI ranks", p.stderr)
+        # An error of rank 0 alone (an --out that holds a run, without --force) ends every
+        # rank: the others used to wait for it forever.
+        out = work / "holds_a_run"
+        p = mpirun(2, "run", SCENE, "--out", out, "--force", "--quiet", "--set",
+                   "time.max_steps=10")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        p = mpirun(2, "run", SCENE, "--out", out, "--quiet", timeout=60)
+        self.assertEqual(p.returncode, 2, p.stderr)
+        self.assertIn("pass --force to replace it", p.stderr)
 
 
 if __name__ == "__main__":
