@@ -466,8 +466,8 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   std::vector<std::byte> mine;
   pack_grains(owned, mine, slots_of);
   std::vector<std::int64_t> bytes;
-  const std::vector<std::byte> all = comm.all_gather(mine, &bytes);
-  const std::vector<Real> all_built = parallel::all_gather(comm, std::span<const Real>(built));
+  const std::vector<std::byte> all = comm.gather(mine, &bytes);
+  const std::vector<Real> all_built = parallel::gather(comm, std::span<const Real>(built));
   if (!comm.root()) return;  // the root writes
   fields::FieldSet<D> whole = f_;
   whole.resize(0);

@@ -152,6 +152,37 @@ std::vector<std::byte> Comm::all_gather(std::span<const std::byte> mine,
 #endif
 }
 
+std::vector<std::byte> Comm::gather(std::span<const std::byte> mine,
+                                    std::vector<std::int64_t>* counts) const {
+  if (!mpi_ || size_ == 1) {
+    if (counts) *counts = {static_cast<std::int64_t>(mine.size())};
+    return {mine.begin(), mine.end()};
+  }
+#ifdef CRATER_HAVE_MPI
+  int n = to_int_count(mine.size());
+  std::vector<int> count(static_cast<std::size_t>(size_)), offset(static_cast<std::size_t>(size_));
+  MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::size_t total = 0;
+  if (rank_ == 0)
+    for (std::size_t r = 0; r < count.size(); ++r) {
+      offset[r] = to_int_count(total);
+      total += static_cast<std::size_t>(count[r]);
+    }
+  std::vector<std::byte> out(total);
+  MPI_Gatherv(mine.data(), n, MPI_BYTE, out.data(), count.data(), offset.data(), MPI_BYTE, 0,
+              MPI_COMM_WORLD);
+  if (counts) {
+    if (rank_ == 0)
+      counts->assign(count.begin(), count.end());
+    else
+      counts->clear();
+  }
+  return out;
+#else
+  return {};
+#endif
+}
+
 std::vector<std::vector<std::byte>> Comm::all_to_all(
     const std::vector<std::vector<std::byte>>& send) const {
   if (static_cast<int>(send.size()) != size_)

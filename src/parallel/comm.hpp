@@ -60,6 +60,12 @@ class Comm {
   std::vector<std::byte> all_gather(std::span<const std::byte> mine,
                                     std::vector<std::int64_t>* counts = nullptr) const;
 
+  /// Every rank's bytes, concatenated in rank order, on rank 0 (`counts`: each rank's byte
+  /// count there); the other ranks get nothing. For what rank 0 alone writes (frames,
+  /// checkpoints).
+  std::vector<std::byte> gather(std::span<const std::byte> mine,
+                                std::vector<std::int64_t>* counts = nullptr) const;
+
   /// Sends send[r] to rank r (send has size() entries; send[rank()] stays here) and returns
   /// what each rank sent to this one, indexed by the source rank.
   std::vector<std::vector<std::byte>> all_to_all(
@@ -91,6 +97,16 @@ template <class T>
 std::vector<T> all_gather(const Comm& comm, std::span<const T> mine) {
   static_assert(std::is_trivially_copyable_v<T>);
   const auto bytes = comm.all_gather(std::as_bytes(mine));
+  std::vector<T> out(bytes.size() / sizeof(T));
+  if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+
+/// Every rank's values, concatenated in rank order, on rank 0; nothing elsewhere.
+template <class T>
+std::vector<T> gather(const Comm& comm, std::span<const T> mine) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  const auto bytes = comm.gather(std::as_bytes(mine));
   std::vector<T> out(bytes.size() / sizeof(T));
   if (!out.empty()) std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
   return out;

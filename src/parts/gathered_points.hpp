@@ -68,9 +68,8 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
         mine.push_back(bits);
       }
   }
-  // Every rank gets every rank's entities (the root alone needs them; a gather to the root,
-  // then one piece per rank, PVTU, come next).
-  const std::vector<Real> all = parallel::all_gather(comm, std::span<const Real>(mine));
+  // The root alone receives them (one piece per rank, PVTU, would spare it the whole part).
+  const std::vector<Real> all = parallel::gather(comm, std::span<const Real>(mine));
   GatheredPoints<D> g;
   if (!comm.root()) return g;
   const std::size_t n = all.size() / words;

@@ -209,6 +209,20 @@ TEST(Ranks, CollectivesAreExactAndInRankOrder) {
   for (int q = 0; q < p; ++q)
     expected.insert(expected.end(), static_cast<std::size_t>(q + 1), q);
   EXPECT_EQ(all, expected);
+  // gather: the same, on rank 0 alone, with each rank's byte count.
+  std::vector<std::int64_t> counts;
+  const auto at_root = comm.gather(std::as_bytes(std::span<const int>(mine)), &counts);
+  if (comm.root()) {
+    EXPECT_EQ(at_root.size(), expected.size() * sizeof(int));
+    EXPECT_EQ(std::memcmp(at_root.data(), expected.data(), at_root.size()), 0);
+    ASSERT_EQ(counts.size(), static_cast<std::size_t>(p));
+    for (int q = 0; q < p; ++q)
+      EXPECT_EQ(counts[static_cast<std::size_t>(q)],
+                static_cast<std::int64_t>((q + 1) * sizeof(int)));
+  } else {
+    EXPECT_TRUE(at_root.empty());
+    EXPECT_TRUE(counts.empty());
+  }
   // all_to_all: rank r sends q bytes of value r to rank q.
   std::vector<std::vector<std::byte>> send(static_cast<std::size_t>(p));
   for (int q = 0; q < p; ++q)
