@@ -127,52 +127,40 @@ void Comm::sum_exact([[maybe_unused]] std::span<Real> x) const {
 #endif
 }
 
-std::vector<std::byte> Comm::all_gather(std::span<const std::byte> mine,
-                                        std::vector<std::int64_t>* counts) const {
-  if (!mpi_ || size_ == 1) {
-    if (counts) *counts = {static_cast<std::int64_t>(mine.size())};
-    return {mine.begin(), mine.end()};
-  }
-#ifdef CRATER_HAVE_MPI
-  int n = to_int_count(mine.size());
-  std::vector<int> count(static_cast<std::size_t>(size_)), offset(static_cast<std::size_t>(size_));
-  MPI_Allgather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  std::size_t total = 0;
-  for (std::size_t r = 0; r < count.size(); ++r) {
-    offset[r] = to_int_count(total);
-    total += static_cast<std::size_t>(count[r]);
-  }
-  std::vector<std::byte> out(total);
-  MPI_Allgatherv(mine.data(), n, MPI_BYTE, out.data(), count.data(), offset.data(), MPI_BYTE,
-                 MPI_COMM_WORLD);
-  if (counts) counts->assign(count.begin(), count.end());
-  return out;
-#else
-  return {};
-#endif
-}
+namespace {
 
-std::vector<std::byte> Comm::gather(std::span<const std::byte> mine,
-                                    std::vector<std::int64_t>* counts) const {
-  if (!mpi_ || size_ == 1) {
+// Every rank's bytes concatenated in rank order, on every rank (`everyone`) or on rank 0 alone
+// (the others get nothing); `counts`: each rank's byte count where the bytes arrive.
+std::vector<std::byte> collect(std::span<const std::byte> mine, std::vector<std::int64_t>* counts,
+                               [[maybe_unused]] int rank, int size, bool mpi,
+                               [[maybe_unused]] bool everyone) {
+  if (!mpi || size == 1) {
     if (counts) *counts = {static_cast<std::int64_t>(mine.size())};
     return {mine.begin(), mine.end()};
   }
 #ifdef CRATER_HAVE_MPI
   int n = to_int_count(mine.size());
-  std::vector<int> count(static_cast<std::size_t>(size_)), offset(static_cast<std::size_t>(size_));
-  MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  std::vector<int> count(static_cast<std::size_t>(size)), offset(static_cast<std::size_t>(size));
+  if (everyone)
+    MPI_Allgather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  else
+    MPI_Gather(&n, 1, MPI_INT, count.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+  const bool receives = everyone || rank == 0;
   std::size_t total = 0;
-  if (rank_ == 0)
+  if (receives)
     for (std::size_t r = 0; r < count.size(); ++r) {
       offset[r] = to_int_count(total);
       total += static_cast<std::size_t>(count[r]);
     }
   std::vector<std::byte> out(total);
-  MPI_Gatherv(mine.data(), n, MPI_BYTE, out.data(), count.data(), offset.data(), MPI_BYTE, 0,
-              MPI_COMM_WORLD);
+  if (everyone)
+    MPI_Allgatherv(mine.data(), n, MPI_BYTE, out.data(), count.data(), offset.data(), MPI_BYTE,
+                   MPI_COMM_WORLD);
+  else
+    MPI_Gatherv(mine.data(), n, MPI_BYTE, out.data(), count.data(), offset.data(), MPI_BYTE, 0,
+                MPI_COMM_WORLD);
   if (counts) {
-    if (rank_ == 0)
+    if (receives)
       counts->assign(count.begin(), count.end());
     else
       counts->clear();
@@ -181,6 +169,18 @@ std::vector<std::byte> Comm::gather(std::span<const std::byte> mine,
 #else
   return {};
 #endif
+}
+
+}  // namespace
+
+std::vector<std::byte> Comm::all_gather(std::span<const std::byte> mine,
+                                        std::vector<std::int64_t>* counts) const {
+  return collect(mine, counts, rank_, size_, mpi_, true);
+}
+
+std::vector<std::byte> Comm::gather(std::span<const std::byte> mine,
+                                    std::vector<std::int64_t>* counts) const {
+  return collect(mine, counts, rank_, size_, mpi_, false);
 }
 
 std::vector<std::vector<std::byte>> Comm::all_to_all(
