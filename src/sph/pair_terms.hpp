@@ -1,6 +1,6 @@
 // The pair terms of the SPH rates, one named step each, for particle i and one neighbour j (a
 // fluid particle, a fixed wall particle or a mirror image behind a free-slip wall). The rates
-// (SphPart::rates, sph_part.cpp) gather them in this order for each neighbour:
+// (SphPart::rates, sph_rates.cpp) gather them in this order for each neighbour:
 //   pair_kernel           r_ij, hbar = (h_i + h_j)/2, grad_i W_ij (nothing beyond the support)
 //   relative_motion       v_ij and mu_ij = hbar v_ij . r_ij / (r_ij^2 + 0.01 hbar^2)
 //   monaghan_viscosity    Pi_ij = (-alpha cbar mu + beta mu^2) / rhobar for v_ij . r_ij < 0
@@ -14,7 +14,7 @@
 //   xsph_velocity         -m_j / rhobar W_ij v_ij (Monaghan 1989)
 // (gather_pair_grad_h: the same steps with the summation density's grad-h pressure and energy
 // terms in place of pressure_acceleration and energy_rate.)
-// The equations with their sources are in sph_part.cpp's header and docs/theory.md. Every step
+// The equations with their sources are in sph_part_impl.hpp's header and docs/theory.md. Every step
 // is inline and forced so (always_inline): the gather is the hot loop of an SPH run, and the
 // steps must cost what the one loop body they replace did. Each step keeps the arithmetic and
 // its order of the loop it came from (bit-identical results).

@@ -17,7 +17,7 @@ namespace crater::sph {
 enum class KernelKind { WendlandC2, CubicSpline };
 
 /// How an SPH part gets its density: integrated from the continuity equation (eq. 32), or summed
-/// over the neighbours' masses at each force stage with h iterated to match (sph_part.cpp).
+/// over the neighbours' masses at each force stage with h iterated to match (sph_rates.cpp).
 enum class DensityKind { Continuity, Summation };
 
 /// Numerics of an SPH part ([parts.sph]).

@@ -1,5 +1,5 @@
 // The summation density of one particle (density = "summation"; SphPart::summation_density in
-// sph_part.cpp runs it for every particle and rebuilds the lists when one asks for it):
+// sph_rates.cpp runs it for every particle and rebuilds the lists when one asks for it):
 //   rho_i = sum_j m_j W(r_ij, h_i)  over the particle itself, its fluid neighbours, its mirror
 //   images and the wall particles, with h_i = h_factor (m_i / rho_i)^(1/D) solved with it
 // (Springel & Hernquist 2002, MNRAS 333, 649; Price 2012, J. Comput. Phys. 231, 759, sec. 3):
