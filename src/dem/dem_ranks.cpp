@@ -26,6 +26,7 @@
 #include "dem/dem_part_impl.hpp"
 #include "fields/exchange.hpp"
 #include "neighbors/cell_grid.hpp"
+#include "parts/on_ranks.hpp"
 #include "parts/state_archive.hpp"
 
 namespace crater::dem::detail {
@@ -397,21 +398,7 @@ template <int D>
 std::optional<parts::Fault> DemPart<D>::check() const {
   std::optional<parts::Fault> mine = local_check();
   if (!comm_) return mine;
-  constexpr auto kNone = std::numeric_limits<std::int64_t>::max();
-  const auto first = comm_->min_with_id({mine ? 0.0 : 1.0, mine ? mine->entity_id : kNone});
-  if (first.value > 0) return std::nullopt;
-  const std::string what = mine && mine->entity_id == first.id ? mine->what : std::string();
-  std::vector<std::int64_t> bytes;
-  const auto all = comm_->all_gather(std::as_bytes(std::span<const char>(what)), &bytes);
-  // The first rank's that found it (an owner and a ghost's rank may both have).
-  std::size_t at = 0;
-  for (const std::int64_t b : bytes) {
-    if (b > 0)
-      return parts::Fault{first.id, std::string(reinterpret_cast<const char*>(all.data()) + at,
-                                                static_cast<std::size_t>(b))};
-    at += static_cast<std::size_t>(b);
-  }
-  return parts::Fault{first.id, "a grain failed on another rank"};
+  return parts::first_fault(*comm_, mine);
 }
 
 template <int D>
@@ -454,15 +441,8 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   if (!packed_) pack_history(partner, xi, roll);
   const PackedSlots slots_of =
       packed_ ? PackedSlots{partner_, xi_, roll_} : PackedSlots{partner, xi, roll};
-  std::vector<Index> owned;
-  std::vector<Real> built;  // each owned grain's position at the lists' build
-  const std::span<const Vec<D>> at_build = skin_.positions();
-  for (Index i = 0; i < f_.size(); ++i) {
-    if (ghost(i)) continue;
-    owned.push_back(i);
-    for (int d = 0; d < D; ++d)
-      built.push_back(at_build[at(i)][d]);
-  }
+  const auto [owned, built] =
+      parts::owned_at_build<D>(f_.size(), skin_.positions(), [&](Index i) { return ghost(i); });
   std::vector<std::byte> mine;
   pack_grains(owned, mine, slots_of);
   std::vector<std::int64_t> bytes;
@@ -480,16 +460,9 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
                   w_partner, w_xi, w_roll);
     from += static_cast<std::size_t>(b);
   }
-  std::vector<Vec<D>> w_built(static_cast<std::size_t>(whole.size()));
-  for (std::size_t q = 0; q < w_built.size(); ++q)
-    for (int d = 0; d < D; ++d)
-      w_built[q][d] = all_built[q * D + static_cast<std::size_t>(d)];
-  const std::vector<fields::FieldView> views = whole.views(fields::kEveryField);
-  const fields::FieldView* id = fields::find_field(views, "id");
   // The order of one rank: cells of the positions at the build, by id within a cell.
-  const auto order = neighbors::cell_sort_order<D>(
-      std::span<const Vec<D>>(w_built), skin_.radius(),
-      std::span<const std::int64_t>(id->integer_data, static_cast<std::size_t>(whole.size())));
+  auto [order, w_built] =  // w_built: in that order
+      parts::order_of_one_rank<D>(whole, std::span<const Real>(all_built), skin_.radius());
   whole.permute(order);
   constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
   auto permute = [&](auto& v, std::size_t per) {
@@ -502,7 +475,6 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   permute(w_partner, slots);
   permute(w_xi, slots);
   permute(w_roll, slots);
-  permute(w_built, 1);
   w.tag("dem");
   whole.save(w);
   w.vector(w_partner);

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <deque>
+#include <numeric>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -206,15 +207,25 @@ class FieldSet {
     if (per == 0 ? !in.empty() : in.size() % per != 0)
       throw std::logic_error("FieldSet::unpack_append: the bytes are not whole entities");
     const Index n = per == 0 ? 0 : static_cast<Index>(in.size() / per);
-    const Index first = size_;
+    std::vector<Index> which(static_cast<std::size_t>(n));
+    std::iota(which.begin(), which.end(), size_);
     resize(size_ + n);
+    unpack_into(which, in, roles);
+    return n;
+  }
+
+  /// Overwrites the entities `which` (in that order) with what pack() of as many entities with
+  /// the same `roles` wrote to `in`: the ghosts' fields refreshed from their owners.
+  void unpack_into(std::span<const Index> which, std::span<const std::byte> in, unsigned roles) {
+    if (in.size() != which.size() * packed_bytes(roles))
+      throw std::logic_error("FieldSet::unpack_into: the bytes do not match the entities");
     std::size_t at = 0;
     for (auto& c : columns_) {
       if (!takes(c.info.roles, roles)) continue;
       std::visit(
           [&](auto& v) {
             using T = typename std::decay_t<decltype(v)>::value_type;
-            for (Index i = first; i < first + n; ++i) {
+            for (const Index i : which) {
               std::memcpy(entry_data(v[static_cast<std::size_t>(i)]), in.data() + at,
                           entry_bytes<T>());
               at += entry_bytes<T>();
@@ -222,7 +233,6 @@ class FieldSet {
           },
           c.data);
     }
-    return n;
   }
 
   /// Views of the fields having any of `roles`, in registration order.

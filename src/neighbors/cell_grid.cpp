@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -154,6 +155,31 @@ std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size,
   if (!key.empty() && key.size() != x.size())
     throw std::invalid_argument("cell_sort_order: one key per point expected");
   const GridSpec<D> grid = make_grid_spec<D>(x, cell_size);
+  const Real h = cell_size * (1 + kCellMargin);
+  if (grid.cell_size != h && grid.origin.isZero()) {
+    // The memory guard coarsened the grid (a sparse set: an expanding charge). Its cells would
+    // depend on the set's extent and count, so the order of a subset (a rank's particles) would
+    // not be that of the whole set: sort by the lattice cells of the size asked for, in the
+    // counting sort's order (first axis slowest), without a dense grid.
+    const std::size_t n = x.size();
+    std::vector<Real> cells(n * D);
+    parallel::for_each(static_cast<Index>(n), [&](Index i) {
+      for (int k = 0; k < D; ++k)
+        cells[static_cast<std::size_t>(i) * D + static_cast<std::size_t>(k)] =
+            std::floor(x[static_cast<std::size_t>(i)][k] / h);
+    });
+    std::vector<Index> order(n);
+    std::iota(order.begin(), order.end(), Index{0});
+    std::sort(order.begin(), order.end(), [&](Index a, Index b) {
+      const Real* ca = &cells[static_cast<std::size_t>(a) * D];
+      const Real* cb = &cells[static_cast<std::size_t>(b) * D];
+      for (int k = 0; k < D; ++k)
+        if (ca[k] != cb[k]) return ca[k] < cb[k];
+      if (!key.empty()) return key[static_cast<std::size_t>(a)] < key[static_cast<std::size_t>(b)];
+      return a < b;
+    });
+    return order;
+  }
   std::vector<Index> cell_start;
   std::vector<Index> order;
   std::vector<Index> cell;

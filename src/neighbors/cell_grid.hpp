@@ -78,9 +78,10 @@ GridSpec<D> make_grid_spec(std::span<const Vec<D>> x, Real cell_size);
 /// cell size: cells follow the lattice anchored at 0 (GridSpec::base), and the lexicographic
 /// order of lattice cells is the order of the linear index on any grid that holds both. So any
 /// subset of the points (one rank's entities and ghosts) sorts into the restriction of the
-/// whole set's order, provided its grid has the same cell size (make_grid_spec's memory guard
-/// not enlarging it), and the neighbour lists built on it list each entity's partners in
-/// the same order as on the whole set (docs/distributed.md).
+/// whole set's order, and the neighbour lists built on it list each entity's partners in the
+/// same order as on the whole set (docs/distributed.md). Where make_grid_spec's memory guard
+/// would coarsen the cells (a sparse set), the points are sorted by their lattice cells of the
+/// size asked for all the same (a comparison sort), so the order never depends on the set.
 template <int D>
 std::vector<Index> cell_sort_order(std::span<const Vec<D>> x, Real cell_size,
                                    std::span<const std::int64_t> key = {});
