@@ -522,11 +522,11 @@ void check_ranks(const io::Config& c) {
                                  what, comm.size()));
   };
   for (const io::PartConfig& p : c.parts) {
-    if (!p.is(io::Method::Dem))
+    if (!p.is(io::Method::Dem) && !p.is(io::Method::Sph))
       refuse(p.where, "parts[" + p.name + "].method",
              "a part of method '" + std::string(io::method_name(p.method())) +
-                 "' (only DEM parts are spread yet)");
-    if (p.packing().settle)
+                 "' (only DEM and SPH parts are spread yet)");
+    if (p.is(io::Method::Dem) && p.packing().settle)
       refuse(p.where, "parts[" + p.name + "].packing.settle",
              "settling a packing (every rank would settle it and write the cache)");
   }

@@ -12,6 +12,7 @@
 
 #include "neighbors/cell_grid.hpp"
 #include "neighbors/pair_radius_list.hpp"
+#include "parts/on_ranks.hpp"
 #include "sph/kernels.hpp"
 #include "sph/sph_part_impl.hpp"
 #include "sph/sph_setup.hpp"
@@ -29,6 +30,7 @@ using parts::to_vec;
 template <int D>
 SphPart<D>::SphPart(const PartSettings& settings)
     : name_(settings.part.name),
+      where_(settings.part.where),
       eos_(settings.eos),
       cfg_(settings.sph),
       spacing_(settings.part.spacing_m),
@@ -46,7 +48,7 @@ SphPart<D>::SphPart(const PartSettings& settings)
       h_(f_.add_scalar("smoothing_length", "m", kStateRoles)),
       p_(f_.add_scalar("pressure", "Pa", kOutput)),
       c_(f_.add_scalar("sound_speed", "m/s", kOutput)),
-      burn_(f_.add_scalar("burn_fraction", "1", kOutput | kRestart)),
+      burn_(f_.add_scalar("burn_fraction", "1", kOutput | kRestart | kHalo)),
       light_(f_.add_scalar("lighting_time", "s", kRestart | kHalo)),
       a_(f_.add_vector("acceleration", "m/s^2", kRestart)),
       drho_(f_.add_scalar("density_rate", "kg/m^3/s", kRestart)),
@@ -56,13 +58,14 @@ SphPart<D>::SphPart(const PartSettings& settings)
       rhoh_(f_.add_scalar("density_half", "kg/m^3", kNone)),
       eh_(f_.add_scalar("energy_half", "J/kg", kNone)),
       dt_cv_(f_.add_scalar("dt_signal", "s", kNone)),
-      omega_(f_.add_scalar("grad_h_omega", "1", kNone)),
+      omega_(f_.add_scalar("grad_h_omega", "1", kHalo)),
       h_list_(f_.add_scalar("list_smoothing_length", "m", kRestart)),
       h_wanted_(f_.add_scalar("wanted_smoothing_length", "m", kNone)),
       list_reach_(f_.add_scalar("list_reach", "m", kNone)),
       fc_(f_.add_vector("contact_force", "N", kRestart)),
       surface_offset_(f_.add_scalar("contact_surface_offset", "m", kRestart)),
-      surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)) {
+      surface_overlap_(f_.add_scalar("contact_surface_overlap", "m", kRestart)),
+      work_external_(f_.add_scalar("work_external", "J", kRestart)) {
   const parts::PartSetup& pc = settings.part;
   const ParticleLattice<D> lattice = particle_lattice<D>(pc, spacing_);
   const std::vector<Vec<D>>& pts = lattice.x;
@@ -105,7 +108,7 @@ SphPart<D>::SphPart(const PartSettings& settings)
   wall_.rho.assign(nw, settings.rho0_kg_m3);
   wall_.c.assign(nw, 0);
   wall_.v.assign(nw, Vec<D>::Zero());
-  resort();
+  resort((1 + kSkin) * WendlandC2<D>::support * h_max_);
 }
 
 template <int D>
@@ -119,6 +122,7 @@ parts::StableStep SphPart<D>::stable_step() const {
   s.dt_s = kInf;
   const Real mu = cfg_.viscosity_pa_s;
   for (Index i = 0; i < f_.size(); ++i) {
+    if (ghost(i)) continue;
     const Real an = a_[i].norm();
     const Real dt_f = an > 0 ? std::sqrt(h_[i] / an) : kInf;
     const Real dt_v = mu > 0 ? Real(0.125) * h_[i] * h_[i] * rho_[i] / mu : kInf;
@@ -132,15 +136,18 @@ parts::StableStep SphPart<D>::stable_step() const {
                      : fmt::format("CFL {} with sound speed {:.4g} m/s", cfg_.cfl, c_[i]);
     }
   }
-  return s;
+  return spread_.active() ? parts::smallest_step(spread_.comm(), s) : s;
 }
 
 template <int D>
 void SphPart<D>::compute_forces(Real t) {
   time_s_ = t;
+  // On ranks the ghosts' state comes from their owners, before anything reads it.
+  if (spread_.active()) spread_.refresh(f_, kHalo);
   if (summation()) {
     update_neighbors();
     summation_density();
+    if (spread_.active()) spread_.refresh(f_, kHalo);  // their summed rho, h and Omega
   } else {
     update_smoothing_lengths();
   }
@@ -156,8 +163,9 @@ std::optional<parts::Fault> SphPart<D>::check() const {
   Index bad = n;
 #pragma omp parallel for schedule(static) reduction(min : bad) if (n >= parallel::parallel_min())
   for (Index i = 0; i < n; ++i)
-    if (!healthy(i)) bad = std::min(bad, i);
-  if (bad == n) return std::nullopt;
+    if (!ghost(i) && !healthy(i)) bad = std::min(bad, i);
+  if (bad == n)
+    return spread_.active() ? parts::first_fault(spread_.comm(), std::nullopt) : std::nullopt;
   const Index i = bad;
   std::string what;
   if (!outflow_remove_ && !in_domain(i))
@@ -173,7 +181,8 @@ std::optional<parts::Fault> SphPart<D>::check() const {
   else
     what = fmt::format("non-finite rate or pressure (p = {} Pa, rho = {} kg/m^3, e = {} J/kg)",
                        p_[i], rho_[i], e_[i]);
-  return parts::Fault{id_[i], what};
+  const parts::Fault fault{id_[i], what};
+  return spread_.active() ? parts::first_fault(spread_.comm(), fault) : fault;
 }
 
 // Velocity Verlet with predicted rates: density and energy are kicked like the velocity, so
@@ -183,7 +192,9 @@ template <int D>
 void SphPart<D>::advance(Real /*t*/, Real dt) {
   const Real half = 0.5 * dt;
   const bool sum_rho = summation();  // the force stage sums the density of t + dt
+  const bool gravity = gravity_.squaredNorm() > 0;
   parallel::for_each(f_.size(), [&](Index i) {
+    if (ghost(i)) return;
     vh_[i] = v_[i] + half * a_[i];
     rhoh_[i] = rho_[i] + half * drho_[i];
     eh_[i] = e_[i] + half * de_[i];
@@ -192,13 +203,11 @@ void SphPart<D>::advance(Real /*t*/, Real dt) {
     v_[i] = vh_[i] + half * a_[i];
     if (!sum_rho) rho_[i] = rhoh_[i] + half * drho_[i];
     e_[i] = eh_[i] + half * de_[i];
+    // Work of gravity over the step, with the mid-step velocity.
+    if (gravity) work_external_[i] += dt * (m_[i] * gravity_.dot(vh_[i]));
   });
   contact_.moved(dt);
   next_contact_.started();
-  // Work of gravity over the step, with the mid-step velocity.
-  if (gravity_.squaredNorm() > 0)
-    external_work_ += dt * parallel::deterministic_sum<Real>(
-                               f_.size(), [&](Index i) { return m_[i] * gravity_.dot(vh_[i]); });
 }
 
 template <int D>
@@ -206,6 +215,7 @@ void SphPart<D>::finish_step(Real dt) {
   const Real half = 0.5 * dt;
   const bool sum_rho = summation();
   parallel::for_each(f_.size(), [&](Index i) {
+    if (ghost(i)) return;
     v_[i] = vh_[i] + half * a_[i];
     if (!sum_rho) rho_[i] = rhoh_[i] + half * drho_[i];
     e_[i] = eh_[i] + half * de_[i];
@@ -250,21 +260,10 @@ void SphPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
 
 template <int D>
 parts::Energies SphPart<D>::energies() const {
-  struct KU {
-    Real k = 0, u = 0;
-    KU& operator+=(const KU& o) {
-      k += o.k;
-      u += o.u;
-      return *this;
-    }
-  };
-  const KU s = parallel::deterministic_sum<KU>(f_.size(), [&](Index i) {
-    return KU{0.5 * m_[i] * v_[i].squaredNorm(), m_[i] * e_[i]};
-  });
   parts::Energies en;
-  en.kinetic_j = s.k;
-  en.internal_j = s.u;
-  en.external_work_j = external_work_;
+  en.kinetic_j = total([&](Index i) { return 0.5 * m_[i] * v_[i].squaredNorm(); });
+  en.internal_j = total([&](Index i) { return m_[i] * e_[i]; });
+  en.external_work_j = total([&](Index i) { return work_external_[i]; }, external_work_);
   en.contact_j = -contact_.work_j;
   en.eroded_j = outflow_.energy_j();
   return en;
@@ -284,12 +283,15 @@ void SphPart<D>::remove_outflow() {
     return parts::Removed{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() + m_[i] * e_[i]};
   });
   outflow_.book(name_, "particles", time_s_, leaving, removed);
+  // The leaving particles' work books stay with the part.
+  external_work_ += parallel::deterministic_sum<Real>(
+      n, [&](Index i) { return outflow_.kept(i) ? Real(0) : work_external_[i]; });
   outflow_.compact(f_);
   // The rates of the state without them (lists rebuilt, in their order), the contact forces
   // added as in add_contact_forces: the next half kick owes nothing to a removed particle and
   // the pair terms stay equal and opposite. Without this their pressure work over that half
   // kick went unbooked (1 % of the energy of the gas disk of tests/verification/outflow).
-  rebuild_lists();
+  relist(false);
   pair_rates();
   parallel::for_each(f_.size(), [&](Index i) { a_[i] += fc_[i] / m_[i]; });
 }
@@ -297,32 +299,52 @@ void SphPart<D>::remove_outflow() {
 // Verlet lists (1967) per particle: i's serve h up to h_list_i, a pair is listed when within
 // (1 + kSkin) x the support of the larger h_list at the rebuild, and they are kept while no
 // support plus twice the largest displacement outgrows that. Re-sorted at rebuilds (locality).
+// On ranks the decision is every rank's (the largest over them): the lists are rebuilt at the
+// steps of one rank.
 template <int D>
 void SphPart<D>::update_neighbors() {
   if (!lists_stale()) return;
-  resort();
-  rebuild_lists();
+  relist(true);
 }
 
 template <int D>
 bool SphPart<D>::lists_stale() const {
   const Index n = f_.size();
-  if (skin_.radius() <= 0 || skin_.positions().size() != at(n)) return true;
-  const Real excess =
-      parallel::max_over(n, -kInf, [&](Index i) { return h_[i] - (1 + kSkin) * h_list_[i]; });
-  return WendlandC2<D>::support * excess + 2 * skin_.moved(std::span<const Vec<D>>(x_)) > 0;
+  const bool none = skin_.radius() <= 0 || skin_.positions().size() != at(n);  // no lists
+  const Real excess = none ? kInf : parallel::max_over(n, -kInf, [&](Index i) {
+    return ghost(i) ? -kInf : h_[i] - (1 + kSkin) * h_list_[i];
+  });
+  const Real moved = none ? 0 : skin_.moved(std::span<const Vec<D>>(x_));
+  // Each extreme over every rank's particles, then the test of the extremes: one rank's test.
+  return WendlandC2<D>::support * global_max(excess) + 2 * global_max(moved) > 0;
 }
 
-// i's lists serve h_i or more (asked); all the largest within 2x.
+// New lists: the smoothing lengths they serve (set_list_h), on ranks the particles moved to their
+// owners and the ghosts within reach (fields::Spread), the canonical order (`sort`: a cell order
+// by the new lists' reach, ids breaking ties; the order of one rank, which a checkpoint written
+// on ranks restores from the positions of the build), then the lists.
 template <int D>
-void SphPart<D>::rebuild_lists() {
-  parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = std::max(h_[i], h_wanted_[i]); });
-  const Real lo = -parallel::max_over(f_.size(), -kInf, [&](Index i) { return -h_list_[i]; });
-  h_max_ =
-      std::max(h_max_, parallel::max_over(f_.size(), 0.0, [&](Index i) { return h_list_[i]; }));
-  if (h_max_ <= 2 * lo) parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = h_max_; });
-  skin_.built(std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_);
+void SphPart<D>::relist(bool sort) {
+  set_list_h();
+  const Real need = WendlandC2<D>::support * h_max_;
+  const Real radius = (1 + kSkin) * need;  // the lists' reach, as skin_.built makes it
+  if (spread_.active()) spread_.rebuild(f_, x_, id_, halo_reach(radius));
+  if (sort) resort(radius);
+  skin_.built(std::span<const Vec<D>>(x_), need);
   build_lists();
+}
+
+// i's lists serve h_i or more (asked); all the largest within 2x. Over this rank's own
+// particles (the ghosts go at the rebuild), the extremes over every rank's.
+template <int D>
+void SphPart<D>::set_list_h() {
+  parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = std::max(h_[i], h_wanted_[i]); });
+  const Real lo = -global_max(parallel::max_over(
+      f_.size(), -kInf, [&](Index i) { return ghost(i) ? -kInf : -h_list_[i]; }));
+  h_max_ = std::max(h_max_, global_max(parallel::max_over(f_.size(), 0.0, [&](Index i) {
+                      return ghost(i) ? Real(0) : h_list_[i];
+                    })));
+  if (h_max_ <= 2 * lo) parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = h_max_; });
 }
 
 // Lists at the last rebuild's positions (a restart: the same); walls/images: the largest h.
@@ -346,37 +368,26 @@ void SphPart<D>::build_lists() {
 }
 
 template <int D>
-void SphPart<D>::resort() {
+void SphPart<D>::resort(Real cell_m) {
   const auto order = neighbors::cell_sort_order<D>(  // within a cell by id: canonical
-      std::span<const Vec<D>>(x_), WendlandC2<D>::support * h_max_, std::span(id_));
+      std::span<const Vec<D>>(x_), cell_m, std::span(id_));
   f_.permute(order);
+  spread_.permuted(order);
 }
 
 // The checkpoint layout, for both directions (Self: const for writing).
 template <int D>
-template <class Archive, class Self>
-void SphPart<D>::archive(Archive& a, Self& s) {
-  a.tag("sph");
-  a.block(s.f_);
-  a.value(s.h_max_);
-  a.value(s.external_work_);
-  a.value(s.contact_.work_j);
-  a.value(s.contact_.last_dt_s);
-  a.value(s.contact_.pending);
-  a.value(s.reflections_);
-  a.value(s.max_penetration_);
-  a.block(s.skin_);
-  a.block(s.outflow_);
-}
-
-template <int D>
 void SphPart<D>::save_state(parts::StateWriter& w) const {
-  archive(w, *this);
+  if (spread_.active()) {
+    save_gathered(w);
+    return;
+  }
+  archive(w, *this, f_, skin_, reflections_, max_penetration_);
 }
 
 template <int D>
 void SphPart<D>::load_state(parts::StateReader& r) {
-  archive(r, *this);
+  archive(r, *this, f_, skin_, reflections_, max_penetration_);
   if (skin_.radius() > 0) build_lists();
 }
 
@@ -396,9 +407,10 @@ void SphPart<D>::load_state(parts::StateReader& r) {
   template void SphPart<D>::remove_outflow();                                         \
   template void SphPart<D>::update_neighbors();                                       \
   template bool SphPart<D>::lists_stale() const;                                      \
-  template void SphPart<D>::rebuild_lists();                                          \
+  template void SphPart<D>::relist(bool);                                             \
+  template void SphPart<D>::set_list_h();                                             \
   template void SphPart<D>::build_lists();                                            \
-  template void SphPart<D>::resort();                                                 \
+  template void SphPart<D>::resort(Real);                                             \
   template void SphPart<D>::save_state(parts::StateWriter&) const;                    \
   template void SphPart<D>::load_state(parts::StateReader&);
 CRATER_SPH_PART(2)

@@ -28,6 +28,7 @@
 //                  checkpoints, make_sph_part
 //   sph_rates.cpp  the force stage's kernels: summation density, EOS, the wall particles' and
 //                  mirror images' states, the pair sums (rates), the smoothing lengths
+//   sph_ranks.cpp  the part spread over MPI ranks (docs/distributed.md, "The SPH part on ranks")
 #pragma once
 
 #include <algorithm>
@@ -43,6 +44,7 @@
 #include "core/index.hpp"
 #include "core/types.hpp"
 #include "fields/field_set.hpp"
+#include "fields/spread.hpp"
 #include "materials/eos/eos.hpp"
 #include "neighbors/neighbor_list.hpp"
 #include "neighbors/verlet_skin.hpp"
@@ -72,9 +74,9 @@ class SphPart final : public parts::Part<D> {
 
   const std::string& name() const override { return name_; }
   const char* method() const override { return "sph"; }
-  Index count() const override { return f_.size(); }
+  Index count() const override;
   Real mass_kg() const override {
-    return parallel::deterministic_sum<Real>(f_.size(), [&](Index i) { return m_[i]; });
+    return total([&](Index i) { return m_[i]; });
   }
 
   parts::StableStep stable_step() const override;
@@ -107,8 +109,8 @@ class SphPart final : public parts::Part<D> {
   std::vector<parts::Diagnostic> diagnostics() const override {
     std::vector<parts::Diagnostic> d;
     if (has_walls_) {
-      d.push_back({"wall_reflections", static_cast<Real>(reflections_)});
-      d.push_back({"wall_max_penetration_m", max_penetration_});
+      d.push_back({"wall_reflections", static_cast<Real>(all_reflections())});
+      d.push_back({"wall_max_penetration_m", global_max(max_penetration_)});
     }
     if (outflow_remove_) outflow_.add_diagnostics(d);
     return d;
@@ -116,6 +118,11 @@ class SphPart final : public parts::Part<D> {
 
   void save_state(parts::StateWriter& w) const override;
   void load_state(parts::StateReader& r) override;
+
+  // sph_ranks.cpp: the part on several ranks.
+  void distribute(const parallel::Comm& comm) override;
+  std::optional<parts::GatheredPoints<D>> gathered_points() const override;
+  std::vector<parts::Diagnostic> rank_figures() const override;
 
  private:
   Real initial_energy(Real rho, std::optional<Real> pressure) const {
@@ -140,6 +147,29 @@ class SphPart final : public parts::Part<D> {
     }
   }
 
+  // On ranks: whether particle i is a copy of another rank's (a ghost: never integrated, its
+  // fields refreshed from its owner); the largest value over the ranks.
+  bool ghost(Index i) const {
+    return spread_.ghost(i);
+  }
+  Real global_max(Real x) const {
+    return spread_.active() ? spread_.comm().max(x) : x;
+  }
+  Index all_reflections() const {
+    return spread_.active() ? static_cast<Index>(spread_.comm().sum(reflections_)) : reflections_;
+  }
+  // The sum over the part's particles (this rank's own) and `extra`, by the reproducible sum: the
+  // same bits for any thread and rank count (collective on ranks).
+  template <class Term>
+  Real total(Term&& term, Real extra = 0) const {
+    std::vector<Real> terms;
+    terms.reserve(static_cast<std::size_t>(f_.size()) + 1);
+    for (Index i = 0; i < f_.size(); ++i)
+      if (!ghost(i)) terms.push_back(term(i));
+    terms.push_back(extra);
+    return parallel::reproducible_sum(spread_.active() ? spread_.comm() : parallel::Comm{}, terms);
+  }
+
   bool in_domain(Index i) const {
     return parts::in_box<D>(x_[i], domain_lo_, domain_hi_);
   }
@@ -155,11 +185,33 @@ class SphPart final : public parts::Part<D> {
   void remove_outflow();
   void update_neighbors();
   bool lists_stale() const;
-  void rebuild_lists();
+  void relist(bool sort);
+  void set_list_h();
   void build_lists();
-  void resort();
-  template <class Archive, class Self>
-  static void archive(Archive& a, Self& s);
+  void resort(Real cell_m);  // the canonical order: cells of cell_m, ids breaking ties
+  // The checkpoint layout; `whole`, `skin` and the wall counts are the part's own on one rank, the
+  // gathered part's on ranks (save_gathered).
+  template <class Archive, class Self, class Fields, class Skin, class Count, class Depth>
+  static void archive(Archive& a, Self& s, Fields& whole, Skin& skin, Count& reflections,
+                      Depth& penetration) {
+    a.tag("sph");
+    a.block(whole);
+    a.value(s.h_max_);
+    a.value(s.external_work_);
+    a.value(s.contact_.work_j);
+    a.value(s.contact_.last_dt_s);
+    a.value(s.contact_.pending);
+    a.value(reflections);
+    a.value(penetration);
+    a.block(skin);
+    a.block(s.outflow_);
+  }
+
+  // sph_ranks.cpp.
+  Real halo_reach(Real radius) const {  // a wall particle's fluid neighbours: twice the reach
+    return wall_x_.empty() ? radius : 2 * radius;
+  }
+  void save_gathered(parts::StateWriter& w) const;
 
   // sph_rates.cpp: the force stage. Its member templates and always_inline helpers are defined
   // and used there alone.
@@ -183,6 +235,7 @@ class SphPart final : public parts::Part<D> {
   [[gnu::always_inline]] static inline Neighbour<D> with_grad_h(Neighbour<D> n, Real h, Real omega);
 
   std::string name_;
+  SourceLocation where_;  // of the part in the scenario (errors)
   materials::EosParams eos_;
   Settings cfg_;
   Real spacing_;
@@ -229,6 +282,7 @@ class SphPart final : public parts::Part<D> {
   }
   std::vector<Real>& surface_offset_;   // parts::ContactPoints::surface_offset
   std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
+  std::vector<Real>& work_external_;    // done on it by gravity [J], since t = 0
   mutable std::vector<Real> contact_radius_;
   parts::ContactWork contact_;  // work of the contact forces on the part
 
@@ -241,7 +295,7 @@ class SphPart final : public parts::Part<D> {
   neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_, fluid_to_ghost_;
   std::vector<neighbors::NeighborList> levels_;  // build_pair_radius_list's scratch
   Real h_max_ = 0;
-  Real external_work_ = 0;
+  Real external_work_ = 0;  // of the particles removed (outflow) [J]
   bool has_walls_ = false;
   Index reflections_ = 0;
   Real max_penetration_ = 0;  // deepest crossing of a walled face that was reflected [m]
@@ -250,7 +304,8 @@ class SphPart final : public parts::Part<D> {
   // Particles removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
   // their kinetic + internal energy when removed [J] (eroded_j).
   parts::OutflowRemoval outflow_;
-  Real time_s_ = 0;  // of the last force stage, for the log
+  Real time_s_ = 0;           // of the last force stage, for the log
+  fields::Spread<D> spread_;  // on ranks: the cuts, the ghosts and their exchanges
 };
 
 }  // namespace crater::sph::detail

@@ -51,7 +51,7 @@ void SphPart<D>::update_smoothing_lengths() {
     const Real volume = m_[i] / rho_[i];
     h_[i] = hf * (D == 2 ? std::sqrt(volume) : std::cbrt(volume));
   });
-  h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
+  h_max_ = std::max(h0_, global_max(parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; })));
 }
 
 template <int D>
@@ -66,19 +66,22 @@ void SphPart<D>::summation_density() {
 // A particle that needs a larger h than its lists serve asks for a rebuild, where its lists
 // serve twice that h (capped), and the whole pass repeats from the h reached. Each
 // particle reads only positions, masses and its own h, in its lists' order: the same numbers
-// for any thread count.
+// for any thread count. On ranks each rank solves its own particles (the ghosts' come from their
+// owners after the pass, compute_forces), with the largest displacement over every rank's, and
+// every rank repeats the pass when one particle anywhere asks for it.
 template <int D>
 template <class Kernel>
 void SphPart<D>::summation_density() {
-  const Index n = f_.size();
   const Real hf = cfg_.h_factor;
   const Real inv_d = Real(1) / D;
   for (int pass = 0;; ++pass) {
-    const Real moved = skin_.moved(std::span<const Vec<D>>(x_));
+    const Index n = f_.size();  // on ranks a rebuild moves particles
+    const Real moved = global_max(skin_.moved(std::span<const Vec<D>>(x_)));
     if (!ghosts_.empty()) ghosts_.place(std::span<const Vec<D>>(x_));
-    const Real wanted = parallel::max_over(
+    const Real wanted = global_max(parallel::max_over(
         n, 0.0,
         [&](Index i) {
+          if (ghost(i)) return Real(0);
           const Real cap = kMaxHGrowth * hf * std::pow(m_[i] / rho_material_, inv_d);
           const Real reach_h =
               ((1 + kSkin) * WendlandC2<D>::support * h_list_[i] - 2 * moved) / Kernel::support;
@@ -91,13 +94,13 @@ void SphPart<D>::summation_density() {
           h_wanted_[i] = s.want > 0 ? std::min(2 * s.want, cap) : 0;
           return s.want;
         },
-        parallel::Cost::heavy);
+        parallel::Cost::heavy));
     if (wanted <= 0 || pass >= 8) break;
-    resort();
-    rebuild_lists();
+    relist(true);
   }
   std::fill(h_wanted_.begin(), h_wanted_.end(), Real(0));
-  h_max_ = std::max(h0_, parallel::max_over(n, 0.0, [&](Index i) { return h_[i]; }));
+  h_max_ = std::max(h0_, global_max(parallel::max_over(
+                             f_.size(), 0.0, [&](Index i) { return ghost(i) ? Real(0) : h_[i]; })));
 }
 
 // The kernel sums of particle i at h over itself, its fluid neighbours, its mirror images and
@@ -238,6 +241,7 @@ void SphPart<D>::rates() {
   parallel::for_each(
       n,
       [&](Index i) {
+        if (ghost(i)) return;  // its owner's
         const Centre<D> me = centre(c, i);
         PairSums<D> s;
         if (grad_h) {

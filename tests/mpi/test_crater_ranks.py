@@ -18,40 +18,17 @@ every file is again the uninterrupted run's.
 Scenes with what does not run on ranks yet are refused with exit code 2 and a message naming
 the key.
 """
-import os
-import shutil
 import subprocess
 import sys
 import unittest
-from pathlib import Path
 
-import numpy as np
+from crater_test import BIN, SOURCE_DIR, scratch
+from on_ranks import MPIRUN, assert_resumes, assert_same_run, by_id, files, mpirun
 
-from crater_test import BIN, SOURCE_DIR, read_vtu, scratch, summary_without_run_block
-
-MPIRUN = os.environ.get("CRATER_MPIRUN", "")
 SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
 # Checkpoints by step count only (a wall-clock one would come when a run is slow).
 CHECKPOINTS = ["--set", "output.checkpoint_every_steps=500", "--set", "output.checkpoint_every_s=0"]
-
-
-def mpirun(np_, *args, threads=1, timeout=240):
-    env = dict(os.environ)
-    env.update({"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
-                "OMPI_MCA_btl_vader_single_copy_mechanism": "none",
-                "OMPI_MCA_rmaps_base_oversubscribe": "1", "OMP_NUM_THREADS": str(threads),
-                # every loop parallel, even over these few grains (src/parallel/parallel.hpp)
-                "CRATER_PARALLEL_MIN": "0"})
-    return subprocess.run([MPIRUN, "-np", str(np_), BIN, *map(str, args)], env=env,
-                          capture_output=True, text=True, timeout=timeout)
-
-
-def by_id(path):
-    pts, arrays, _, time = read_vtu(path)
-    order = np.argsort(arrays["id"], kind="stable")
-    out = {name: a[order] for name, a in arrays.items()}
-    out["points"] = pts[order]
-    return out, time
+CKPTS = ["step_000000001000.ckpt", "step_000000001224.ckpt"]
 
 
 @unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")
@@ -62,8 +39,7 @@ class CraterRunOnRanks(unittest.TestCase):
         p = subprocess.run([BIN, "run", SCENE, "--out", ref, "--force", "--quiet", "--threads",
                             "1", *CHECKPOINTS], capture_output=True, text=True, timeout=240)
         self.assertEqual(p.returncode, 0, p.stderr)
-        names = sorted(f.name for f in ref.iterdir() if f.is_file())
-        frames = [n for n in names if n.endswith(".vtu")]
+        frames = [n for n in files(ref) if n.endswith(".vtu")]
         self.assertEqual(len(frames), 5)
         first, _ = by_id(ref / frames[0])
         self.assertEqual(len(first["id"]), 729)
@@ -73,58 +49,18 @@ class CraterRunOnRanks(unittest.TestCase):
                 p = mpirun(np_, "run", SCENE, "--out", out, "--force", "--quiet", "--threads",
                            threads, *CHECKPOINTS, threads=threads)
                 self.assertEqual(p.returncode, 0, p.stderr)
-                self.assertEqual(sorted(f.name for f in out.iterdir() if f.is_file()), names)
-                self.assertEqual((out / "history.csv").read_bytes(),
-                                 (ref / "history.csv").read_bytes())
-                self.assertEqual(summary_without_run_block(out / "summary.json"),
-                                 summary_without_run_block(ref / "summary.json"))
-                self.assertEqual((out / "bed.pvd").read_bytes(), (ref / "bed.pvd").read_bytes())
-                self.assert_same_checkpoints(ref, out)
-                self.assert_same_frames(ref, out, frames, f"{np_} ranks x {threads} threads")
+                assert_same_run(self, ref, out, f"{np_} ranks x {threads} threads", CKPTS)
         # Resumed from the checkpoint of 2 ranks at step 1000, on 3 ranks and on 1.
-        two = work / "ranks2_threads1"
         for np_ in (3, 1):
             with self.subTest(resumed_on=np_):
-                again = work / f"resumed_on_{np_}"
-                shutil.copytree(two, again)
-                (again / "summary.json").unlink()
-                args = ["run", SCENE, "--restart", again / "checkpoints" / "step_000000001000.ckpt",
-                        "--quiet", "--threads", "1", *CHECKPOINTS]
-                p = mpirun(np_, *args) if np_ > 1 else subprocess.run(
-                    [BIN, *map(str, args)], capture_output=True, text=True, timeout=240)
-                self.assertEqual(p.returncode, 0, p.stderr)
-                for n in names:
-                    if n.endswith(".vtu") or n in ("summary.json", "crater-command.toml"):
-                        continue
-                    self.assertEqual((again / n).read_bytes(), (two / n).read_bytes(), n)
-                self.assertEqual(summary_without_run_block(again / "summary.json"),
-                                 summary_without_run_block(two / "summary.json"))
-                self.assert_same_checkpoints(two, again)
-                self.assert_same_frames(two, again, frames, f"resumed on {np_}")
-
-    def assert_same_checkpoints(self, a, b):
-        names = sorted(f.name for f in (a / "checkpoints").iterdir())
-        self.assertEqual(names, ["step_000000001000.ckpt", "step_000000001224.ckpt"])
-        self.assertEqual(sorted(f.name for f in (b / "checkpoints").iterdir()), names)
-        for n in names:
-            self.assertEqual((a / "checkpoints" / n).read_bytes(),
-                             (b / "checkpoints" / n).read_bytes(), n)
-
-    def assert_same_frames(self, ref, out, frames, what):
-        for f in frames:
-            a, ta = by_id(ref / f)
-            b, tb = by_id(out / f)
-            self.assertEqual(ta, tb, f)
-            self.assertEqual(sorted(a), sorted(b), f)
-            for name in a:
-                # bit for bit: the bytes of the arrays, not their values
-                self.assertTrue(np.array_equal(a[name].view(np.uint8), b[name].view(np.uint8)),
-                                f"{f}: {name} differs ({what})")
+                assert_resumes(self, SCENE, work / "ranks2_threads1", CKPTS[0], np_, CHECKPOINTS,
+                               f"resumed on {np_}")
 
     def test_what_does_not_run_on_ranks_is_refused(self):
         work = scratch("crater_ranks_refused")
         cases = [
-            (["demo"], "key 'parts[charge].method': a part of method 'sph' (only DEM parts"),
+            (["paper-20cm"],
+             "key 'parts[plate].method': a part of method 'fem' (only DEM and SPH parts"),
             ([SCENE, "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
         ]
         for args, expected in cases:

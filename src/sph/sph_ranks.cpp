@@ -1,0 +1,125 @@
+// The SPH part on several ranks (issue 29, docs/distributed.md, "The SPH part on ranks").
+//
+// Each rank owns the particles of its box of a recursive coordinate bisection (the cuts made
+// once, from the whole part, fields::Spread) and holds, beside them, copies of the other ranks'
+// particles within the lists' reach of its own (ghosts; twice that with wall particles, whose
+// state averages their own fluid neighbours), in the same arrays. Owned particles and ghosts are
+// sorted together in the canonical order (a cell order by the lists' reach, ids breaking ties),
+// so every list row, and every sum of a particle's rates, runs over the same neighbours in the
+// same order as on one rank. Ghosts are never integrated nor summed: their state (kHalo fields:
+// position, velocity, mass, density, energy, h, burn, Omega) comes from their owners at the start
+// of every force stage and, with the summation density, again after it; the EOS is evaluated on
+// them. At each rebuild of the lists (a global decision) particles move to the rank whose box
+// now holds them and the ghosts are made anew.
+#include <span>
+#include <string>
+#include <vector>
+
+#include "parts/on_ranks.hpp"
+#include "sph/kernels.hpp"
+#include "sph/sph_part_impl.hpp"
+
+namespace crater::sph::detail {
+
+template <int D>
+void SphPart<D>::distribute(const parallel::Comm& comm) {
+  auto refuse = [&](const std::string& key, const std::string& what) {
+    throw InputError(where_, "parts[" + name_ + "]." + key,
+                     what +
+                         " does not run on several MPI ranks yet (issue 29; "
+                         "docs/distributed.md): run it on one rank");
+  };
+  if (spread_.active()) throw std::logic_error("sph: distribute() twice");
+  if (outflow_remove_) refuse("domain.outflow", "an SPH part whose particles leave (outflow)");
+  if (summation() && cfg_.wall_no_slip && has_walls_)
+    // A wall particle's density, which the summation reads, is its last average: on ranks it
+    // may be a partial one from before the particles near it came to this rank.
+    refuse("sph.density", "the summation density beside no-slip walls (wall_slip = \"no\")");
+  if (skin_.radius() > 0 && skin_.positions().size() == static_cast<std::size_t>(f_.size())) {
+    spread_ = fields::Spread<D>();
+    const std::vector<Vec<D>> kept =
+        spread_.restore(comm, f_, skin_.positions(), id_, halo_reach(skin_.radius()));
+    skin_ = skin_.with_positions(kept);
+    if (!comm.root()) reflections_ = 0;  // the whole part's count, held by the root
+    build_lists();
+    return;
+  }
+  spread_.start(comm, f_, x_);
+  skin_.invalidate();  // the first force stage builds the lists, and the ghosts
+}
+
+template <int D>
+Index SphPart<D>::count() const {
+  if (!spread_.active()) return f_.size();
+  return static_cast<Index>(
+      spread_.comm().sum(static_cast<std::int64_t>(spread_.owned(f_.size()))));
+}
+
+template <int D>
+std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const {
+  if (!spread_.active()) return std::nullopt;
+  return parts::gather_points<D>(spread_.comm(), std::span<const std::int64_t>(id_),
+                                 std::span<const Vec<D>>(x_), point_fields(),
+                                 [&](Index i) { return !ghost(i); });
+}
+
+// The particles each rank owns (fewest, most) and the ghosts it holds (mean, most), and the bytes
+// of one refresh of the ghosts' state summed over the ranks.
+template <int D>
+std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const {
+  if (!spread_.active()) return {};
+  const parallel::Comm& comm = spread_.comm();
+  const auto owned = static_cast<Real>(spread_.owned(f_.size()));
+  const Index ghosts = spread_.ghosts();
+  const auto all_ghosts = static_cast<Real>(comm.sum(static_cast<std::int64_t>(ghosts)));
+  return {{"owned_min", comm.min(owned)},
+          {"owned_max", comm.max(owned)},
+          {"ghosts_mean", all_ghosts / static_cast<Real>(comm.size())},
+          {"ghosts_max", comm.max(static_cast<Real>(ghosts))},
+          {"ghost_refresh_bytes_per_step",
+           all_ghosts * static_cast<Real>(f_.packed_bytes(fields::kHalo)) * (summation() ? 2 : 1)}};
+}
+
+// A checkpoint on ranks: every rank sends its particles (every field, and where each was when the
+// lists were built) to the root, which writes the whole part in the order one rank holds it: the
+// cell order of the positions at that build by the lists' reach, ids breaking ties (relist). The
+// file is that of a run on one rank, byte for byte, and resumes there or on any rank count.
+template <int D>
+void SphPart<D>::save_gathered(parts::StateWriter& w) const {
+  const parallel::Comm& comm = spread_.comm();
+  const auto [owned, built] =
+      parts::owned_at_build<D>(f_.size(), skin_.positions(), [&](Index i) { return ghost(i); });
+  std::vector<std::byte> mine;
+  f_.pack(owned, fields::kEveryField, mine);
+  std::vector<std::int64_t> bytes;
+  const std::vector<std::byte> all = comm.gather(mine, &bytes);
+  const std::vector<Real> all_built = parallel::gather(comm, std::span<const Real>(built));
+  const Index reflections = all_reflections();
+  const Real penetration = global_max(max_penetration_);
+  if (!comm.root()) return;  // the root writes
+  fields::FieldSet<D> whole = f_;
+  whole.resize(0);
+  std::size_t from = 0;
+  for (const std::int64_t b : bytes) {  // each rank's particles, field after field
+    whole.unpack_append(std::span<const std::byte>(all).subspan(from, static_cast<std::size_t>(b)),
+                        fields::kEveryField);
+    from += static_cast<std::size_t>(b);
+  }
+  auto [order, sorted] =
+      parts::order_of_one_rank<D>(whole, std::span<const Real>(all_built), skin_.radius());
+  whole.permute(order);
+  const neighbors::VerletSkin<D> skin = skin_.with_positions(std::move(sorted));
+  archive(w, *this, whole, skin, reflections, penetration);
+}
+
+#define CRATER_SPH_RANKS(D)                                                             \
+  template void SphPart<D>::distribute(const parallel::Comm&);                          \
+  template Index SphPart<D>::count() const;                                             \
+  template std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const; \
+  template std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const;             \
+  template void SphPart<D>::save_gathered(parts::StateWriter&) const;
+CRATER_SPH_RANKS(2)
+CRATER_SPH_RANKS(3)
+#undef CRATER_SPH_RANKS
+
+}  // namespace crater::sph::detail

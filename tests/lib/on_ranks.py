@@ -1,0 +1,105 @@
+"""Helpers for the tests that run crater on several MPI ranks (tests/mpi/*.py): the launcher,
+and the comparison of a run on ranks with the plain run of one rank, bit for bit.
+
+CRATER_MPIRUN (set by CMake in a build with MPI; empty otherwise, and the tests are skipped)
+names the launcher.
+"""
+import os
+import shutil
+import subprocess
+
+import numpy as np
+
+from crater_test import BIN, read_vtu, summary_without_run_block
+
+MPIRUN = os.environ.get("CRATER_MPIRUN", "")
+
+
+def mpirun(np_, *args, threads=1, timeout=240):
+    """crater under the launcher on np_ ranks of `threads` threads (oversubscribed as needed)."""
+    env = dict(os.environ)
+    env.update({"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+                "OMPI_MCA_btl_vader_single_copy_mechanism": "none",
+                "OMPI_MCA_rmaps_base_oversubscribe": "1", "OMP_NUM_THREADS": str(threads),
+                # every loop parallel, even over these few entities (src/parallel/parallel.hpp)
+                "CRATER_PARALLEL_MIN": "0"})
+    return subprocess.run([MPIRUN, "-np", str(np_), BIN, *map(str, args)], env=env,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def plain(*args, timeout=240):
+    """crater without a launcher (one rank)."""
+    return subprocess.run([BIN, *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def by_id(path):
+    """A VTU frame's points and point arrays ordered by the entities' ids, and its time."""
+    pts, arrays, _, time = read_vtu(path)
+    order = np.argsort(arrays["id"], kind="stable")
+    out = {name: a[order] for name, a in arrays.items()}
+    out["points"] = pts[order]
+    return out, time
+
+
+def files(run):
+    return sorted(f.name for f in run.iterdir() if f.is_file())
+
+
+def assert_same_checkpoints(test, a, b, expected):
+    names = sorted(f.name for f in (a / "checkpoints").iterdir())
+    test.assertEqual(names, expected)
+    test.assertEqual(sorted(f.name for f in (b / "checkpoints").iterdir()), names)
+    for n in names:
+        test.assertEqual((a / "checkpoints" / n).read_bytes(),
+                         (b / "checkpoints" / n).read_bytes(), n)
+
+
+def assert_same_frames(test, ref, out, what):
+    """Every VTU frame of `ref` in `out` with the same bits, entity by entity (by id)."""
+    for f in [n for n in files(ref) if n.endswith(".vtu")]:
+        a, ta = by_id(ref / f)
+        b, tb = by_id(out / f)
+        test.assertEqual(ta, tb, f)
+        test.assertEqual(sorted(a), sorted(b), f)
+        for name in a:
+            # bit for bit: the bytes of the arrays, not their values
+            test.assertTrue(np.array_equal(a[name].view(np.uint8), b[name].view(np.uint8)),
+                            f"{f}: {name} differs ({what})")
+
+
+def assert_same_run(test, ref, out, what, checkpoints):
+    """`out` holds the files of `ref`: history, PVD collections and checkpoints byte for byte,
+    the summary but its "run" block, every frame's points and point data by id."""
+    names = files(ref)
+    test.assertEqual(files(out), names, what)
+    for n in names:
+        if n == "history.csv" or n.endswith(".pvd"):
+            test.assertEqual((out / n).read_bytes(), (ref / n).read_bytes(), f"{n} ({what})")
+    test.assertEqual(summary_without_run_block(out / "summary.json"),
+                     summary_without_run_block(ref / "summary.json"), what)
+    assert_same_checkpoints(test, ref, out, checkpoints)
+    assert_same_frames(test, ref, out, what)
+
+
+def assert_resumes(test, scene, run, checkpoint, ranks, sets, what):
+    """The run in `run` resumed from its checkpoint `checkpoint` on `ranks` ranks (1: plain)
+    writes the files of the uninterrupted run again."""
+    again = run.parent / f"{run.name}_resumed_on_{ranks}"
+    if again.exists():
+        shutil.rmtree(again)
+    shutil.copytree(run, again)
+    (again / "summary.json").unlink()
+    args = ["run", scene, "--restart", again / "checkpoints" / checkpoint, "--quiet",
+            "--threads", "1", *sets]
+    p = mpirun(ranks, *args) if ranks > 1 else plain(*args)
+    test.assertEqual(p.returncode, 0, p.stderr)
+    for n in files(run):
+        if n.endswith(".vtu") or n in ("summary.json", "crater-command.toml"):
+            continue
+        test.assertEqual((again / n).read_bytes(), (run / n).read_bytes(), f"{n} ({what})")
+    test.assertEqual(summary_without_run_block(again / "summary.json"),
+                     summary_without_run_block(run / "summary.json"), what)
+    ckpts = sorted(f.name for f in (run / "checkpoints").iterdir())
+    assert_same_checkpoints(test, run, again, ckpts)
+    assert_same_frames(test, run, again, what)

@@ -1,0 +1,91 @@
+# ctest-processors: 2
+# ctest-timeout: 400
+"""The SPH part on several MPI ranks (issue 29, docs/distributed.md, "The SPH part on ranks").
+
+Each scene is run without a launcher on one thread (the reference) and under mpirun on several
+ranks (oversubscribed on 2 cores); every run must give the reference's files bit for bit
+(history.csv and the PVD collection byte for byte, summary.json but its "run" block, every VTU
+frame's points and point data by particle id, read with VTK's reader, and the checkpoints byte
+for byte: the root writes the whole part in the order one rank holds it):
+- tests/data/sph_ranks_2d.toml, a dam break of 800 particles: no-slip walls of dummy particles
+  with the continuity density; then free-slip walls (mirror images) with the summation density;
+- tests/data/sph_ranks_3d.toml, a TNT sphere of 912 particles expanding into vacuum at km/s:
+  continuity, then summation density.
+A 2-rank checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again.
+"""
+import sys
+import unittest
+
+from crater_test import SOURCE_DIR, scratch
+from on_ranks import MPIRUN, assert_resumes, assert_same_run, by_id, files, mpirun, plain
+
+DATA = SOURCE_DIR / "tests" / "data"
+
+
+def checkpoints(every):
+    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
+            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=10"]
+
+
+# scene, --set options, checkpoint interval [steps], the checkpoints written, rank counts
+# (ranks, threads per rank), particles
+CASES = {
+    "dam_no_slip": (DATA / "sph_ranks_2d.toml", [], 1000,
+                    ["step_000000001000.ckpt", "step_000000002000.ckpt",
+                     "step_000000002269.ckpt"], [(2, 1), (3, 1), (4, 1), (2, 2)], 800),
+    "dam_free_slip_summation": (DATA / "sph_ranks_2d.toml",
+                                ["--set", 'parts.fluid.sph.wall_slip="free"', "--set",
+                                 'parts.fluid.sph.density="summation"'], 1000,
+                                ["step_000000001000.ckpt", "step_000000002000.ckpt",
+                                 "step_000000002458.ckpt"], [(2, 1), (3, 1)], 800),
+    "tnt_continuity": (DATA / "sph_ranks_3d.toml", [], 50,
+                       ["step_000000000050.ckpt", "step_000000000086.ckpt"],
+                       [(2, 1), (3, 1), (4, 1), (2, 2)], 912),
+    "tnt_summation": (DATA / "sph_ranks_3d.toml", ['--set', 'parts.charge.sph.density="summation"'],
+                      40, None, [(2, 1), (3, 1)], 912),
+}
+
+
+@unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")
+class SphOnRanks(unittest.TestCase):
+    def run_case(self, name, resume=False):
+        scene, sets, every, ckpts, ranks, particles = CASES[name]
+        work = scratch(f"sph_ranks_{name}")
+        ref = work / "plain"
+        opts = [*sets, *checkpoints(every)]
+        p = plain("run", scene, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        first, _ = by_id(ref / [n for n in files(ref) if n.endswith(".vtu")][0])
+        self.assertEqual(len(first["id"]), particles)
+        if ckpts is None:  # the steps of this variant: whatever the reference took
+            ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
+        self.assertGreaterEqual(len(ckpts), 2)
+        for np_, threads in ranks:
+            with self.subTest(case=name, ranks=np_, threads=threads):
+                out = work / f"ranks{np_}_threads{threads}"
+                p = mpirun(np_, "run", scene, "--out", out, "--force", "--quiet", "--threads",
+                           threads, *opts, threads=threads)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                assert_same_run(self, ref, out, f"{name}: {np_} ranks x {threads} threads",
+                                ckpts)
+        if resume:
+            for np_ in (3, 1):
+                with self.subTest(case=name, resumed_on=np_):
+                    assert_resumes(self, scene, work / "ranks2_threads1", ckpts[0], np_, opts,
+                                   f"{name}: resumed on {np_}")
+
+    def test_dam_break_no_slip_walls(self):
+        self.run_case("dam_no_slip", resume=True)
+
+    def test_dam_break_free_slip_walls_summation_density(self):
+        self.run_case("dam_free_slip_summation")
+
+    def test_tnt_sphere_continuity(self):
+        self.run_case("tnt_continuity", resume=True)
+
+    def test_tnt_sphere_summation_density(self):
+        self.run_case("tnt_summation", resume=True)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1])
