@@ -691,6 +691,7 @@ class DemPart final : public parts::Part<D> {
   // local grains whose motion goes there (halo_send_) and the ghosts that come from it
   // (halo_recv_), each in the order of the exchange.
   const parallel::Comm* comm_ = nullptr;
+  Index rebalances_ = 0;  // on ranks: how often the cuts were made again
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::vector<Index>> halo_send_, halo_recv_;

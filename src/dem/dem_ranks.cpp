@@ -25,6 +25,7 @@
 
 #include "dem/dem_part_impl.hpp"
 #include "fields/exchange.hpp"
+#include "fields/spread.hpp"
 #include "neighbors/cell_grid.hpp"
 #include "parts/on_ranks.hpp"
 #include "parts/state_archive.hpp"
@@ -297,7 +298,14 @@ void DemPart<D>::redistribute(Real reach) {
     keep[at(i)] = !ghost(i);
   keep_grains(keep);
 
-  // 2. Grains now in another rank's box move there.
+  // 2. Grains now in another rank's box move there; the cuts are made again first if the ranks'
+  // grain counts part by more than fields::kRebalanceTolerance.
+  const std::vector<Real> weight(static_cast<std::size_t>(f_.size()), 1.0);
+  if (auto cuts = fields::rebalanced_cuts<D>(comm, std::span<const Vec<D>>(x_.data(), x_.size()),
+                                             std::span<const Real>(weight))) {
+    cuts_ = std::move(*cuts);
+    ++rebalances_;
+  }
   std::vector<std::vector<Index>> leaving(ranks);
   keep.assign(static_cast<std::size_t>(f_.size()), 1);
   for (Index i = 0; i < f_.size(); ++i) {
@@ -425,7 +433,8 @@ std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const {
           {"owned_max", comm_->max(static_cast<Real>(owned))},
           {"ghosts_mean", all_ghosts / ranks},
           {"ghosts_max", comm_->max(static_cast<Real>(ghosts))},
-          {"ghost_refresh_bytes_per_step", all_ghosts * kRefreshBytes}};
+          {"ghost_refresh_bytes_per_step", all_ghosts * kRefreshBytes},
+          {"rebalances", static_cast<Real>(rebalances_)}};
 }
 
 // A checkpoint on ranks: every rank sends its grains (fields, packed histories, and where each

@@ -3,7 +3,8 @@
 // an entity's state is its fields alone (the SPH part; the DEM part, whose grains also carry
 // their contact histories, has its own, src/dem/dem_ranks.cpp):
 // - the cuts, a recursive coordinate bisection of the whole set at the start (every rank holds
-//   all of it then), by count, made once;
+//   all of it then), by count; made again at a rebuild when one rank carries more than
+//   kRebalanceTolerance above the mean of a weight the part gives (rebalanced_cuts);
 // - at each rebuild of the part's lists: the ghosts go, the entities whose position lies in
 //   another rank's box move there with every field, and each rank receives copies of the other
 //   ranks' entities within a reach of its own (ghosts, every field), appended after its own;
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <utility>
@@ -28,6 +30,42 @@
 
 namespace crater::fields {
 
+/// A rank's load above the mean beyond which the cuts are made again (rebalanced_cuts).
+inline constexpr Real kRebalanceTolerance = 0.10;
+
+/// New cuts when the ranks' loads part: each rank's entities `x` with their weights `w` (its own
+/// entities only); when the heaviest rank's summed weight exceeds the mean by more than
+/// kRebalanceTolerance, the cuts of an RCB of every rank's entities (all-gathered in rank order),
+/// else nothing. Every rank decides alike from the same gathered sums. Collective.
+template <int D>
+std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
+                                                    std::span<const Vec<D>> x,
+                                                    std::span<const Real> w) {
+  Real mine = 0;
+  for (const Real v : w)
+    mine += v;
+  const std::vector<Real> load = parallel::all_gather(comm, std::span<const Real>(&mine, 1));
+  Real sum = 0, most = 0;
+  for (const Real v : load) {
+    sum += v;
+    most = std::max(most, v);
+  }
+  const Real mean = sum / static_cast<Real>(load.size());
+  if (!(most > (1 + kRebalanceTolerance) * mean)) return std::nullopt;
+  std::vector<Real> coords(x.size() * D);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (int d = 0; d < D; ++d)
+      coords[i * D + static_cast<std::size_t>(d)] = x[i][d];
+  const std::vector<Real> all = parallel::all_gather(comm, std::span<const Real>(coords));
+  const std::vector<Real> all_w = parallel::all_gather(comm, w);
+  std::vector<Vec<D>> all_x(all_w.size());
+  for (std::size_t i = 0; i < all_x.size(); ++i)
+    for (int d = 0; d < D; ++d)
+      all_x[i][d] = all[i * D + static_cast<std::size_t>(d)];
+  return parallel::rcb_tree<D>(std::span<const Vec<D>>(all_x), std::span<const Real>(all_w),
+                               comm.size());
+}
+
 template <int D>
 class Spread {
  public:
@@ -40,6 +78,8 @@ class Spread {
     return local_count - static_cast<Index>(std::count(ghost_.begin(), ghost_.end(), 1));
   }
   Index ghosts() const { return static_cast<Index>(std::count(ghost_.begin(), ghost_.end(), 1)); }
+  /// How many times the cuts were made again (rebalanced_cuts).
+  Index rebalances() const { return rebalances_; }
 
   /// Cuts the whole set (every rank holds all of it, in the same order) by RCB of the positions
   /// x (a field of `set`), every entity weighted 1, and keeps this rank's entities, in their
@@ -58,18 +98,29 @@ class Spread {
     recv_.assign(static_cast<std::size_t>(comm.size()), {});
   }
 
-  /// At a rebuild of the lists (every rank at once): the ghosts go; the entities whose position
-  /// x (a field of `set`) lies in another rank's box move there with every field; then each
-  /// rank receives copies of the others' entities within `reach` of the box of its own, with
-  /// every field, appended after its own in rank order. `id` is the set's id field.
+  /// At a rebuild of the lists (every rank at once): the ghosts go; the cuts are made again if
+  /// the ranks' loads part (rebalanced_cuts, by the entities' `weight`, one per local entity,
+  /// the ghosts' ignored); the entities whose position x (a field of `set`) lies in another
+  /// rank's box move there with every field; then each rank receives copies of the others'
+  /// entities within `reach` of the box of its own, with every field, appended after its own in
+  /// rank order. `id` is the set's id field.
   Traffic rebuild(FieldSet<D>& set, const std::vector<Vec<D>>& x,
-                  const std::vector<std::int64_t>& id, Real reach) {
+                  const std::vector<std::int64_t>& id, Real reach, std::span<const Real> weight) {
     const parallel::Comm& comm = *comm_;
     const auto ranks = static_cast<std::size_t>(comm.size());
     std::vector<std::uint8_t> keep(ghost_.size());
-    for (std::size_t i = 0; i < keep.size(); ++i)
+    std::vector<Real> own_weight;
+    for (std::size_t i = 0; i < keep.size(); ++i) {
       keep[i] = ghost_[i] == 0;
+      if (keep[i]) own_weight.push_back(weight[i]);
+    }
     set.compact(keep);
+    if (auto cuts = rebalanced_cuts<D>(
+            comm, std::span<const Vec<D>>(x.data(), static_cast<std::size_t>(set.size())),
+            own_weight)) {
+      cuts_ = std::move(*cuts);
+      ++rebalances_;
+    }
     std::vector<int> owner(static_cast<std::size_t>(set.size()));
     for (std::size_t i = 0; i < owner.size(); ++i)
       owner[i] = cuts_.owner(x[i]);
@@ -188,6 +239,7 @@ class Spread {
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;              // per local entity
   std::vector<std::vector<Index>> send_, recv_;  // per rank: what goes there, what comes from it
+  Index rebalances_ = 0;
 };
 
 }  // namespace crater::fields

@@ -328,7 +328,14 @@ void SphPart<D>::relist(bool sort) {
   set_list_h();
   const Real need = WendlandC2<D>::support * h_max_;
   const Real radius = (1 + kSkin) * need;  // the lists' reach, as skin_.built makes it
-  if (spread_.active()) spread_.rebuild(f_, x_, id_, halo_reach(radius));
+  if (spread_.active()) {
+    // A particle's cost: its pairs on the lists of the last build (1 + row length), or 1.
+    std::vector<Real> cost(static_cast<std::size_t>(f_.size()), 1);
+    if (list_.size() == f_.size())
+      for (Index i = 0; i < f_.size(); ++i)
+        cost[at(i)] += static_cast<Real>(list_.of(i).size());
+    spread_.rebuild(f_, x_, id_, halo_reach(radius), cost);
+  }
   if (sort) resort(radius);
   skin_.built(std::span<const Vec<D>>(x_), need);
   build_lists();

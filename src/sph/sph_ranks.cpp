@@ -63,8 +63,8 @@ std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const {
                                  [&](Index i) { return !ghost(i); });
 }
 
-// The particles each rank owns (fewest, most) and the ghosts it holds (mean, most), and the bytes
-// of one refresh of the ghosts' state summed over the ranks.
+// The particles each rank owns (fewest, most) and the ghosts it holds (mean, most), the bytes of
+// one refresh of the ghosts' state summed over the ranks, and how often the cuts were made again.
 template <int D>
 std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const {
   if (!spread_.active()) return {};
@@ -77,7 +77,8 @@ std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const {
           {"ghosts_mean", all_ghosts / static_cast<Real>(comm.size())},
           {"ghosts_max", comm.max(static_cast<Real>(ghosts))},
           {"ghost_refresh_bytes_per_step",
-           all_ghosts * static_cast<Real>(f_.packed_bytes(fields::kHalo)) * (summation() ? 2 : 1)}};
+           all_ghosts * static_cast<Real>(f_.packed_bytes(fields::kHalo)) * (summation() ? 2 : 1)},
+          {"rebalances", static_cast<Real>(spread_.rebalances())}};
 }
 
 // A checkpoint on ranks: every rank sends its particles (every field, and where each was when the
