@@ -10,7 +10,8 @@ for byte: the root writes the whole part in the order one rank holds it):
 - tests/data/sph_ranks_2d.toml, a dam break of 800 particles: no-slip walls of dummy particles
   with the continuity density; then free-slip walls (mirror images) with the summation density;
 - tests/data/sph_ranks_3d.toml, a TNT sphere of 912 particles expanding into vacuum at km/s:
-  continuity, then summation density.
+  continuity, then summation density;
+- `make run`'s demo (scenarios/demo.toml), the 2D TNT charge of 1,264 particles, 97 steps.
 A 2-rank checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again. On 4
 ranks the dam break's cuts are made again as the water flows (fields::rebalanced_cuts): every
 rank keeps a share of the water.
@@ -44,6 +45,8 @@ CASES = {
     "tnt_continuity": (DATA / "sph_ranks_3d.toml", [], 50,
                        ["step_000000000050.ckpt", "step_000000000086.ckpt"],
                        [(2, 1), (3, 1), (4, 1), (2, 2)], 912),
+    "demo": ("demo", [], 50, ["step_000000000050.ckpt", "step_000000000097.ckpt"],
+             [(2, 1), (3, 1), (4, 1), (2, 2)], 1264),
     "tnt_summation": (DATA / "sph_ranks_3d.toml", ['--set', 'parts.charge.sph.density="summation"'],
                       40, None, [(2, 1), (3, 1)], 912),
 }
@@ -94,6 +97,9 @@ class SphOnRanks(unittest.TestCase):
 
     def test_tnt_sphere_continuity(self):
         self.run_case("tnt_continuity", resume=True)
+
+    def test_make_run_demo(self):
+        self.run_case("demo", resume=True)
 
     def test_tnt_sphere_summation_density(self):
         self.run_case("tnt_summation", resume=True)
