@@ -1,4 +1,5 @@
-// The FEM part; see fem_part.hpp.
+// The FEM part; see fem_part.hpp. Its class is in fem_part_impl.hpp; here are the class's
+// longer members and make_fem_part.
 #include "fem/fem_part.hpp"
 
 #include <fmt/format.h>
@@ -22,6 +23,7 @@
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
 #include "fem/fem_output_fields.hpp"
+#include "fem/fem_part_impl.hpp"
 #include "fem/geostatic.hpp"
 #include "fem/mesh_state_layout.hpp"
 #include "parallel/parallel.hpp"
@@ -59,724 +61,588 @@ Real tabulated(const std::vector<Real>& t, const std::vector<Real>& v, Real time
   return (1 - w) * v[j - 1] + w * v[j];
 }
 
-template <int D>
-class FemPart final : public parts::Part<D> {
- public:
-  explicit FemPart(const PartSettings& settings)
-      : name_(settings.part.name), material_(solid_material(settings)) {
-    const parts::PartSetup& pc = settings.part;
-    MeshSource<D> source = build_mesh_source<D>(settings);
-    if (source.reordered > 0)
-      spdlog::warn(
-          "part '{}': {} elements of {} were numbered clockwise (as seen along the normal); "
-          "their node order was mirrored",
-          name_, source.reordered, settings.fem.mesh_file);
-    mesh_ = std::move(source.mesh);
-    initialise(mesh_, material_);
-    if (const auto& g = settings.fem.geostatic)  // the stress at t = 0 (a restart loads its own)
-      apply_geostatic_stress(mesh_, material_, *g, pc.domain.gravity_m_s2, name_);
-    // The erosion floor follows from the mesh at rest (the same on a restart).
-    if (settings.fem.erosion_step_ratio > 0)
-      material_.erosion_min_step_s =
-          settings.fem.erosion_step_ratio * stable_time_step(mesh_, material_);
-    // So does the mass-scaling floor.
-    if (settings.fem.mass_scaling_step_ratio > 0) {
-      material_.mass_scaling_min_step_s =
-          settings.fem.mass_scaling_step_ratio * stable_time_step(mesh_, material_);
-      mass_scaling_limit_ = settings.fem.mass_scaling_limit;
-    }
-    const Index nn = mesh_.node_count();
-    for (int k = 0; k < D; ++k)
-      gravity_[k] = pc.domain.gravity_m_s2[at(k)];
-    Vec<D> v0;
-    for (int k = 0; k < D; ++k)
-      v0[k] = pc.initial.velocity_m_s[at(k)];
-    mesh_.velocity.assign(at(nn), v0);
-    // Zones set the initial velocity of the nodes inside them (later zones win).
-    for (const auto& z : pc.zones) {
-      if (!z.velocity_m_s) continue;
-      Vec<D> vz;
-      for (int k = 0; k < D; ++k)
-        vz[k] = (*z.velocity_m_s)[at(k)];
-      for (Index i = 0; i < nn; ++i)
-        if (parts::region_contains<D>(z.region, mesh_.reference_position[at(i)]))
-          mesh_.velocity[at(i)] = vz;
-    }
-    initial_mass_ = total_mass();
-
-    live_elements_of_node_.assign(at(nn), 0);
-    for (const auto& nodes : mesh_.elements)
-      for (Index n : nodes)
-        ++live_elements_of_node_[at(n)];
-    element_accounted_.assign(at(mesh_.element_count()), 0);
-    constrained_.assign(at(nn), 0);
-    imposed_velocity_.assign(at(nn), Vec<D>::Zero());
-    dashpot_of_node_.assign(at(nn), -1);
-    acceleration_.assign(at(nn), Vec<D>::Zero());
-    external_force_.assign(at(nn), Vec<D>::Zero());
-    dashpot_force_.assign(at(nn), Vec<D>::Zero());
-    contact_force_.assign(at(nn), Vec<D>::Zero());
-    rebuild_surface();
-    for (const auto& b : settings.fem.boundaries)
-      apply_boundary_config(source, b);
-    walls_ = rigid_walls<D>(settings.fem.rigid_walls, mesh_.position, name_);
-    wall_work_.assign(walls_.empty() ? 0 : at(nn), 0);
-    apply_symmetry_planes(pc);
-    for (const auto& l : settings.fem.loads)
-      add_pressure_load(source, l);
-    for (auto& [name, set] : source.groups)  // for contacts restricted to a group
-      group_nodes_.emplace(name, std::move(set.nodes));
-    if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
-    impose_velocities();
-
-    last_.stable_dt_s = stable_time_step(mesh_, material_);
-  }
-
-  const std::string& name() const override { return name_; }
-  const char* method() const override { return "fem"; }
-  Index count() const override { return mesh_.element_count() - eroded_count_; }
-  Real mass_kg() const override { return total_mass(); }
-
-  parts::StableStep stable_step() const override {
-    parts::StableStep s;
-    s.dt_s = last_.stable_dt_s;
-    s.entity_id = last_.limiting_element;
-    s.reason = material_.mass_scaling_min_step_s > 0
-                   ? "element size / dilatational wave speed (with bulk viscosity, mass-scaled)"
-                   : "element size / dilatational wave speed (with bulk viscosity)";
-    return s;
-  }
-
-  void compute_forces(Real t_s) override {
-    if (!stale_) return;
-    last_ = compute_internal_forces(mesh_, material_, dt_pending_);
-    if (last_.mass_added_kg > 0) {
-      added_mass_ += last_.mass_added_kg;
-      mass_scaling_dissipated_ += last_.mass_scaling_dissipated_j;
-      dissipated_ += last_.mass_scaling_dissipated_j;
-      if (mass_scaled_first_ < 0) mass_scaled_first_ = last_.first_mass_scaled_element;
-    }
-    if (last_.newly_eroded > 0) account_erosion();
-    if (!loads_.empty()) pressure_forces(t_s);
-    const Real dt = dt_pending_;
-    const Index nn = mesh_.node_count();
-    struct Work {
-      Real external = 0, dissipated = 0;
-      Work& operator+=(const Work& o) {
-        external += o.external;
-        dissipated += o.dissipated;
-        return *this;
-      }
-    };
-    // New accelerations and the work of the external forces over the step just taken
-    // (trapezoidal in the force: dx . (f^n + f^{n+1}) / 2 with dx = v^{n+1/2} dt).
-    std::vector<Work> work(at(nn));
-    parallel::for_each(nn, [&](Index i) {
-      const std::size_t u = at(i);
-      const Real m = mesh_.mass[u];
-      if (!(m > 0)) {
-        acceleration_[u].setZero();
-        external_force_[u].setZero();
-        dashpot_force_[u].setZero();
-        return;
-      }
-      const Vec<D>& v = mesh_.velocity[u];
-      Vec<D> external = m * gravity_;
-      if (!load_force_.empty()) external += load_force_[u];
-      Vec<D> dashpot = Vec<D>::Zero();
-      if (const Index d = dashpot_of_node_[u]; d >= 0) dashpot = -(dashpot_matrix_[at(d)] * v);
-      Vec<D> f = mesh_.internal_force[u] + external + dashpot;
-      for (int k = 0; k < D; ++k)
-        if (constrained_[u] & (1u << k)) {
-          external[k] -= f[k];  // the reaction holding the imposed component
-          f[k] = 0;
-        }
-      acceleration_[u] = f / m;
-      if (dt > 0) {
-        work[u].external = Real(0.5) * dt * v.dot(external_force_[u] + external);
-        work[u].dissipated = -Real(0.5) * dt * v.dot(dashpot_force_[u] + dashpot);
-      }
-      external_force_[u] = external;
-      dashpot_force_[u] = dashpot;
-    });
-    const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) { return work[at(i)]; });
-    external_work_ += w.external;
-    dissipated_ += w.dissipated;
-    stale_ = false;
-  }
-
-  std::optional<parts::Fault> check() const override {
-    if (material_.mass_scaling_min_step_s > 0 && added_mass_ > mass_scaling_limit_ * initial_mass_)
-      return parts::Fault{
-          last_.first_mass_scaled_element >= 0 ? last_.first_mass_scaled_element
-                                               : mass_scaled_first_,
-          fmt::format("mass scaling has added {:.4g} kg, {:.3g} % of the part's initial mass, "
-                      "past fem.mass_scaling_limit = {:.3g}; raise the limit, lower "
-                      "fem.mass_scaling_step_ratio, or let crushed elements erode "
-                      "(fem.erosion_step_ratio)",
-                      added_mass_, 100 * added_mass_ / initial_mass_, mass_scaling_limit_)};
-    if (last_.inverted_element >= 0)
-      return parts::Fault{last_.inverted_element,
-                          "element inverted (volume <= 0): the mesh is tangled; lower "
-                          "time.safety_factor or raise the hourglass coefficient"};
-    const Index bad = first_index(mesh_.node_count(), [&](Index i) {
-      return !acceleration_[at(i)].allFinite() || !mesh_.position[at(i)].allFinite();
-    });
-    if (bad >= 0)
-      return parts::Fault{bad,
-                          "non-finite position or acceleration at node " + std::to_string(bad)};
-    const Index bad_e = first_index(mesh_.element_count(),
-                                    [&](Index e) { return !mesh_.stress[at(e)].allFinite(); });
-    if (bad_e >= 0) return parts::Fault{bad_e, "non-finite stress"};
-    return std::nullopt;
-  }
-
-  void advance(Real /*t_s*/, Real dt_s) override {
-    const Real half = Real(0.5) * dt_s;
-    parallel::for_each(mesh_.node_count(), [&](Index i) {
-      const std::size_t u = at(i);
-      Vec<D>& v = mesh_.velocity[u];
-      const Vec<D> a = total_acceleration(u);
-      v += half * a;
-      impose_velocity(u);
-      if (!walls_.empty())
-        wall_work_[u] = hold_off_walls(walls_, mesh_.position[u], v, mesh_.mass[u], dt_s, a);
-      mesh_.position[u] += dt_s * v;
-    });
-    if (!walls_.empty())
-      external_work_ += parallel::deterministic_sum<Real>(
-          mesh_.node_count(), [&](Index i) { return wall_work_[at(i)]; });
-    dt_pending_ = dt_s;
-    stale_ = true;
-    contact_pending_ = true;
-    next_contact_.started();
-  }
-
-  void finish_step(Real dt_s) override {
-    const Real half = Real(0.5) * dt_s;
-    parallel::for_each(mesh_.node_count(), [&](Index i) {
-      const std::size_t u = at(i);
-      mesh_.velocity[u] += half * total_acceleration(u);
-      impose_velocity(u);
-    });
-    // Multi-rate: the next step may start with other contact forces than this one ended with.
-    next_contact_.finished([&](const auto& f, const auto&) { contact_force_ = f; });
-  }
-
-  const std::vector<Index>* group_nodes(const std::string& group) const override {
-    const auto it = group_nodes_.find(group);
-    return it == group_nodes_.end() ? nullptr : &it->second;
-  }
-
-  std::optional<parts::ContactSurface<D>> contact_surface() const override {
-    parts::ContactSurface<D> s;
-    s.node_position = lagged_.view(mesh_.position);
-    s.node_velocity = &mesh_.velocity;
-    s.node_mass = &mesh_.mass;
-    s.faces = &surface_faces_;
-    s.face_element = &surface_element_;
-    s.face_stiffness = &surface_stiffness_;
-    s.revision = surface_revision_;
-    return s;
-  }
-
-  void set_contact_lag(Real lag_s) override {
-    lagged_.set(mesh_.position, lag_s, [&](Index i) { return mesh_.velocity[at(i)]; });
-  }
-  void set_next_contact_forces(const std::vector<Vec<D>>& force,
-                               const std::vector<AxialVec<D>>& torque) override {
-    if (static_cast<Index>(force.size()) != mesh_.node_count())
-      throw std::logic_error("fem: next contact forces for another node count");
-    next_contact_.set(force, torque, [&](const auto& f, const auto&) { contact_force_ = f; });
-  }
-
-  void add_contact_forces(const std::vector<Vec<D>>& force,
-                          const std::vector<AxialVec<D>>& /*torque*/) override {
-    const Index nn = mesh_.node_count();
-    if (static_cast<Index>(force.size()) != nn)
-      throw std::logic_error("fem: contact forces for another node count");
-    if (contact_pending_ && dt_pending_ > 0) {
-      // Work of the contact forces over the step just taken (trapezoidal, v = v^{n+1/2}); on
-      // imposed components the support takes the force, and does the opposite work.
-      struct Work {
-        Real contact = 0, support = 0;
-        Work& operator+=(const Work& o) {
-          contact += o.contact;
-          support += o.support;
-          return *this;
-        }
-      };
-      const Real half_dt = Real(0.5) * dt_pending_;
-      const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) {
-        const std::size_t u = at(i);
-        const Vec<D> mean = contact_force_[u] + force[u];
-        Work r;
-        r.contact = half_dt * mesh_.velocity[u].dot(mean);
-        for (int k = 0; k < D; ++k)
-          if (constrained_[u] & (1u << k)) r.support -= half_dt * mesh_.velocity[u][k] * mean[k];
-        return r;
-      });
-      contact_work_ += w.contact;
-      external_work_ += w.support;
-    }
-    contact_pending_ = false;
-    contact_force_ = force;
-  }
-
-  parts::Energies energies() const override {
-    struct Sums {
-      Real internal = 0, hourglass = 0;
-      Sums& operator+=(const Sums& o) {
-        internal += o.internal;
-        hourglass += o.hourglass;
-        return *this;
-      }
-    };
-    const Sums s = parallel::deterministic_sum<Sums>(mesh_.element_count(), [&](Index e) {
-      if (mesh_.eroded[at(e)]) return Sums{};
-      return Sums{mesh_.internal_energy_j[at(e)], mesh_.hourglass_energy_j[at(e)]};
-    });
-    parts::Energies en;
-    en.kinetic_j = kinetic_energy(mesh_);
-    en.internal_j = s.internal;
-    en.hourglass_j = s.hourglass;
-    en.external_work_j = external_work_;
-    en.damping_j = dissipated_;
-    en.eroded_j = eroded_energy_;
-    en.contact_j = -contact_work_;
-    return en;
-  }
-
-  const std::vector<Vec<D>>& points() const override { return mesh_.position; }
-
-  parts::Geometry<D> geometry() const override {
-    parts::Geometry<D> g;
-    g.points = &mesh_.position;
-    constexpr int kNodes = kElementNodes<D>;
-    const Index ne = mesh_.element_count();
-    g.connectivity.reserve(at(ne * kNodes));
-    g.offsets.reserve(at(ne));
-    for (const auto& nodes : mesh_.elements) {
-      for (Index n : nodes)
-        g.connectivity.push_back(n);
-      g.offsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
-    }
-    g.cell_types.assign(at(ne), D == 2 ? std::uint8_t{9} : std::uint8_t{12});  // QUAD, HEXAHEDRON
-    return g;
-  }
-
-  std::vector<fields::FieldView> point_fields() const override {
-    const Index nn = mesh_.node_count();
-    displacement_.resize(at(nn));
-    reaction_.assign(at(nn), Vec<D>::Zero());
-    for (Index i = 0; i < nn; ++i) {
-      const std::size_t u = at(i);
-      displacement_[u] = mesh_.position[u] - mesh_.reference_position[u];
-      // The supports' force: what the imposed components took off the node's other forces.
-      const Vec<D> applied =
-          mesh_.mass[u] * gravity_ + (load_force_.empty() ? Vec<D>::Zero().eval() : load_force_[u]);
-      for (int k = 0; k < D; ++k)
-        if ((constrained_[u] & (1u << k)) && mesh_.mass[u] > 0)
-          reaction_[u][k] = external_force_[u][k] - applied[k];
-    }
-    return {vector_view(kVelocityInfo, mesh_.velocity),
-            vector_view(kDisplacementInfo, displacement_),
-            scalar_view(kNodeMassInfo, mesh_.mass),
-            vector_view(kInternalForceInfo, mesh_.internal_force),
-            vector_view(kReactionForceInfo, reaction_),
-            vector_view(kContactForceInfo, contact_force_)};
-  }
-
-  std::vector<fields::FieldView> cell_fields() const override {
-    const Index ne = mesh_.element_count();
-    von_mises_.resize(at(ne));
-    pressure_.resize(at(ne));
-    eroded_flag_.resize(at(ne));
-    density_.resize(at(ne));
-    for (Index e = 0; e < ne; ++e) {
-      const materials::Mat3& s = mesh_.stress[at(e)];
-      const Real p = -s.trace() / 3;
-      const materials::Mat3 dev = s + p * materials::Mat3::Identity();
-      von_mises_[at(e)] = std::sqrt(Real(1.5) * dev.cwiseProduct(dev).sum());
-      pressure_[at(e)] = p;
-      eroded_flag_[at(e)] = mesh_.eroded[at(e)];
-      density_[at(e)] = material_.density_kg_m3 * mesh_.reference_volume[at(e)] /
-                        std::max(mesh_.volume[at(e)], std::numeric_limits<Real>::min());
-    }
-    std::vector<fields::FieldView> out = {
-        scalar_view(kVonMisesInfo, von_mises_),
-        scalar_view(kPressureInfo, pressure_),
-        scalar_view(kPlasticStrainInfo, mesh_.plastic_strain),
-        scalar_view(kDensityInfo, density_),
-    };
-    if (material_.damage || is_hjc()) out.push_back(scalar_view(kDamageInfo, mesh_.damage));
-    if (is_hjc())
-      out.push_back(scalar_view(kPlasticVolumetricStrainInfo, mesh_.plastic_volumetric_strain));
-    out.push_back(fields::FieldView{&kErodedInfo, 1, true, nullptr, eroded_flag_.data(), ne});
-    if (const auto* jc = std::get_if<materials::JohnsonCookParams>(&material_.strength);
-        jc && jc->thermal_softening)
-      out.push_back(scalar_view(kTemperatureInfo, mesh_.temperature_k));
-    return out;
-  }
-
-  void save_state(parts::StateWriter& w) const override {
-    w.tag("fem");
-    for_each_mesh_state_vector(mesh_, is_hjc(),
-                               [&](const auto& v, std::size_t, const char*) { w.vector(v); });
-    w.vector(acceleration_);
-    w.vector(external_force_);
-    w.vector(dashpot_force_);
-    w.vector(live_elements_of_node_);
-    w.vector(element_accounted_);
-    w.vector(contact_force_);
-    w.value(contact_work_);
-    w.value(contact_pending_);
-    w.value(last_);
-    w.value(dt_pending_);
-    w.value(stale_);
-    w.value(external_work_);
-    w.value(dissipated_);
-    w.value(eroded_energy_);
-    w.value(eroded_mass_);
-    w.value(eroded_count_);
-    w.value(added_mass_);
-    w.value(mass_scaling_dissipated_);
-    w.value(mass_scaled_first_);
-  }
-
-  void load_state(parts::StateReader& r) override {
-    r.tag("fem");
-    const std::size_t nn = mesh_.position.size(), ne = mesh_.elements.size();
-    auto sized = [&](auto& v, std::size_t n, const char* what) {
-      r.vector(v);
-      if (v.size() != n)
-        r.fail(fmt::format("part '{}': {} has {} entries, the mesh {}", name_, what, v.size(), n));
-    };
-    for_each_mesh_state_vector(mesh_, is_hjc(), sized);
-    sized(acceleration_, nn, "accelerations");
-    sized(external_force_, nn, "external forces");
-    sized(dashpot_force_, nn, "dashpot forces");
-    sized(live_elements_of_node_, nn, "node element counts");
-    sized(element_accounted_, ne, "erosion records");
-    sized(contact_force_, nn, "contact forces");
-    r.value(contact_work_);
-    r.value(contact_pending_);
-    r.value(last_);
-    r.value(dt_pending_);
-    r.value(stale_);
-    r.value(external_work_);
-    r.value(dissipated_);
-    r.value(eroded_energy_);
-    r.value(eroded_mass_);
-    r.value(eroded_count_);
-    r.value(added_mass_);
-    r.value(mass_scaling_dissipated_);
-    r.value(mass_scaled_first_);
-    if (eroded_count_ > 0) rebuild_surface();
-  }
-
-  std::vector<parts::Diagnostic> diagnostics() const override {
-    std::vector<parts::Diagnostic> d = {
-        {"elements", static_cast<Real>(mesh_.element_count())},
-        {"nodes", static_cast<Real>(mesh_.node_count())},
-        {"eroded_elements", static_cast<Real>(eroded_count_)},
-        {"eroded_mass_kg", eroded_mass_},
-        {"initial_mass_kg", initial_mass_},
-        {"max_plastic_strain", parallel::max_over(mesh_.element_count(), 0, [&](Index e) {
-           return mesh_.plastic_strain[at(e)];
-         })}};
-    if (material_.mass_scaling_min_step_s > 0) {
-      d.push_back({"mass_scaling_min_step_s", material_.mass_scaling_min_step_s});
-      d.push_back({"added_mass_kg", added_mass_});
-      d.push_back({"added_mass_fraction", added_mass_ / initial_mass_});
-      d.push_back({"mass_scaled_elements", static_cast<Real>(parallel::deterministic_sum<Index>(
-                                               mesh_.element_count(), [&](Index e) {
-                                                 return mesh_.added_mass_kg[at(e)] > 0 ? 1 : 0;
-                                               }))});
-      d.push_back({"mass_scaling_dissipated_j", mass_scaling_dissipated_});
-    }
-    return d;
-  }
-
- private:
-  static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
-    return fields::FieldView{&info, 1, false, v.data(), nullptr, static_cast<Index>(v.size())};
-  }
-  static fields::FieldView vector_view(const fields::FieldInfo& info,
-                                       const std::vector<Vec<D>>& v) {
-    return fields::FieldView{&info,   D,
-                             false,   v.empty() ? nullptr : v.front().data(),
-                             nullptr, static_cast<Index>(v.size())};
-  }
-
-  /// The smallest i in [0, n) with pred(i), or -1 (the same answer for any thread count).
-  template <class Pred>
-  static Index first_index(Index n, Pred&& pred) {
-    const Real found = parallel::min_over(n, std::numeric_limits<Real>::infinity(), [&](Index i) {
-      return pred(i) ? static_cast<Real>(i) : std::numeric_limits<Real>::infinity();
-    });
-    return std::isfinite(found) ? static_cast<Index>(found) : Index{-1};
-  }
-
-  /// A Holmquist-Johnson-Cook part (its compaction state is saved and written).
-  bool is_hjc() const {
-    return std::holds_alternative<materials::HolmquistJohnsonCookLaw>(material_.strength);
-  }
-
-  /// Acceleration of the part's own forces plus the contacts' (zero on frozen nodes).
-  Vec<D> total_acceleration(std::size_t u) const {
-    const Real m = mesh_.mass[u];
-    return m > 0 ? Vec<D>(acceleration_[u] + contact_force_[u] / m) : Vec<D>(Vec<D>::Zero());
-  }
-
-  /// The faces of live elements that no other live element shares, oriented outward, with
-  /// the LS-DYNA segment stiffness K A^2 / V of their element, taken in the reference
-  /// geometry: a face exposed by erosion on a crushed or stretched element would otherwise
-  /// carry a spring many times stiffer (K A^2 / V grows as the element flattens) and cut the
-  /// step for the rest of the run.
-  void rebuild_surface() {
-    const SurfaceFaces<D> sf = surface_faces(mesh_);
-    const Real bulk = materials::bulk_modulus(materials::elastic_of(material_.strength));
-    surface_faces_ = sf.nodes;
-    surface_element_ = sf.element;
-    surface_stiffness_.resize(sf.nodes.size());
-    for (std::size_t f = 0; f < sf.nodes.size(); ++f)
-      surface_stiffness_[f] = bulk * sf.reference_area[f] * sf.reference_area[f] /
-                              mesh_.reference_volume[at(sf.element[f])];
-    ++surface_revision_;
-  }
-
-  Real total_mass() const {
-    return parallel::deterministic_sum<Real>(mesh_.node_count(),
-                                             [&](Index i) { return mesh_.mass[at(i)]; });
-  }
-
-  void impose_velocity(std::size_t u) {
-    const unsigned c = constrained_[u];
-    if (c == 0) return;
-    for (int k = 0; k < D; ++k)
-      if (c & (1u << k)) mesh_.velocity[u][k] = imposed_velocity_[u][k];
-  }
-  void impose_velocities() {
-    for (Index i = 0; i < mesh_.node_count(); ++i)
-      impose_velocity(at(i));
-  }
-
-  /// Moves the mass, kinetic, internal and hourglass energy of the elements that failed in the
-  /// last force evaluation to the eroded account, in element order (deterministic); the faces
-  /// they uncover join the contact surface.
-  void account_erosion() {
-    constexpr int kNodes = kElementNodes<D>;
-    for (Index e = 0; e < mesh_.element_count(); ++e) {
-      const std::size_t ue = at(e);
-      if (!mesh_.eroded[ue] || element_accounted_[ue]) continue;
-      element_accounted_[ue] = 1;
-      ++eroded_count_;
-      eroded_energy_ += mesh_.internal_energy_j[ue] + mesh_.hourglass_energy_j[ue];
-      const Real share =
-          (material_.density_kg_m3 * mesh_.reference_volume[ue] + mesh_.added_mass_kg[ue]) / kNodes;
-      for (Index n : mesh_.elements[ue]) {
-        const std::size_t un = at(n);
-        const Real removed = --live_elements_of_node_[un] == 0 ? mesh_.mass[un] : share;
-        eroded_mass_ += removed;
-        eroded_energy_ += Real(0.5) * removed * mesh_.velocity[un].squaredNorm();
-        mesh_.mass[un] -= removed;
-        if (live_elements_of_node_[un] == 0) {
-          mesh_.mass[un] = 0;
-          mesh_.velocity[un].setZero();
-          mesh_.internal_force[un].setZero();
-        }
-      }
-    }
-    rebuild_surface();
-  }
-
-  /// The surface faces of a pressure load: those of the live mesh (outward numbering, as the
-  /// contact surface) with every node on the chosen face of the bounding box (or in the mesh
-  /// group) and the centre in the load's box (along the other axes).
-  void add_pressure_load(const MeshSource<D>& source, const LoadSettings& l) {
-    const NodeSet<D> set = l.group.empty() ? face_node_set(mesh_, l.face) : source.group(l.group);
-    std::vector<std::uint8_t> on_face(at(mesh_.node_count()), 0);
-    for (Index n : set.nodes)
-      on_face[at(n)] = 1;
-    const int normal = static_cast<int>(l.face) / 2;
-    const SurfaceFaces<D> sf = surface_faces(mesh_);
-    PressureLoad load;
-    load.time_s = l.time_s;
-    load.pressure_pa = l.pressure_pa;
-    for (std::size_t f = 0; f < sf.nodes.size(); ++f) {
-      Vec<D> centre = Vec<D>::Zero();
-      bool all = true;
-      for (Index n : sf.nodes[f]) {
-        all = all && on_face[at(n)];
-        centre += mesh_.reference_position[at(n)] / Real(parts::kFaceNodes<D>);
-      }
-      if (!all) continue;
-      if (l.region) {
-        bool inside = true;
-        for (int k = 0; k < D; ++k)
-          if (k != normal &&
-              (centre[k] < l.region->min_m[at(k)] || centre[k] > l.region->max_m[at(k)]))
-            inside = false;
-        if (!inside) continue;
-      }
-      load.faces.push_back(sf.nodes[f]);
-      load.element.push_back(sf.element[f]);
-    }
-    if (load.faces.empty())
-      throw std::runtime_error(fmt::format(
-          "{}: line {}: part '{}': the pressure load selects no boundary face (none of the "
-          "part's faces in its group, or on its bounding box's side with its centre in the "
-          "load's box)",
-          l.where.file, l.where.line, name_));
-    loads_.push_back(std::move(load));
-  }
-
-  /// Nodal forces of the pressure loads at time t on the current geometry: per face
-  /// f = -p a, a the outward area vector ((t_y, -t_x) x 1 m in 2D, (x_2 - x_0) x (x_3 - x_1) / 2
-  /// in 3D), shared equally by its nodes (exact for straight segments and parallelograms).
-  /// Faces are visited in order, one thread: the sums are the same for any thread count.
-  void pressure_forces(Real t_s) {
-    for (auto& f : load_force_)
-      f.setZero();
-    constexpr int kF = parts::kFaceNodes<D>;
-    for (const PressureLoad& load : loads_) {
-      const Real p = tabulated(load.time_s, load.pressure_pa, t_s);
-      if (p == 0) continue;
-      for (std::size_t f = 0; f < load.faces.size(); ++f) {
-        if (mesh_.eroded[at(load.element[f])]) continue;
-        const auto& nodes = load.faces[f];
-        const Vec<D> share = (-p / Real(kF)) * numbered_face_area<D>(mesh_.position, nodes);
-        for (Index n : nodes)
-          load_force_[at(n)] += share;
-      }
-    }
-  }
-
-  /// Nodes of a boundary condition and, for dashpots, their boundary faces.
-  void apply_boundary_config(const MeshSource<D>& source, const BoundarySettings& b) {
-    const NodeSet<D> set = b.face ? face_node_set(mesh_, *b.face) : source.group(b.group);
-    switch (b.type) {
-      case BoundaryType::Fixed:
-        for (Index n : set.nodes) {
-          constrained_[at(n)] = (1u << D) - 1;
-          imposed_velocity_[at(n)].setZero();
-        }
-        break;
-      case BoundaryType::Symmetry: {
-        const int axis = set.normal_axis;
-        if (axis < 0)
-          throw std::runtime_error(
-              fmt::format("part '{}': a symmetry boundary needs a plane normal to an axis", name_));
-        for (Index n : set.nodes) {
-          constrained_[at(n)] |= 1u << axis;
-          imposed_velocity_[at(n)][axis] = 0;
-        }
-        break;
-      }
-      case BoundaryType::Velocity:
-        for (Index n : set.nodes)
-          for (int k = 0; k < D; ++k)
-            if (b.components[at(k)]) {
-              constrained_[at(n)] |= 1u << k;
-              imposed_velocity_[at(n)][k] = b.velocity_m_s[at(k)];
-            }
-        break;
-      case BoundaryType::NonReflecting:
-        add_dashpots<D>(set.faces, materials::at_rest_elastic_of(material_.strength),
-                        material_.density_kg_m3, dashpot_of_node_, dashpot_matrix_);
-        break;
-    }
-  }
-
-  /// The domain's planes of symmetry: the nodes on one (within 1e-9 of the domain's extent)
-  /// keep zero velocity normal to it, whatever else holds them. (A part cannot reach across
-  /// one: the reader holds its region or mesh inside the domain.)
-  void apply_symmetry_planes(const parts::PartSetup& pc) {
-    for (const parts::Face face : pc.domain.symmetry_planes) {
-      const int axis = static_cast<int>(face) / 2;
-      if (axis >= D) continue;
-      const Real plane = parts::face_coordinate(pc.domain, face);
-      const Real tol = 1e-9 * (pc.domain.max_m[axis] - pc.domain.min_m[axis]);
-      for (Index n = 0; n < mesh_.node_count(); ++n)
-        if (std::abs(mesh_.reference_position[at(n)][axis] - plane) <= tol) {
-          constrained_[at(n)] |= 1u << axis;
-          imposed_velocity_[at(n)][axis] = 0;
-        }
-    }
-  }
-
-  std::string name_;
-  SolidMaterial material_;
-  ExplicitMesh<D> mesh_;
-  Vec<D> gravity_ = Vec<D>::Zero();
-  Real initial_mass_ = 0;
-
-  std::vector<RigidWall<D>> walls_;
-  std::vector<Real> wall_work_;  // per node, the step's work of the walls
-
-  // Boundary conditions, per node: bit k of constrained_ = component k imposed.
-  std::vector<std::uint8_t> constrained_;
-  std::vector<Vec<D>> imposed_velocity_;
-  std::vector<Index> dashpot_of_node_;  // index into dashpot_matrix_, or -1
-  std::vector<MatD<D>> dashpot_matrix_;
-
-  // Pressure loads ([[parts.fem.loads]]) and their nodal forces at the last force evaluation.
-  struct PressureLoad {
-    std::vector<Real> time_s, pressure_pa;
-    std::vector<std::array<Index, parts::kFaceNodes<D>>> faces;
-    std::vector<Index> element;
-  };
-  std::vector<PressureLoad> loads_;
-  std::vector<Vec<D>> load_force_;  // empty without loads
-
-  // State between stages.
-  std::vector<Vec<D>> acceleration_;
-  std::vector<Vec<D>> external_force_;  // gravity + reactions at the last force evaluation
-  std::vector<Vec<D>> dashpot_force_;
-  std::vector<Index> live_elements_of_node_;
-  std::vector<std::uint8_t> element_accounted_;
-  std::vector<Vec<D>> contact_force_;  // from the contacts at the last force evaluation
-  bool contact_pending_ = false;       // the nodes moved since the contact forces were set
-  parts::LaggedPositions<D> lagged_;   // node positions the contacts see (multi-rate stepping)
-  parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
-
-  // Contact surface (parts::ContactSurface).
-  std::vector<std::array<Index, parts::kFaceNodes<D>>> surface_faces_;
-  std::vector<Index> surface_element_;
-  std::vector<Real> surface_stiffness_;
-  std::uint64_t surface_revision_ = 0;
-  std::map<std::string, std::vector<Index>> group_nodes_;  // the mesh file's physical groups
-  ForceReport last_;
-  Real dt_pending_ = 0;  // the step the nodes moved by since the last force evaluation
-  bool stale_ = true;    // the nodes moved since then
-
-  // Accounts [J], [kg].
-  Real external_work_ = 0;
-  Real dissipated_ = 0;
-  Real contact_work_ = 0;  // work of the contact forces on the part
-  Real eroded_energy_ = 0;
-  Real eroded_mass_ = 0;
-  Index eroded_count_ = 0;
-  // Mass scaling: the limit (fraction of initial_mass_), the mass added so far [kg], the kinetic
-  // energy the nodes gave up taking it [J] (also in dissipated_), the first element scaled.
-  Real mass_scaling_limit_ = 0;
-  Real added_mass_ = 0;
-  Real mass_scaling_dissipated_ = 0;
-  Index mass_scaled_first_ = -1;
-
-  // Output scratch.
-  mutable std::vector<Vec<D>> displacement_;
-  mutable std::vector<Vec<D>> reaction_;  // the supports' force on each node (point_fields)
-  mutable std::vector<Real> von_mises_, pressure_, density_;
-  mutable std::vector<std::int64_t> eroded_flag_;
-};
-
 }  // namespace
+
+namespace detail {
+
+template <int D>
+FemPart<D>::FemPart(const PartSettings& settings)
+    : name_(settings.part.name), material_(solid_material(settings)) {
+  const parts::PartSetup& pc = settings.part;
+  MeshSource<D> source = build_mesh_source<D>(settings);
+  if (source.reordered > 0)
+    spdlog::warn(
+        "part '{}': {} elements of {} were numbered clockwise (as seen along the normal); "
+        "their node order was mirrored",
+        name_, source.reordered, settings.fem.mesh_file);
+  mesh_ = std::move(source.mesh);
+  initialise(mesh_, material_);
+  if (const auto& g = settings.fem.geostatic)  // the stress at t = 0 (a restart loads its own)
+    apply_geostatic_stress(mesh_, material_, *g, pc.domain.gravity_m_s2, name_);
+  // The erosion floor follows from the mesh at rest (the same on a restart).
+  if (settings.fem.erosion_step_ratio > 0)
+    material_.erosion_min_step_s =
+        settings.fem.erosion_step_ratio * stable_time_step(mesh_, material_);
+  // So does the mass-scaling floor.
+  if (settings.fem.mass_scaling_step_ratio > 0) {
+    material_.mass_scaling_min_step_s =
+        settings.fem.mass_scaling_step_ratio * stable_time_step(mesh_, material_);
+    mass_scaling_limit_ = settings.fem.mass_scaling_limit;
+  }
+  const Index nn = mesh_.node_count();
+  for (int k = 0; k < D; ++k)
+    gravity_[k] = pc.domain.gravity_m_s2[at(k)];
+  Vec<D> v0;
+  for (int k = 0; k < D; ++k)
+    v0[k] = pc.initial.velocity_m_s[at(k)];
+  mesh_.velocity.assign(at(nn), v0);
+  // Zones set the initial velocity of the nodes inside them (later zones win).
+  for (const auto& z : pc.zones) {
+    if (!z.velocity_m_s) continue;
+    Vec<D> vz;
+    for (int k = 0; k < D; ++k)
+      vz[k] = (*z.velocity_m_s)[at(k)];
+    for (Index i = 0; i < nn; ++i)
+      if (parts::region_contains<D>(z.region, mesh_.reference_position[at(i)]))
+        mesh_.velocity[at(i)] = vz;
+  }
+  initial_mass_ = total_mass();
+
+  live_elements_of_node_.assign(at(nn), 0);
+  for (const auto& nodes : mesh_.elements)
+    for (Index n : nodes)
+      ++live_elements_of_node_[at(n)];
+  element_accounted_.assign(at(mesh_.element_count()), 0);
+  constrained_.assign(at(nn), 0);
+  imposed_velocity_.assign(at(nn), Vec<D>::Zero());
+  dashpot_of_node_.assign(at(nn), -1);
+  acceleration_.assign(at(nn), Vec<D>::Zero());
+  external_force_.assign(at(nn), Vec<D>::Zero());
+  dashpot_force_.assign(at(nn), Vec<D>::Zero());
+  contact_force_.assign(at(nn), Vec<D>::Zero());
+  rebuild_surface();
+  for (const auto& b : settings.fem.boundaries)
+    apply_boundary_config(source, b);
+  walls_ = rigid_walls<D>(settings.fem.rigid_walls, mesh_.position, name_);
+  wall_work_.assign(walls_.empty() ? 0 : at(nn), 0);
+  apply_symmetry_planes(pc);
+  for (const auto& l : settings.fem.loads)
+    add_pressure_load(source, l);
+  for (auto& [name, set] : source.groups)  // for contacts restricted to a group
+    group_nodes_.emplace(name, std::move(set.nodes));
+  if (!loads_.empty()) load_force_.assign(at(nn), Vec<D>::Zero());
+  impose_velocities();
+
+  last_.stable_dt_s = stable_time_step(mesh_, material_);
+}
+
+template <int D>
+void FemPart<D>::compute_forces(Real t_s) {
+  if (!stale_) return;
+  last_ = compute_internal_forces(mesh_, material_, dt_pending_);
+  if (last_.mass_added_kg > 0) {
+    added_mass_ += last_.mass_added_kg;
+    mass_scaling_dissipated_ += last_.mass_scaling_dissipated_j;
+    dissipated_ += last_.mass_scaling_dissipated_j;
+    if (mass_scaled_first_ < 0) mass_scaled_first_ = last_.first_mass_scaled_element;
+  }
+  if (last_.newly_eroded > 0) account_erosion();
+  if (!loads_.empty()) pressure_forces(t_s);
+  const Real dt = dt_pending_;
+  const Index nn = mesh_.node_count();
+  struct Work {
+    Real external = 0, dissipated = 0;
+    Work& operator+=(const Work& o) {
+      external += o.external;
+      dissipated += o.dissipated;
+      return *this;
+    }
+  };
+  // New accelerations and the work of the external forces over the step just taken
+  // (trapezoidal in the force: dx . (f^n + f^{n+1}) / 2 with dx = v^{n+1/2} dt).
+  std::vector<Work> work(at(nn));
+  parallel::for_each(nn, [&](Index i) {
+    const std::size_t u = at(i);
+    const Real m = mesh_.mass[u];
+    if (!(m > 0)) {
+      acceleration_[u].setZero();
+      external_force_[u].setZero();
+      dashpot_force_[u].setZero();
+      return;
+    }
+    const Vec<D>& v = mesh_.velocity[u];
+    Vec<D> external = m * gravity_;
+    if (!load_force_.empty()) external += load_force_[u];
+    Vec<D> dashpot = Vec<D>::Zero();
+    if (const Index d = dashpot_of_node_[u]; d >= 0) dashpot = -(dashpot_matrix_[at(d)] * v);
+    Vec<D> f = mesh_.internal_force[u] + external + dashpot;
+    for (int k = 0; k < D; ++k)
+      if (constrained_[u] & (1u << k)) {
+        external[k] -= f[k];  // the reaction holding the imposed component
+        f[k] = 0;
+      }
+    acceleration_[u] = f / m;
+    if (dt > 0) {
+      work[u].external = Real(0.5) * dt * v.dot(external_force_[u] + external);
+      work[u].dissipated = -Real(0.5) * dt * v.dot(dashpot_force_[u] + dashpot);
+    }
+    external_force_[u] = external;
+    dashpot_force_[u] = dashpot;
+  });
+  const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) { return work[at(i)]; });
+  external_work_ += w.external;
+  dissipated_ += w.dissipated;
+  stale_ = false;
+}
+
+template <int D>
+std::optional<parts::Fault> FemPart<D>::check() const {
+  if (material_.mass_scaling_min_step_s > 0 && added_mass_ > mass_scaling_limit_ * initial_mass_)
+    return parts::Fault{
+        last_.first_mass_scaled_element >= 0 ? last_.first_mass_scaled_element : mass_scaled_first_,
+        fmt::format("mass scaling has added {:.4g} kg, {:.3g} % of the part's initial mass, "
+                    "past fem.mass_scaling_limit = {:.3g}; raise the limit, lower "
+                    "fem.mass_scaling_step_ratio, or let crushed elements erode "
+                    "(fem.erosion_step_ratio)",
+                    added_mass_, 100 * added_mass_ / initial_mass_, mass_scaling_limit_)};
+  if (last_.inverted_element >= 0)
+    return parts::Fault{last_.inverted_element,
+                        "element inverted (volume <= 0): the mesh is tangled; lower "
+                        "time.safety_factor or raise the hourglass coefficient"};
+  const Index bad = first_index(mesh_.node_count(), [&](Index i) {
+    return !acceleration_[at(i)].allFinite() || !mesh_.position[at(i)].allFinite();
+  });
+  if (bad >= 0)
+    return parts::Fault{bad, "non-finite position or acceleration at node " + std::to_string(bad)};
+  const Index bad_e =
+      first_index(mesh_.element_count(), [&](Index e) { return !mesh_.stress[at(e)].allFinite(); });
+  if (bad_e >= 0) return parts::Fault{bad_e, "non-finite stress"};
+  return std::nullopt;
+}
+
+template <int D>
+void FemPart<D>::advance(Real /*t_s*/, Real dt_s) {
+  const Real half = Real(0.5) * dt_s;
+  parallel::for_each(mesh_.node_count(), [&](Index i) {
+    const std::size_t u = at(i);
+    Vec<D>& v = mesh_.velocity[u];
+    const Vec<D> a = total_acceleration(u);
+    v += half * a;
+    impose_velocity(u);
+    if (!walls_.empty())
+      wall_work_[u] = hold_off_walls(walls_, mesh_.position[u], v, mesh_.mass[u], dt_s, a);
+    mesh_.position[u] += dt_s * v;
+  });
+  if (!walls_.empty())
+    external_work_ += parallel::deterministic_sum<Real>(mesh_.node_count(),
+                                                        [&](Index i) { return wall_work_[at(i)]; });
+  dt_pending_ = dt_s;
+  stale_ = true;
+  contact_pending_ = true;
+  next_contact_.started();
+}
+
+template <int D>
+void FemPart<D>::finish_step(Real dt_s) {
+  const Real half = Real(0.5) * dt_s;
+  parallel::for_each(mesh_.node_count(), [&](Index i) {
+    const std::size_t u = at(i);
+    mesh_.velocity[u] += half * total_acceleration(u);
+    impose_velocity(u);
+  });
+  // Multi-rate: the next step may start with other contact forces than this one ended with.
+  next_contact_.finished([&](const auto& f, const auto&) { contact_force_ = f; });
+}
+
+template <int D>
+void FemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
+                                    const std::vector<AxialVec<D>>& /*torque*/) {
+  const Index nn = mesh_.node_count();
+  if (static_cast<Index>(force.size()) != nn)
+    throw std::logic_error("fem: contact forces for another node count");
+  if (contact_pending_ && dt_pending_ > 0) {
+    // Work of the contact forces over the step just taken (trapezoidal, v = v^{n+1/2}); on
+    // imposed components the support takes the force, and does the opposite work.
+    struct Work {
+      Real contact = 0, support = 0;
+      Work& operator+=(const Work& o) {
+        contact += o.contact;
+        support += o.support;
+        return *this;
+      }
+    };
+    const Real half_dt = Real(0.5) * dt_pending_;
+    const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) {
+      const std::size_t u = at(i);
+      const Vec<D> mean = contact_force_[u] + force[u];
+      Work r;
+      r.contact = half_dt * mesh_.velocity[u].dot(mean);
+      for (int k = 0; k < D; ++k)
+        if (constrained_[u] & (1u << k)) r.support -= half_dt * mesh_.velocity[u][k] * mean[k];
+      return r;
+    });
+    contact_work_ += w.contact;
+    external_work_ += w.support;
+  }
+  contact_pending_ = false;
+  contact_force_ = force;
+}
+
+template <int D>
+parts::Energies FemPart<D>::energies() const {
+  struct Sums {
+    Real internal = 0, hourglass = 0;
+    Sums& operator+=(const Sums& o) {
+      internal += o.internal;
+      hourglass += o.hourglass;
+      return *this;
+    }
+  };
+  const Sums s = parallel::deterministic_sum<Sums>(mesh_.element_count(), [&](Index e) {
+    if (mesh_.eroded[at(e)]) return Sums{};
+    return Sums{mesh_.internal_energy_j[at(e)], mesh_.hourglass_energy_j[at(e)]};
+  });
+  parts::Energies en;
+  en.kinetic_j = kinetic_energy(mesh_);
+  en.internal_j = s.internal;
+  en.hourglass_j = s.hourglass;
+  en.external_work_j = external_work_;
+  en.damping_j = dissipated_;
+  en.eroded_j = eroded_energy_;
+  en.contact_j = -contact_work_;
+  return en;
+}
+
+template <int D>
+parts::Geometry<D> FemPart<D>::geometry() const {
+  parts::Geometry<D> g;
+  g.points = &mesh_.position;
+  constexpr int kNodes = kElementNodes<D>;
+  const Index ne = mesh_.element_count();
+  g.connectivity.reserve(at(ne * kNodes));
+  g.offsets.reserve(at(ne));
+  for (const auto& nodes : mesh_.elements) {
+    for (Index n : nodes)
+      g.connectivity.push_back(n);
+    g.offsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
+  }
+  g.cell_types.assign(at(ne), D == 2 ? std::uint8_t{9} : std::uint8_t{12});  // QUAD, HEXAHEDRON
+  return g;
+}
+
+template <int D>
+std::vector<fields::FieldView> FemPart<D>::point_fields() const {
+  const Index nn = mesh_.node_count();
+  displacement_.resize(at(nn));
+  reaction_.assign(at(nn), Vec<D>::Zero());
+  for (Index i = 0; i < nn; ++i) {
+    const std::size_t u = at(i);
+    displacement_[u] = mesh_.position[u] - mesh_.reference_position[u];
+    // The supports' force: what the imposed components took off the node's other forces.
+    const Vec<D> applied =
+        mesh_.mass[u] * gravity_ + (load_force_.empty() ? Vec<D>::Zero().eval() : load_force_[u]);
+    for (int k = 0; k < D; ++k)
+      if ((constrained_[u] & (1u << k)) && mesh_.mass[u] > 0)
+        reaction_[u][k] = external_force_[u][k] - applied[k];
+  }
+  return {vector_view(kVelocityInfo, mesh_.velocity),
+          vector_view(kDisplacementInfo, displacement_),
+          scalar_view(kNodeMassInfo, mesh_.mass),
+          vector_view(kInternalForceInfo, mesh_.internal_force),
+          vector_view(kReactionForceInfo, reaction_),
+          vector_view(kContactForceInfo, contact_force_)};
+}
+
+template <int D>
+std::vector<fields::FieldView> FemPart<D>::cell_fields() const {
+  const Index ne = mesh_.element_count();
+  von_mises_.resize(at(ne));
+  pressure_.resize(at(ne));
+  eroded_flag_.resize(at(ne));
+  density_.resize(at(ne));
+  for (Index e = 0; e < ne; ++e) {
+    const materials::Mat3& s = mesh_.stress[at(e)];
+    const Real p = -s.trace() / 3;
+    const materials::Mat3 dev = s + p * materials::Mat3::Identity();
+    von_mises_[at(e)] = std::sqrt(Real(1.5) * dev.cwiseProduct(dev).sum());
+    pressure_[at(e)] = p;
+    eroded_flag_[at(e)] = mesh_.eroded[at(e)];
+    density_[at(e)] = material_.density_kg_m3 * mesh_.reference_volume[at(e)] /
+                      std::max(mesh_.volume[at(e)], std::numeric_limits<Real>::min());
+  }
+  std::vector<fields::FieldView> out = {
+      scalar_view(kVonMisesInfo, von_mises_),
+      scalar_view(kPressureInfo, pressure_),
+      scalar_view(kPlasticStrainInfo, mesh_.plastic_strain),
+      scalar_view(kDensityInfo, density_),
+  };
+  if (material_.damage || is_hjc()) out.push_back(scalar_view(kDamageInfo, mesh_.damage));
+  if (is_hjc())
+    out.push_back(scalar_view(kPlasticVolumetricStrainInfo, mesh_.plastic_volumetric_strain));
+  out.push_back(fields::FieldView{&kErodedInfo, 1, true, nullptr, eroded_flag_.data(), ne});
+  if (const auto* jc = std::get_if<materials::JohnsonCookParams>(&material_.strength);
+      jc && jc->thermal_softening)
+    out.push_back(scalar_view(kTemperatureInfo, mesh_.temperature_k));
+  return out;
+}
+
+template <int D>
+void FemPart<D>::save_state(parts::StateWriter& w) const {
+  w.tag("fem");
+  for_each_mesh_state_vector(mesh_, is_hjc(),
+                             [&](const auto& v, std::size_t, const char*) { w.vector(v); });
+  w.vector(acceleration_);
+  w.vector(external_force_);
+  w.vector(dashpot_force_);
+  w.vector(live_elements_of_node_);
+  w.vector(element_accounted_);
+  w.vector(contact_force_);
+  w.value(contact_work_);
+  w.value(contact_pending_);
+  w.value(last_);
+  w.value(dt_pending_);
+  w.value(stale_);
+  w.value(external_work_);
+  w.value(dissipated_);
+  w.value(eroded_energy_);
+  w.value(eroded_mass_);
+  w.value(eroded_count_);
+  w.value(added_mass_);
+  w.value(mass_scaling_dissipated_);
+  w.value(mass_scaled_first_);
+}
+
+template <int D>
+void FemPart<D>::load_state(parts::StateReader& r) {
+  r.tag("fem");
+  const std::size_t nn = mesh_.position.size(), ne = mesh_.elements.size();
+  auto sized = [&](auto& v, std::size_t n, const char* what) {
+    r.vector(v);
+    if (v.size() != n)
+      r.fail(fmt::format("part '{}': {} has {} entries, the mesh {}", name_, what, v.size(), n));
+  };
+  for_each_mesh_state_vector(mesh_, is_hjc(), sized);
+  sized(acceleration_, nn, "accelerations");
+  sized(external_force_, nn, "external forces");
+  sized(dashpot_force_, nn, "dashpot forces");
+  sized(live_elements_of_node_, nn, "node element counts");
+  sized(element_accounted_, ne, "erosion records");
+  sized(contact_force_, nn, "contact forces");
+  r.value(contact_work_);
+  r.value(contact_pending_);
+  r.value(last_);
+  r.value(dt_pending_);
+  r.value(stale_);
+  r.value(external_work_);
+  r.value(dissipated_);
+  r.value(eroded_energy_);
+  r.value(eroded_mass_);
+  r.value(eroded_count_);
+  r.value(added_mass_);
+  r.value(mass_scaling_dissipated_);
+  r.value(mass_scaled_first_);
+  if (eroded_count_ > 0) rebuild_surface();
+}
+
+template <int D>
+std::vector<parts::Diagnostic> FemPart<D>::diagnostics() const {
+  std::vector<parts::Diagnostic> d = {
+      {"elements", static_cast<Real>(mesh_.element_count())},
+      {"nodes", static_cast<Real>(mesh_.node_count())},
+      {"eroded_elements", static_cast<Real>(eroded_count_)},
+      {"eroded_mass_kg", eroded_mass_},
+      {"initial_mass_kg", initial_mass_},
+      {"max_plastic_strain", parallel::max_over(mesh_.element_count(), 0, [&](Index e) {
+         return mesh_.plastic_strain[at(e)];
+       })}};
+  if (material_.mass_scaling_min_step_s > 0) {
+    d.push_back({"mass_scaling_min_step_s", material_.mass_scaling_min_step_s});
+    d.push_back({"added_mass_kg", added_mass_});
+    d.push_back({"added_mass_fraction", added_mass_ / initial_mass_});
+    d.push_back({"mass_scaled_elements", static_cast<Real>(parallel::deterministic_sum<Index>(
+                                             mesh_.element_count(), [&](Index e) {
+                                               return mesh_.added_mass_kg[at(e)] > 0 ? 1 : 0;
+                                             }))});
+    d.push_back({"mass_scaling_dissipated_j", mass_scaling_dissipated_});
+  }
+  return d;
+}
+
+/// The faces of live elements that no other live element shares, oriented outward, with
+/// the LS-DYNA segment stiffness K A^2 / V of their element, taken in the reference
+/// geometry: a face exposed by erosion on a crushed or stretched element would otherwise
+/// carry a spring many times stiffer (K A^2 / V grows as the element flattens) and cut the
+/// step for the rest of the run.
+template <int D>
+void FemPart<D>::rebuild_surface() {
+  const SurfaceFaces<D> sf = surface_faces(mesh_);
+  const Real bulk = materials::bulk_modulus(materials::elastic_of(material_.strength));
+  surface_faces_ = sf.nodes;
+  surface_element_ = sf.element;
+  surface_stiffness_.resize(sf.nodes.size());
+  for (std::size_t f = 0; f < sf.nodes.size(); ++f)
+    surface_stiffness_[f] = bulk * sf.reference_area[f] * sf.reference_area[f] /
+                            mesh_.reference_volume[at(sf.element[f])];
+  ++surface_revision_;
+}
+
+/// Moves the mass, kinetic, internal and hourglass energy of the elements that failed in the
+/// last force evaluation to the eroded account, in element order (deterministic); the faces
+/// they uncover join the contact surface.
+template <int D>
+void FemPart<D>::account_erosion() {
+  constexpr int kNodes = kElementNodes<D>;
+  for (Index e = 0; e < mesh_.element_count(); ++e) {
+    const std::size_t ue = at(e);
+    if (!mesh_.eroded[ue] || element_accounted_[ue]) continue;
+    element_accounted_[ue] = 1;
+    ++eroded_count_;
+    eroded_energy_ += mesh_.internal_energy_j[ue] + mesh_.hourglass_energy_j[ue];
+    const Real share =
+        (material_.density_kg_m3 * mesh_.reference_volume[ue] + mesh_.added_mass_kg[ue]) / kNodes;
+    for (Index n : mesh_.elements[ue]) {
+      const std::size_t un = at(n);
+      const Real removed = --live_elements_of_node_[un] == 0 ? mesh_.mass[un] : share;
+      eroded_mass_ += removed;
+      eroded_energy_ += Real(0.5) * removed * mesh_.velocity[un].squaredNorm();
+      mesh_.mass[un] -= removed;
+      if (live_elements_of_node_[un] == 0) {
+        mesh_.mass[un] = 0;
+        mesh_.velocity[un].setZero();
+        mesh_.internal_force[un].setZero();
+      }
+    }
+  }
+  rebuild_surface();
+}
+
+/// The surface faces of a pressure load: those of the live mesh (outward numbering, as the
+/// contact surface) with every node on the chosen face of the bounding box (or in the mesh
+/// group) and the centre in the load's box (along the other axes).
+template <int D>
+void FemPart<D>::add_pressure_load(const MeshSource<D>& source, const LoadSettings& l) {
+  const NodeSet<D> set = l.group.empty() ? face_node_set(mesh_, l.face) : source.group(l.group);
+  std::vector<std::uint8_t> on_face(at(mesh_.node_count()), 0);
+  for (Index n : set.nodes)
+    on_face[at(n)] = 1;
+  const int normal = static_cast<int>(l.face) / 2;
+  const SurfaceFaces<D> sf = surface_faces(mesh_);
+  PressureLoad load;
+  load.time_s = l.time_s;
+  load.pressure_pa = l.pressure_pa;
+  for (std::size_t f = 0; f < sf.nodes.size(); ++f) {
+    Vec<D> centre = Vec<D>::Zero();
+    bool all = true;
+    for (Index n : sf.nodes[f]) {
+      all = all && on_face[at(n)];
+      centre += mesh_.reference_position[at(n)] / Real(parts::kFaceNodes<D>);
+    }
+    if (!all) continue;
+    if (l.region) {
+      bool inside = true;
+      for (int k = 0; k < D; ++k)
+        if (k != normal &&
+            (centre[k] < l.region->min_m[at(k)] || centre[k] > l.region->max_m[at(k)]))
+          inside = false;
+      if (!inside) continue;
+    }
+    load.faces.push_back(sf.nodes[f]);
+    load.element.push_back(sf.element[f]);
+  }
+  if (load.faces.empty())
+    throw std::runtime_error(fmt::format(
+        "{}: line {}: part '{}': the pressure load selects no boundary face (none of the "
+        "part's faces in its group, or on its bounding box's side with its centre in the "
+        "load's box)",
+        l.where.file, l.where.line, name_));
+  loads_.push_back(std::move(load));
+}
+
+/// Nodal forces of the pressure loads at time t on the current geometry: per face
+/// f = -p a, a the outward area vector ((t_y, -t_x) x 1 m in 2D, (x_2 - x_0) x (x_3 - x_1) / 2
+/// in 3D), shared equally by its nodes (exact for straight segments and parallelograms).
+/// Faces are visited in order, one thread: the sums are the same for any thread count.
+template <int D>
+void FemPart<D>::pressure_forces(Real t_s) {
+  for (auto& f : load_force_)
+    f.setZero();
+  constexpr int kF = parts::kFaceNodes<D>;
+  for (const PressureLoad& load : loads_) {
+    const Real p = tabulated(load.time_s, load.pressure_pa, t_s);
+    if (p == 0) continue;
+    for (std::size_t f = 0; f < load.faces.size(); ++f) {
+      if (mesh_.eroded[at(load.element[f])]) continue;
+      const auto& nodes = load.faces[f];
+      const Vec<D> share = (-p / Real(kF)) * numbered_face_area<D>(mesh_.position, nodes);
+      for (Index n : nodes)
+        load_force_[at(n)] += share;
+    }
+  }
+}
+
+/// Nodes of a boundary condition and, for dashpots, their boundary faces.
+template <int D>
+void FemPart<D>::apply_boundary_config(const MeshSource<D>& source, const BoundarySettings& b) {
+  const NodeSet<D> set = b.face ? face_node_set(mesh_, *b.face) : source.group(b.group);
+  switch (b.type) {
+    case BoundaryType::Fixed:
+      for (Index n : set.nodes) {
+        constrained_[at(n)] = (1u << D) - 1;
+        imposed_velocity_[at(n)].setZero();
+      }
+      break;
+    case BoundaryType::Symmetry: {
+      const int axis = set.normal_axis;
+      if (axis < 0)
+        throw std::runtime_error(
+            fmt::format("part '{}': a symmetry boundary needs a plane normal to an axis", name_));
+      for (Index n : set.nodes) {
+        constrained_[at(n)] |= 1u << axis;
+        imposed_velocity_[at(n)][axis] = 0;
+      }
+      break;
+    }
+    case BoundaryType::Velocity:
+      for (Index n : set.nodes)
+        for (int k = 0; k < D; ++k)
+          if (b.components[at(k)]) {
+            constrained_[at(n)] |= 1u << k;
+            imposed_velocity_[at(n)][k] = b.velocity_m_s[at(k)];
+          }
+      break;
+    case BoundaryType::NonReflecting:
+      add_dashpots<D>(set.faces, materials::at_rest_elastic_of(material_.strength),
+                      material_.density_kg_m3, dashpot_of_node_, dashpot_matrix_);
+      break;
+  }
+}
+
+/// The domain's planes of symmetry: the nodes on one (within 1e-9 of the domain's extent)
+/// keep zero velocity normal to it, whatever else holds them. (A part cannot reach across
+/// one: the reader holds its region or mesh inside the domain.)
+template <int D>
+void FemPart<D>::apply_symmetry_planes(const parts::PartSetup& pc) {
+  for (const parts::Face face : pc.domain.symmetry_planes) {
+    const int axis = static_cast<int>(face) / 2;
+    if (axis >= D) continue;
+    const Real plane = parts::face_coordinate(pc.domain, face);
+    const Real tol = 1e-9 * (pc.domain.max_m[axis] - pc.domain.min_m[axis]);
+    for (Index n = 0; n < mesh_.node_count(); ++n)
+      if (std::abs(mesh_.reference_position[at(n)][axis] - plane) <= tol) {
+        constrained_[at(n)] |= 1u << axis;
+        imposed_velocity_[at(n)][axis] = 0;
+      }
+  }
+}
+
+template class FemPart<2>;
+template class FemPart<3>;
+
+}  // namespace detail
 
 template <int D>
 std::unique_ptr<parts::Part<D>> make_fem_part(const PartSettings& settings) {
-  return std::make_unique<FemPart<D>>(settings);
+  return std::make_unique<detail::FemPart<D>>(settings);
 }
 
 template std::unique_ptr<parts::Part<2>> make_fem_part<2>(const PartSettings&);

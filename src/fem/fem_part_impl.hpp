@@ -1,0 +1,221 @@
+// The FEM part's class, internal to src/fem (fem_part.hpp is the public face): its data members
+// and short members. fem_part.cpp defines the longer members (construction, the step's stages,
+// output fields, checkpoints, erosion, loads and boundary conditions), with their comments, and
+// instantiates the class for D = 2 and 3.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/index.hpp"
+#include "core/types.hpp"
+#include "fem/boundaries.hpp"
+#include "fem/explicit_mesh.hpp"
+#include "fem/explicit_solid.hpp"
+#include "fem/fem_mesh_source.hpp"
+#include "fem/settings.hpp"
+#include "fields/field_set.hpp"
+#include "materials/strength/strength.hpp"
+#include "parallel/parallel.hpp"
+#include "parts/contact_points.hpp"
+#include "parts/part.hpp"
+#include "parts/setup.hpp"
+
+namespace crater::fem::detail {
+
+template <int D>
+class FemPart final : public parts::Part<D> {
+ public:
+  explicit FemPart(const PartSettings& settings);
+
+  const std::string& name() const override { return name_; }
+  const char* method() const override { return "fem"; }
+  Index count() const override { return mesh_.element_count() - eroded_count_; }
+  Real mass_kg() const override { return total_mass(); }
+
+  parts::StableStep stable_step() const override {
+    parts::StableStep s;
+    s.dt_s = last_.stable_dt_s;
+    s.entity_id = last_.limiting_element;
+    s.reason = material_.mass_scaling_min_step_s > 0
+                   ? "element size / dilatational wave speed (with bulk viscosity, mass-scaled)"
+                   : "element size / dilatational wave speed (with bulk viscosity)";
+    return s;
+  }
+
+  void compute_forces(Real t_s) override;
+  std::optional<parts::Fault> check() const override;
+  void advance(Real t_s, Real dt_s) override;
+  void finish_step(Real dt_s) override;
+
+  const std::vector<Index>* group_nodes(const std::string& group) const override {
+    const auto it = group_nodes_.find(group);
+    return it == group_nodes_.end() ? nullptr : &it->second;
+  }
+
+  std::optional<parts::ContactSurface<D>> contact_surface() const override {
+    parts::ContactSurface<D> s;
+    s.node_position = lagged_.view(mesh_.position);
+    s.node_velocity = &mesh_.velocity;
+    s.node_mass = &mesh_.mass;
+    s.faces = &surface_faces_;
+    s.face_element = &surface_element_;
+    s.face_stiffness = &surface_stiffness_;
+    s.revision = surface_revision_;
+    return s;
+  }
+
+  void set_contact_lag(Real lag_s) override {
+    lagged_.set(mesh_.position, lag_s, [&](Index i) { return mesh_.velocity[at(i)]; });
+  }
+  void set_next_contact_forces(const std::vector<Vec<D>>& force,
+                               const std::vector<AxialVec<D>>& torque) override {
+    if (static_cast<Index>(force.size()) != mesh_.node_count())
+      throw std::logic_error("fem: next contact forces for another node count");
+    next_contact_.set(force, torque, [&](const auto& f, const auto&) { contact_force_ = f; });
+  }
+
+  void add_contact_forces(const std::vector<Vec<D>>& force,
+                          const std::vector<AxialVec<D>>& torque) override;
+  parts::Energies energies() const override;
+
+  const std::vector<Vec<D>>& points() const override { return mesh_.position; }
+
+  parts::Geometry<D> geometry() const override;
+  std::vector<fields::FieldView> point_fields() const override;
+  std::vector<fields::FieldView> cell_fields() const override;
+  void save_state(parts::StateWriter& w) const override;
+  void load_state(parts::StateReader& r) override;
+  std::vector<parts::Diagnostic> diagnostics() const override;
+
+ private:
+  static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
+    return fields::FieldView{&info, 1, false, v.data(), nullptr, static_cast<Index>(v.size())};
+  }
+  static fields::FieldView vector_view(const fields::FieldInfo& info,
+                                       const std::vector<Vec<D>>& v) {
+    return fields::FieldView{&info,   D,
+                             false,   v.empty() ? nullptr : v.front().data(),
+                             nullptr, static_cast<Index>(v.size())};
+  }
+
+  /// The smallest i in [0, n) with pred(i), or -1 (the same answer for any thread count).
+  template <class Pred>
+  static Index first_index(Index n, Pred&& pred) {
+    const Real found = parallel::min_over(n, std::numeric_limits<Real>::infinity(), [&](Index i) {
+      return pred(i) ? static_cast<Real>(i) : std::numeric_limits<Real>::infinity();
+    });
+    return std::isfinite(found) ? static_cast<Index>(found) : Index{-1};
+  }
+
+  /// A Holmquist-Johnson-Cook part (its compaction state is saved and written).
+  bool is_hjc() const {
+    return std::holds_alternative<materials::HolmquistJohnsonCookLaw>(material_.strength);
+  }
+
+  /// Acceleration of the part's own forces plus the contacts' (zero on frozen nodes).
+  Vec<D> total_acceleration(std::size_t u) const {
+    const Real m = mesh_.mass[u];
+    return m > 0 ? Vec<D>(acceleration_[u] + contact_force_[u] / m) : Vec<D>(Vec<D>::Zero());
+  }
+
+  void rebuild_surface();
+
+  Real total_mass() const {
+    return parallel::deterministic_sum<Real>(mesh_.node_count(),
+                                             [&](Index i) { return mesh_.mass[at(i)]; });
+  }
+
+  void impose_velocity(std::size_t u) {
+    const unsigned c = constrained_[u];
+    if (c == 0) return;
+    for (int k = 0; k < D; ++k)
+      if (c & (1u << k)) mesh_.velocity[u][k] = imposed_velocity_[u][k];
+  }
+  void impose_velocities() {
+    for (Index i = 0; i < mesh_.node_count(); ++i)
+      impose_velocity(at(i));
+  }
+
+  void account_erosion();
+  void add_pressure_load(const MeshSource<D>& source, const LoadSettings& l);
+  void pressure_forces(Real t_s);
+  void apply_boundary_config(const MeshSource<D>& source, const BoundarySettings& b);
+  void apply_symmetry_planes(const parts::PartSetup& pc);
+
+  std::string name_;
+  SolidMaterial material_;
+  ExplicitMesh<D> mesh_;
+  Vec<D> gravity_ = Vec<D>::Zero();
+  Real initial_mass_ = 0;
+
+  std::vector<RigidWall<D>> walls_;
+  std::vector<Real> wall_work_;  // per node, the step's work of the walls
+
+  // Boundary conditions, per node: bit k of constrained_ = component k imposed.
+  std::vector<std::uint8_t> constrained_;
+  std::vector<Vec<D>> imposed_velocity_;
+  std::vector<Index> dashpot_of_node_;  // index into dashpot_matrix_, or -1
+  std::vector<MatD<D>> dashpot_matrix_;
+
+  // Pressure loads ([[parts.fem.loads]]) and their nodal forces at the last force evaluation.
+  struct PressureLoad {
+    std::vector<Real> time_s, pressure_pa;
+    std::vector<std::array<Index, parts::kFaceNodes<D>>> faces;
+    std::vector<Index> element;
+  };
+  std::vector<PressureLoad> loads_;
+  std::vector<Vec<D>> load_force_;  // empty without loads
+
+  // State between stages.
+  std::vector<Vec<D>> acceleration_;
+  std::vector<Vec<D>> external_force_;  // gravity + reactions at the last force evaluation
+  std::vector<Vec<D>> dashpot_force_;
+  std::vector<Index> live_elements_of_node_;
+  std::vector<std::uint8_t> element_accounted_;
+  std::vector<Vec<D>> contact_force_;  // from the contacts at the last force evaluation
+  bool contact_pending_ = false;       // the nodes moved since the contact forces were set
+  parts::LaggedPositions<D> lagged_;   // node positions the contacts see (multi-rate stepping)
+  parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
+
+  // Contact surface (parts::ContactSurface).
+  std::vector<std::array<Index, parts::kFaceNodes<D>>> surface_faces_;
+  std::vector<Index> surface_element_;
+  std::vector<Real> surface_stiffness_;
+  std::uint64_t surface_revision_ = 0;
+  std::map<std::string, std::vector<Index>> group_nodes_;  // the mesh file's physical groups
+  ForceReport last_;
+  Real dt_pending_ = 0;  // the step the nodes moved by since the last force evaluation
+  bool stale_ = true;    // the nodes moved since then
+
+  // Accounts [J], [kg].
+  Real external_work_ = 0;
+  Real dissipated_ = 0;
+  Real contact_work_ = 0;  // work of the contact forces on the part
+  Real eroded_energy_ = 0;
+  Real eroded_mass_ = 0;
+  Index eroded_count_ = 0;
+  // Mass scaling: the limit (fraction of initial_mass_), the mass added so far [kg], the kinetic
+  // energy the nodes gave up taking it [J] (also in dissipated_), the first element scaled.
+  Real mass_scaling_limit_ = 0;
+  Real added_mass_ = 0;
+  Real mass_scaling_dissipated_ = 0;
+  Index mass_scaled_first_ = -1;
+
+  // Output scratch.
+  mutable std::vector<Vec<D>> displacement_;
+  mutable std::vector<Vec<D>> reaction_;  // the supports' force on each node (point_fields)
+  mutable std::vector<Real> von_mises_, pressure_, density_;
+  mutable std::vector<std::int64_t> eroded_flag_;
+};
+
+}  // namespace crater::fem::detail
