@@ -25,6 +25,8 @@ struct ExplicitMesh {
   std::vector<Vec<D>> velocity;            // v [m/s] (v^{n+1/2} during a step)
   std::vector<Vec<D>> internal_force;      // force of the elements ON the node [N]
   std::vector<Real> mass;                  // lumped mass [kg]
+  // Mass scaling: the kinetic energy the node gave up taking mass, since t = 0 [J].
+  std::vector<Real> mass_scaling_dissipated_j;
 
   // ---- elements (one entry per element)
   std::vector<ElementNodes<D>> elements;

@@ -251,7 +251,7 @@ void initialise(ExplicitMesh<D>& mesh, const SolidMaterial& material) {
   mesh.added_mass_kg.assign(at(ne), 0);
   mesh.element_force.assign(at(ne), NodeArray<D>{});
 
-  std::vector<Index> count(at(nn) + 1, 0);
+  mesh.mass_scaling_dissipated_j.assign(at(nn), 0);
   for (Index e = 0; e < ne; ++e) {
     const UniformStrainGradients<D> g = uniform_strain_gradients<D>(mesh.element_positions(e));
     if (!(g.volume > 0)) {
@@ -260,11 +260,21 @@ void initialise(ExplicitMesh<D>& mesh, const SolidMaterial& material) {
     }
     mesh.reference_volume[at(e)] = g.volume;
     mesh.volume[at(e)] = g.volume;
-    for (Index node : mesh.elements[at(e)]) {
+    for (Index node : mesh.elements[at(e)])
       mesh.mass[at(node)] += material.density_kg_m3 * g.volume / Real(kNodes);
-      ++count[at(node) + 1];
-    }
   }
+  build_node_adjacency(mesh);
+}
+
+template <int D>
+void build_node_adjacency(ExplicitMesh<D>& mesh) {
+  constexpr int kNodes = kElementNodes<D>;
+  const Index ne = mesh.element_count();
+  const Index nn = mesh.node_count();
+  std::vector<Index> count(at(nn) + 1, 0);
+  for (Index e = 0; e < ne; ++e)
+    for (Index node : mesh.elements[at(e)])
+      ++count[at(node) + 1];
   for (Index i = 0; i < nn; ++i) {
     count[at(i) + 1] += count[at(i)];
   }
@@ -333,7 +343,9 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
           const Real before = Real(0.5) * m * v.squaredNorm();
           v *= m / (m + added);
           m += added;
-          return before - Real(0.5) * m * v.squaredNorm();
+          const Real given_up = before - Real(0.5) * m * v.squaredNorm();
+          mesh.mass_scaling_dissipated_j[at(node)] += given_up;
+          return given_up;
         });
   }
   report.stable_dt_s = std::numeric_limits<Real>::infinity();
@@ -383,6 +395,8 @@ Real kinetic_energy(const ExplicitMesh<D>& mesh) {
 
 template void initialise<2>(ExplicitMesh<2>&, const SolidMaterial&);
 template void initialise<3>(ExplicitMesh<3>&, const SolidMaterial&);
+template void build_node_adjacency<2>(ExplicitMesh<2>&);
+template void build_node_adjacency<3>(ExplicitMesh<3>&);
 template ForceReport compute_internal_forces<2>(ExplicitMesh<2>&, const SolidMaterial&, Real);
 template ForceReport compute_internal_forces<3>(ExplicitMesh<3>&, const SolidMaterial&, Real);
 template Real stable_time_step<2>(const ExplicitMesh<2>&, const SolidMaterial&);

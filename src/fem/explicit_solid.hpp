@@ -70,6 +70,11 @@ struct ForceReport {
 template <int D>
 void initialise(ExplicitMesh<D>& mesh, const SolidMaterial& material);
 
+/// The node -> (element, local node) adjacency of the mesh's connectivity (node_entry_offsets,
+/// node_entries), in element order.
+template <int D>
+void build_node_adjacency(ExplicitMesh<D>& mesh);
+
 /// One evaluation of the internal forces (header comment): updates the element state and
 /// mesh.internal_force. dt is the step just taken (0 for the initial evaluation).
 template <int D>

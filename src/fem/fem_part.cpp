@@ -120,11 +120,13 @@ FemPart<D>::FemPart(const PartSettings& settings)
   external_force_.assign(at(nn), Vec<D>::Zero());
   dashpot_force_.assign(at(nn), Vec<D>::Zero());
   contact_force_.assign(at(nn), Vec<D>::Zero());
+  for (auto* book : {&work_external_, &work_damping_, &work_contact_, &eroded_mass_of_node_,
+                     &eroded_kinetic_of_node_})
+    book->assign(at(nn), 0);
   rebuild_surface();
   for (const auto& b : settings.fem.boundaries)
     apply_boundary_config(source, b);
   walls_ = rigid_walls<D>(settings.fem.rigid_walls, mesh_.position, name_);
-  wall_work_.assign(walls_.empty() ? 0 : at(nn), 0);
   apply_symmetry_planes(pc);
   for (const auto& l : settings.fem.loads)
     add_pressure_load(source, l);
@@ -140,27 +142,19 @@ template <int D>
 void FemPart<D>::compute_forces(Real t_s) {
   if (!stale_) return;
   last_ = compute_internal_forces(mesh_, material_, dt_pending_);
-  if (last_.mass_added_kg > 0) {
-    added_mass_ += last_.mass_added_kg;
-    mass_scaling_dissipated_ += last_.mass_scaling_dissipated_j;
-    dissipated_ += last_.mass_scaling_dissipated_j;
-    if (mass_scaled_first_ < 0) mass_scaled_first_ = last_.first_mass_scaled_element;
-  }
+  // The elements it names by their global numbers (on ranks).
+  last_.limiting_element = global_element(last_.limiting_element);
+  last_.inverted_element = global_element(last_.inverted_element);
+  last_.first_mass_scaled_element = global_element(last_.first_mass_scaled_element);
+  if (last_.first_mass_scaled_element >= 0 &&
+      (mass_scaled_first_ < 0 || last_.first_mass_scaled_element < mass_scaled_first_))
+    mass_scaled_first_ = last_.first_mass_scaled_element;
   if (last_.newly_eroded > 0) account_erosion();
   if (!loads_.empty()) pressure_forces(t_s);
   const Real dt = dt_pending_;
   const Index nn = mesh_.node_count();
-  struct Work {
-    Real external = 0, dissipated = 0;
-    Work& operator+=(const Work& o) {
-      external += o.external;
-      dissipated += o.dissipated;
-      return *this;
-    }
-  };
   // New accelerations and the work of the external forces over the step just taken
   // (trapezoidal in the force: dx . (f^n + f^{n+1}) / 2 with dx = v^{n+1/2} dt).
-  std::vector<Work> work(at(nn));
   parallel::for_each(nn, [&](Index i) {
     const std::size_t u = at(i);
     const Real m = mesh_.mass[u];
@@ -183,41 +177,52 @@ void FemPart<D>::compute_forces(Real t_s) {
       }
     acceleration_[u] = f / m;
     if (dt > 0) {
-      work[u].external = Real(0.5) * dt * v.dot(external_force_[u] + external);
-      work[u].dissipated = -Real(0.5) * dt * v.dot(dashpot_force_[u] + dashpot);
+      work_external_[u] += Real(0.5) * dt * v.dot(external_force_[u] + external);
+      work_damping_[u] -= Real(0.5) * dt * v.dot(dashpot_force_[u] + dashpot);
     }
     external_force_[u] = external;
     dashpot_force_[u] = dashpot;
   });
-  const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) { return work[at(i)]; });
-  external_work_ += w.external;
-  dissipated_ += w.dissipated;
   stale_ = false;
 }
 
 template <int D>
 std::optional<parts::Fault> FemPart<D>::check() const {
-  if (material_.mass_scaling_min_step_s > 0 && added_mass_ > mass_scaling_limit_ * initial_mass_)
-    return parts::Fault{
-        last_.first_mass_scaled_element >= 0 ? last_.first_mass_scaled_element : mass_scaled_first_,
-        fmt::format("mass scaling has added {:.4g} kg, {:.3g} % of the part's initial mass, "
-                    "past fem.mass_scaling_limit = {:.3g}; raise the limit, lower "
-                    "fem.mass_scaling_step_ratio, or let crushed elements erode "
-                    "(fem.erosion_step_ratio)",
-                    added_mass_, 100 * added_mass_ / initial_mass_, mass_scaling_limit_)};
-  if (last_.inverted_element >= 0)
-    return parts::Fault{last_.inverted_element,
-                        "element inverted (volume <= 0): the mesh is tangled; lower "
-                        "time.safety_factor or raise the hourglass coefficient"};
-  const Index bad = first_index(mesh_.node_count(), [&](Index i) {
-    return !acceleration_[at(i)].allFinite() || !mesh_.position[at(i)].allFinite();
-  });
-  if (bad >= 0)
-    return parts::Fault{bad, "non-finite position or acceleration at node " + std::to_string(bad)};
-  const Index bad_e =
-      first_index(mesh_.element_count(), [&](Index e) { return !mesh_.stress[at(e)].allFinite(); });
-  if (bad_e >= 0) return parts::Fault{bad_e, "non-finite stress"};
-  return std::nullopt;
+  // Every rank takes the same decisions (the mass added: a sum over all of them).
+  if (material_.mass_scaling_min_step_s > 0) {
+    const Real added = element_total([&](Index e) { return mesh_.added_mass_kg[at(e)]; });
+    if (added > mass_scaling_limit_ * initial_mass_) {
+      parts::Ranked first;
+      if (mass_scaled_first_ >= 0) first.id = mass_scaled_first_;
+      if (comm_) first = parts::smallest_over_ranks(*comm_, first);
+      return parts::Fault{
+          first.id,
+          fmt::format("mass scaling has added {:.4g} kg, {:.3g} % of the part's initial mass, "
+                      "past fem.mass_scaling_limit = {:.3g}; raise the limit, lower "
+                      "fem.mass_scaling_step_ratio, or let crushed elements erode "
+                      "(fem.erosion_step_ratio)",
+                      added, 100 * added / initial_mass_, mass_scaling_limit_)};
+    }
+  }
+  auto mine = [&]() -> std::optional<parts::Fault> {
+    if (last_.inverted_element >= 0)
+      return parts::Fault{last_.inverted_element,
+                          "element inverted (volume <= 0): the mesh is tangled; lower "
+                          "time.safety_factor or raise the hourglass coefficient"};
+    const Index bad = first_index(mesh_.node_count(), [&](Index i) {
+      return !ghost_node(i) &&
+             (!acceleration_[at(i)].allFinite() || !mesh_.position[at(i)].allFinite());
+    });
+    if (bad >= 0)
+      return parts::Fault{global_node(bad), "non-finite position or acceleration at node " +
+                                                std::to_string(global_node(bad))};
+    const Index bad_e = first_index(mesh_.element_count(), [&](Index e) {
+      return !ghost_element(e) && !mesh_.stress[at(e)].allFinite();
+    });
+    if (bad_e >= 0) return parts::Fault{global_element(bad_e), "non-finite stress"};
+    return std::nullopt;
+  }();
+  return comm_ ? parts::first_fault(*comm_, mine) : mine;
 }
 
 template <int D>
@@ -230,12 +235,10 @@ void FemPart<D>::advance(Real /*t_s*/, Real dt_s) {
     v += half * a;
     impose_velocity(u);
     if (!walls_.empty())
-      wall_work_[u] = hold_off_walls(walls_, mesh_.position[u], v, mesh_.mass[u], dt_s, a);
+      work_external_[u] += hold_off_walls(walls_, mesh_.position[u], v, mesh_.mass[u], dt_s, a);
     mesh_.position[u] += dt_s * v;
   });
-  if (!walls_.empty())
-    external_work_ += parallel::deterministic_sum<Real>(mesh_.node_count(),
-                                                        [&](Index i) { return wall_work_[at(i)]; });
+  if (comm_) refresh_ghosts();
   dt_pending_ = dt_s;
   stale_ = true;
   contact_pending_ = true;
@@ -263,26 +266,15 @@ void FemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
   if (contact_pending_ && dt_pending_ > 0) {
     // Work of the contact forces over the step just taken (trapezoidal, v = v^{n+1/2}); on
     // imposed components the support takes the force, and does the opposite work.
-    struct Work {
-      Real contact = 0, support = 0;
-      Work& operator+=(const Work& o) {
-        contact += o.contact;
-        support += o.support;
-        return *this;
-      }
-    };
     const Real half_dt = Real(0.5) * dt_pending_;
-    const Work w = parallel::deterministic_sum<Work>(nn, [&](Index i) {
+    parallel::for_each(nn, [&](Index i) {
       const std::size_t u = at(i);
       const Vec<D> mean = contact_force_[u] + force[u];
-      Work r;
-      r.contact = half_dt * mesh_.velocity[u].dot(mean);
+      work_contact_[u] += half_dt * mesh_.velocity[u].dot(mean);
       for (int k = 0; k < D; ++k)
-        if (constrained_[u] & (1u << k)) r.support -= half_dt * mesh_.velocity[u][k] * mean[k];
-      return r;
+        if (constrained_[u] & (1u << k))
+          work_external_[u] -= half_dt * mesh_.velocity[u][k] * mean[k];
     });
-    contact_work_ += w.contact;
-    external_work_ += w.support;
   }
   contact_pending_ = false;
   contact_force_ = force;
@@ -290,26 +282,27 @@ void FemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
 
 template <int D>
 parts::Energies FemPart<D>::energies() const {
-  struct Sums {
-    Real internal = 0, hourglass = 0;
-    Sums& operator+=(const Sums& o) {
-      internal += o.internal;
-      hourglass += o.hourglass;
-      return *this;
-    }
+  // Each sum over this rank's own entities and every rank's, by the reproducible sum (the
+  // same bits for any rank and thread count). An eroded element's energies went to the eroded
+  // account with it.
+  auto live = [&](const std::vector<Real>& of_element) {
+    return element_total([&](Index e) { return mesh_.eroded[at(e)] ? 0 : of_element[at(e)]; });
   };
-  const Sums s = parallel::deterministic_sum<Sums>(mesh_.element_count(), [&](Index e) {
-    if (mesh_.eroded[at(e)]) return Sums{};
-    return Sums{mesh_.internal_energy_j[at(e)], mesh_.hourglass_energy_j[at(e)]};
-  });
   parts::Energies en;
-  en.kinetic_j = kinetic_energy(mesh_);
-  en.internal_j = s.internal;
-  en.hourglass_j = s.hourglass;
-  en.external_work_j = external_work_;
-  en.damping_j = dissipated_;
-  en.eroded_j = eroded_energy_;
-  en.contact_j = -contact_work_;
+  en.kinetic_j = node_total(
+      [&](Index i) { return Real(0.5) * mesh_.mass[at(i)] * mesh_.velocity[at(i)].squaredNorm(); });
+  en.internal_j = live(mesh_.internal_energy_j);
+  en.hourglass_j = live(mesh_.hourglass_energy_j);
+  en.external_work_j = node_total([&](Index i) { return work_external_[at(i)]; });
+  en.damping_j = node_total(
+      [&](Index i) { return work_damping_[at(i)] + mesh_.mass_scaling_dissipated_j[at(i)]; });
+  en.eroded_j = element_total([&](Index e) {
+                  return element_accounted_[at(e)]
+                             ? mesh_.internal_energy_j[at(e)] + mesh_.hourglass_energy_j[at(e)]
+                             : 0;
+                }) +
+                node_total([&](Index i) { return eroded_kinetic_of_node_[at(i)]; });
+  en.contact_j = -node_total([&](Index i) { return work_contact_[at(i)]; });
   return en;
 }
 
@@ -388,82 +381,79 @@ std::vector<fields::FieldView> FemPart<D>::cell_fields() const {
 
 template <int D>
 void FemPart<D>::save_state(parts::StateWriter& w) const {
+  if (comm_) {
+    save_gathered(w);
+    return;
+  }
   w.tag("fem");
-  for_each_mesh_state_vector(mesh_, is_hjc(),
-                             [&](const auto& v, std::size_t, const char*) { w.vector(v); });
-  w.vector(acceleration_);
-  w.vector(external_force_);
-  w.vector(dashpot_force_);
-  w.vector(live_elements_of_node_);
-  w.vector(element_accounted_);
-  w.vector(contact_force_);
-  w.value(contact_work_);
+  for_each_state_vector(*this, [&](const auto& v, MeshEntity, const char*) { w.vector(v); });
+  write_values(w, last_, mass_scaled_first_);
+}
+
+template <int D>
+void FemPart<D>::write_values(parts::StateWriter& w, const ForceReport& report,
+                              Index mass_scaled_first) const {
   w.value(contact_pending_);
-  w.value(last_);
+  w.value(report.stable_dt_s);
+  w.value(report.limiting_element);
+  w.value(report.inverted_element);
+  w.value(report.first_mass_scaled_element);
   w.value(dt_pending_);
   w.value(stale_);
-  w.value(external_work_);
-  w.value(dissipated_);
-  w.value(eroded_energy_);
-  w.value(eroded_mass_);
-  w.value(eroded_count_);
-  w.value(added_mass_);
-  w.value(mass_scaling_dissipated_);
-  w.value(mass_scaled_first_);
+  w.value(mass_scaled_first);
 }
 
 template <int D>
 void FemPart<D>::load_state(parts::StateReader& r) {
   r.tag("fem");
   const std::size_t nn = mesh_.position.size(), ne = mesh_.elements.size();
-  auto sized = [&](auto& v, std::size_t n, const char* what) {
+  for_each_state_vector(*this, [&](auto& v, MeshEntity entity, const char* what) {
+    const std::size_t n = entity == MeshEntity::node ? nn : ne;
     r.vector(v);
     if (v.size() != n)
       r.fail(fmt::format("part '{}': {} has {} entries, the mesh {}", name_, what, v.size(), n));
-  };
-  for_each_mesh_state_vector(mesh_, is_hjc(), sized);
-  sized(acceleration_, nn, "accelerations");
-  sized(external_force_, nn, "external forces");
-  sized(dashpot_force_, nn, "dashpot forces");
-  sized(live_elements_of_node_, nn, "node element counts");
-  sized(element_accounted_, ne, "erosion records");
-  sized(contact_force_, nn, "contact forces");
-  r.value(contact_work_);
+  });
   r.value(contact_pending_);
-  r.value(last_);
+  last_ = ForceReport{};
+  r.value(last_.stable_dt_s);
+  r.value(last_.limiting_element);
+  r.value(last_.inverted_element);
+  r.value(last_.first_mass_scaled_element);
   r.value(dt_pending_);
   r.value(stale_);
-  r.value(external_work_);
-  r.value(dissipated_);
-  r.value(eroded_energy_);
-  r.value(eroded_mass_);
-  r.value(eroded_count_);
-  r.value(added_mass_);
-  r.value(mass_scaling_dissipated_);
   r.value(mass_scaled_first_);
-  if (eroded_count_ > 0) rebuild_surface();
+  if (std::find(mesh_.eroded.begin(), mesh_.eroded.end(), 1) != mesh_.eroded.end())
+    rebuild_surface();
+}
+
+template <int D>
+Index FemPart<D>::count() const {
+  return element_count_of([&](Index e) { return mesh_.eroded[at(e)] == 0; });
 }
 
 template <int D>
 std::vector<parts::Diagnostic> FemPart<D>::diagnostics() const {
+  Real max_plastic = 0;
+  for (Index e = 0; e < mesh_.element_count(); ++e)
+    if (!ghost_element(e)) max_plastic = std::max(max_plastic, mesh_.plastic_strain[at(e)]);
   std::vector<parts::Diagnostic> d = {
-      {"elements", static_cast<Real>(mesh_.element_count())},
-      {"nodes", static_cast<Real>(mesh_.node_count())},
-      {"eroded_elements", static_cast<Real>(eroded_count_)},
-      {"eroded_mass_kg", eroded_mass_},
+      {"elements", static_cast<Real>(comm_ ? whole_elements_ : mesh_.element_count())},
+      {"nodes", static_cast<Real>(comm_ ? whole_nodes_ : mesh_.node_count())},
+      {"eroded_elements",
+       static_cast<Real>(element_count_of([&](Index e) { return mesh_.eroded[at(e)] != 0; }))},
+      {"eroded_mass_kg", node_total([&](Index i) { return eroded_mass_of_node_[at(i)]; })},
       {"initial_mass_kg", initial_mass_},
-      {"max_plastic_strain", parallel::max_over(mesh_.element_count(), 0, [&](Index e) {
-         return mesh_.plastic_strain[at(e)];
-       })}};
+      {"max_plastic_strain", comm_ ? comm_->max(max_plastic) : max_plastic}};
   if (material_.mass_scaling_min_step_s > 0) {
+    const Real added = element_total([&](Index e) { return mesh_.added_mass_kg[at(e)]; });
     d.push_back({"mass_scaling_min_step_s", material_.mass_scaling_min_step_s});
-    d.push_back({"added_mass_kg", added_mass_});
-    d.push_back({"added_mass_fraction", added_mass_ / initial_mass_});
-    d.push_back({"mass_scaled_elements", static_cast<Real>(parallel::deterministic_sum<Index>(
-                                             mesh_.element_count(), [&](Index e) {
-                                               return mesh_.added_mass_kg[at(e)] > 0 ? 1 : 0;
-                                             }))});
-    d.push_back({"mass_scaling_dissipated_j", mass_scaling_dissipated_});
+    d.push_back({"added_mass_kg", added});
+    d.push_back({"added_mass_fraction", added / initial_mass_});
+    d.push_back({"mass_scaled_elements", static_cast<Real>(element_count_of([&](Index e) {
+                   return mesh_.added_mass_kg[at(e)] > 0;
+                 }))});
+    d.push_back({"mass_scaling_dissipated_j",
+                 node_total([&](Index i) { return mesh_.mass_scaling_dissipated_j[at(i)]; })});
   }
   return d;
 }
@@ -496,15 +486,13 @@ void FemPart<D>::account_erosion() {
     const std::size_t ue = at(e);
     if (!mesh_.eroded[ue] || element_accounted_[ue]) continue;
     element_accounted_[ue] = 1;
-    ++eroded_count_;
-    eroded_energy_ += mesh_.internal_energy_j[ue] + mesh_.hourglass_energy_j[ue];
     const Real share =
         (material_.density_kg_m3 * mesh_.reference_volume[ue] + mesh_.added_mass_kg[ue]) / kNodes;
     for (Index n : mesh_.elements[ue]) {
       const std::size_t un = at(n);
       const Real removed = --live_elements_of_node_[un] == 0 ? mesh_.mass[un] : share;
-      eroded_mass_ += removed;
-      eroded_energy_ += Real(0.5) * removed * mesh_.velocity[un].squaredNorm();
+      eroded_mass_of_node_[un] += removed;
+      eroded_kinetic_of_node_[un] += Real(0.5) * removed * mesh_.velocity[un].squaredNorm();
       mesh_.mass[un] -= removed;
       if (live_elements_of_node_[un] == 0) {
         mesh_.mass[un] = 0;

@@ -22,11 +22,15 @@
 #include "fem/explicit_mesh.hpp"
 #include "fem/explicit_solid.hpp"
 #include "fem/fem_mesh_source.hpp"
+#include "fem/mesh_state_layout.hpp"
 #include "fem/settings.hpp"
 #include "fields/field_set.hpp"
 #include "materials/strength/strength.hpp"
+#include "parallel/comm.hpp"
 #include "parallel/parallel.hpp"
 #include "parts/contact_points.hpp"
+#include "parts/gathered_points.hpp"
+#include "parts/on_ranks.hpp"
 #include "parts/part.hpp"
 #include "parts/setup.hpp"
 
@@ -39,7 +43,7 @@ class FemPart final : public parts::Part<D> {
 
   const std::string& name() const override { return name_; }
   const char* method() const override { return "fem"; }
-  Index count() const override { return mesh_.element_count() - eroded_count_; }
+  Index count() const override;
   Real mass_kg() const override { return total_mass(); }
 
   parts::StableStep stable_step() const override {
@@ -49,7 +53,7 @@ class FemPart final : public parts::Part<D> {
     s.reason = material_.mass_scaling_min_step_s > 0
                    ? "element size / dilatational wave speed (with bulk viscosity, mass-scaled)"
                    : "element size / dilatational wave speed (with bulk viscosity)";
-    return s;
+    return comm_ ? parts::smallest_step(*comm_, s) : s;
   }
 
   void compute_forces(Real t_s) override;
@@ -97,6 +101,11 @@ class FemPart final : public parts::Part<D> {
   void load_state(parts::StateReader& r) override;
   std::vector<parts::Diagnostic> diagnostics() const override;
 
+  // fem_ranks.cpp: the part on several ranks.
+  void distribute(const parallel::Comm& comm) override;
+  std::optional<parts::GatheredPoints<D>> gathered_points() const override;
+  std::vector<parts::Diagnostic> rank_figures() const override;
+
  private:
   static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
     return fields::FieldView{&info, 1, false, v.data(), nullptr, static_cast<Index>(v.size())};
@@ -131,9 +140,72 @@ class FemPart final : public parts::Part<D> {
   void rebuild_surface();
 
   Real total_mass() const {
-    return parallel::deterministic_sum<Real>(mesh_.node_count(),
-                                             [&](Index i) { return mesh_.mass[at(i)]; });
+    return node_total([&](Index i) { return mesh_.mass[at(i)]; });
   }
+
+  // On ranks (fem_ranks.cpp): whether local node i (element e) is another rank's, held here
+  // for the elements of this rank's nodes; the global number of a local node or element.
+  bool ghost_node(Index i) const { return !ghost_node_.empty() && ghost_node_[at(i)] != 0; }
+  bool ghost_element(Index e) const {
+    return !ghost_element_.empty() && ghost_element_[at(e)] != 0;
+  }
+  Index global_node(Index i) const { return node_id_.empty() ? i : node_id_[at(i)]; }
+  Index global_element(Index e) const {
+    return e < 0 || element_id_.empty() ? e : element_id_[at(e)];
+  }
+  // The sum of term(i) over this rank's own nodes (term(e) over its own elements) and every
+  // rank's, by the reproducible sum: the same bits for any thread and rank count (collective
+  // on ranks).
+  template <class Term>
+  Real node_total(Term&& term) const {
+    std::vector<Real> terms;
+    terms.reserve(at(mesh_.node_count()));
+    for (Index i = 0; i < mesh_.node_count(); ++i)
+      if (!ghost_node(i)) terms.push_back(term(i));
+    return parallel::reproducible_sum(comm_ ? *comm_ : parallel::Comm{}, terms);
+  }
+  template <class Term>
+  Real element_total(Term&& term) const {
+    std::vector<Real> terms;
+    terms.reserve(at(mesh_.element_count()));
+    for (Index e = 0; e < mesh_.element_count(); ++e)
+      if (!ghost_element(e)) terms.push_back(term(e));
+    return parallel::reproducible_sum(comm_ ? *comm_ : parallel::Comm{}, terms);
+  }
+  // The number of this rank's own elements with pred(e), over every rank (collective).
+  template <class Pred>
+  Index element_count_of(Pred&& pred) const {
+    std::int64_t n = 0;
+    for (Index e = 0; e < mesh_.element_count(); ++e)
+      if (!ghost_element(e) && pred(e)) ++n;
+    return static_cast<Index>(comm_ ? comm_->sum(n) : n);
+  }
+  // Ghost nodes: their positions and velocities from their owners (after every drift).
+  void refresh_ghosts();
+
+  // The checkpoint's vectors in their order, each(vector, entity, what): the mesh's state,
+  // then the part's (fem_part.cpp's save_state and load_state; fem_ranks.cpp gathers them).
+  template <class Self, class Each>
+  static void for_each_state_vector(Self& s, Each&& each) {
+    constexpr MeshEntity node = MeshEntity::node, element = MeshEntity::element;
+    for_each_mesh_state_vector(s.mesh_, s.is_hjc(), each);
+    each(s.acceleration_, node, "accelerations");
+    each(s.external_force_, node, "external forces");
+    each(s.dashpot_force_, node, "dashpot forces");
+    each(s.live_elements_of_node_, node, "node element counts");
+    each(s.element_accounted_, element, "erosion records");
+    each(s.contact_force_, node, "contact forces");
+    each(s.work_external_, node, "external work");
+    each(s.work_damping_, node, "dashpot work");
+    each(s.work_contact_, node, "contact work");
+    each(s.eroded_mass_of_node_, node, "eroded masses");
+    each(s.eroded_kinetic_of_node_, node, "eroded kinetic energies");
+  }
+  // The checkpoint's values after the vectors (`report`: the last force evaluation's findings,
+  // the whole part's on ranks).
+  void write_values(parts::StateWriter& w, const ForceReport& report,
+                    Index mass_scaled_first) const;
+  void save_gathered(parts::StateWriter& w) const;
 
   void impose_velocity(std::size_t u) {
     const unsigned c = constrained_[u];
@@ -159,7 +231,6 @@ class FemPart final : public parts::Part<D> {
   Real initial_mass_ = 0;
 
   std::vector<RigidWall<D>> walls_;
-  std::vector<Real> wall_work_;  // per node, the step's work of the walls
 
   // Boundary conditions, per node: bit k of constrained_ = component k imposed.
   std::vector<std::uint8_t> constrained_;
@@ -197,19 +268,32 @@ class FemPart final : public parts::Part<D> {
   Real dt_pending_ = 0;  // the step the nodes moved by since the last force evaluation
   bool stale_ = true;    // the nodes moved since then
 
-  // Accounts [J], [kg].
-  Real external_work_ = 0;
-  Real dissipated_ = 0;
-  Real contact_work_ = 0;  // work of the contact forces on the part
-  Real eroded_energy_ = 0;
-  Real eroded_mass_ = 0;
-  Index eroded_count_ = 0;
-  // Mass scaling: the limit (fraction of initial_mass_), the mass added so far [kg], the kinetic
-  // energy the nodes gave up taking it [J] (also in dissipated_), the first element scaled.
+  // Accounts per node since t = 0 [J], [kg], summed when asked (energies, diagnostics) so that
+  // the sums have the same bits on any rank count: the work of the external forces (gravity,
+  // reactions, walls, the supports' share of the contacts), the dashpots' dissipation (mass
+  // scaling's is the mesh's), the contacts' work, and the mass and kinetic energy that left the
+  // node with its eroded elements. An eroded element's internal and hourglass energy stays in
+  // its own entries (frozen at its failure).
+  std::vector<Real> work_external_;
+  std::vector<Real> work_damping_;
+  std::vector<Real> work_contact_;
+  std::vector<Real> eroded_mass_of_node_;
+  std::vector<Real> eroded_kinetic_of_node_;
+  // Mass scaling: the limit (fraction of initial_mass_) and the lowest-numbered (global)
+  // element scaled so far here, or -1 (the mass added is the mesh's added_mass_kg).
   Real mass_scaling_limit_ = 0;
-  Real added_mass_ = 0;
-  Real mass_scaling_dissipated_ = 0;
   Index mass_scaled_first_ = -1;
+
+  // On ranks (fem_ranks.cpp; all empty on one rank): the elements this rank owns (a bisection
+  // of their centres at rest) and those of its own nodes (a node is the rank's of its
+  // lowest-numbered element); the nodes of those elements, ascending in their global numbers.
+  const parallel::Comm* comm_ = nullptr;
+  std::vector<Index> node_id_, element_id_;  // local -> global number
+  std::vector<std::uint8_t> ghost_node_, ghost_element_;
+  std::vector<std::vector<Index>> send_nodes_;     // per rank: own nodes it holds, ascending
+  std::vector<std::vector<Index>> receive_nodes_;  // per rank: its nodes held here, ascending
+  Index whole_nodes_ = 0, whole_elements_ = 0;
+  std::vector<ElementNodes<D>> whole_elements_nodes_;  // the root's: the frames' cells
 
   // Output scratch.
   mutable std::vector<Vec<D>> displacement_;

@@ -3,39 +3,40 @@
 // a field added to ExplicitMesh is saved and loaded in one place.
 #pragma once
 
-#include <cstddef>
-
 #include "fem/explicit_mesh.hpp"
 
 namespace crater::fem {
 
-/// Calls each(vector, entries it must have, what it holds) for every saved vector of `mesh`
-/// (an ExplicitMesh<D>, const for saving): nodes and elements as the checkpoint layout has
-/// them, then, for a Holmquist-Johnson-Cook part (`compaction`), \mu_{max} and \mu_p. The
-/// other laws' checkpoints stay as they were. The entry counts are taken before any vector
-/// is read.
+/// Which entities a saved vector has an entry per.
+enum class MeshEntity { node, element };
+
+/// Calls each(vector, entity, what it holds) for every saved vector of `mesh` (an
+/// ExplicitMesh<D>, const for saving): nodes and elements as the checkpoint layout has them,
+/// then, for a Holmquist-Johnson-Cook part (`compaction`), \mu_{max} and \mu_p. The other laws'
+/// checkpoints stay as they were.
 template <class Mesh, class Each>
 void for_each_mesh_state_vector(Mesh& mesh, bool compaction, Each&& each) {
-  const std::size_t nn = mesh.position.size(), ne = mesh.elements.size();
-  each(mesh.position, nn, "positions");
-  each(mesh.velocity, nn, "velocities");
-  each(mesh.internal_force, nn, "forces");
-  each(mesh.mass, nn, "masses");
-  each(mesh.stress, ne, "stresses");
-  each(mesh.plastic_strain, ne, "plastic strains");
-  each(mesh.temperature_k, ne, "temperatures");
-  each(mesh.damage, ne, "damage");
-  each(mesh.volume, ne, "volumes");
-  each(mesh.internal_energy_j, ne, "internal energies");
-  each(mesh.hourglass_energy_j, ne, "hourglass energies");
-  each(mesh.hourglass, ne, "hourglass forces");
+  constexpr MeshEntity node = MeshEntity::node, element = MeshEntity::element;
+  each(mesh.position, node, "positions");
+  each(mesh.velocity, node, "velocities");
+  each(mesh.internal_force, node, "forces");
+  each(mesh.mass, node, "masses");
+  each(mesh.mass_scaling_dissipated_j, node, "kinetic energies given up to mass scaling");
+  each(mesh.stress, element, "stresses");
+  each(mesh.plastic_strain, element, "plastic strains");
+  each(mesh.temperature_k, element, "temperatures");
+  each(mesh.damage, element, "damage");
+  each(mesh.volume, element, "volumes");
+  each(mesh.internal_energy_j, element, "internal energies");
+  each(mesh.hourglass_energy_j, element, "hourglass energies");
+  each(mesh.hourglass, element, "hourglass forces");
   // An element failing next books the work of its last forces (explicit_solid.cpp).
-  each(mesh.element_force, ne, "element forces");
-  each(mesh.eroded, ne, "erosion flags");
-  each(mesh.added_mass_kg, ne, "added masses");
+  each(mesh.element_force, element, "element forces");
+  each(mesh.eroded, element, "erosion flags");
+  each(mesh.added_mass_kg, element, "added masses");
   if (compaction) {
-    each(mesh.mu_max, ne, "HJC largest compressions");
-    each(mesh.plastic_volumetric_strain, ne, "HJC plastic volumetric strains");
+    each(mesh.mu_max, element, "HJC largest compressions");
+    each(mesh.plastic_volumetric_strain, element, "HJC plastic volumetric strains");
   }
 }
 

@@ -1,11 +1,13 @@
 // A part spread over ranks (Part::distribute, issue 29) written as one: its points and point
-// fields gathered from every rank and ordered by the entities' global ids, so that a frame has
-// the same bits on any rank count (docs/distributed.md, "crater run on ranks").
+// fields, and a mesh part's cells and cell fields, gathered from every rank and ordered by the
+// entities' global ids, so that a frame has the same bits on any rank count
+// (docs/distributed.md, "crater run on ranks").
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <numeric>
 #include <span>
 #include <vector>
@@ -16,10 +18,9 @@
 
 namespace crater::parts {
 
-/// The gathered frame of a part: points and point fields, in ascending id.
-template <int D>
-struct GatheredPoints {
-  std::vector<Vec<D>> points;
+/// Fields of entities gathered from every rank, in ascending id.
+struct GatheredFields {
+  Index count = 0;  // entities
   std::vector<fields::FieldInfo> infos;
   std::vector<int> components;
   std::vector<std::uint8_t> integer;                // per field: its values are integers
@@ -31,22 +32,35 @@ struct GatheredPoints {
     std::vector<fields::FieldView> v;
     for (std::size_t k = 0; k < infos.size(); ++k) {
       const bool is_int = integer[k] != 0;
-      v.push_back(fields::FieldView{
-          &infos[k], components[k], is_int, is_int ? nullptr : reals[k].data(),
-          is_int ? integers[k].data() : nullptr, static_cast<Index>(points.size())});
+      v.push_back(fields::FieldView{&infos[k], components[k], is_int,
+                                    is_int ? nullptr : reals[k].data(),
+                                    is_int ? integers[k].data() : nullptr, count});
     }
     return v;
   }
 };
 
-/// Gathers the entities i of this rank with keep(i) (its own, not its ghosts): id[i], x[i] and
-/// every view's values, from every rank to the root, ordered by id. Collective; on the other
-/// ranks the result is empty. Every rank must pass the same fields in the same order.
-template <int D, class Keep>
-GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std::int64_t> id,
-                                std::span<const Vec<D>> x,
-                                const std::vector<fields::FieldView>& views, Keep&& keep) {
-  std::size_t words = 1 + D;  // id (its bits), the position, then every field's components
+/// The gathered frame of a part: points and point fields in ascending id; for a mesh part also
+/// its cells (VTK connectivity over the points, offsets, cell types) and cell fields in
+/// ascending element id (empty for particles).
+template <int D>
+struct GatheredPoints {
+  std::vector<Vec<D>> points;
+  GatheredFields point;
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> cell_types;
+  GatheredFields cell;
+
+  std::vector<fields::FieldView> views() const { return point.views(); }
+};
+
+/// Gathers the entities i of this rank with keep(i) (its own, not its ghosts): every view's
+/// values with id[i], from every rank to the root, ordered by id. Collective; on the other ranks
+/// the result is empty. Every rank must pass the same fields in the same order.
+template <class Keep>
+GatheredFields gather_fields(const parallel::Comm& comm, std::span<const std::int64_t> id,
+                             const std::vector<fields::FieldView>& views, Keep&& keep) {
+  std::size_t words = 1;  // id (its bits), then every field's components
   for (const auto& v : views)
     words += static_cast<std::size_t>(v.components);
   std::vector<Real> mine;
@@ -55,8 +69,6 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
     Real bits;
     std::memcpy(&bits, &id[i], sizeof bits);
     mine.push_back(bits);
-    for (int d = 0; d < D; ++d)
-      mine.push_back(x[i][d]);
     for (const auto& v : views)
       for (int c = 0; c < v.components; ++c) {
         const std::size_t at =
@@ -70,7 +82,7 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
   }
   // The root alone receives them (one piece per rank, PVTU, would spare it the whole part).
   const std::vector<Real> all = parallel::gather(comm, std::span<const Real>(mine));
-  GatheredPoints<D> g;
+  GatheredFields g;
   if (!comm.root()) return g;
   const std::size_t n = all.size() / words;
   auto id_of = [&](std::size_t e) {
@@ -82,7 +94,7 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(),
             [&](std::size_t a, std::size_t b) { return id_of(a) < id_of(b); });
-  g.points.resize(n);
+  g.count = static_cast<Index>(n);
   for (const auto& v : views) {
     g.infos.push_back(*v.info);
     g.components.push_back(v.components);
@@ -93,8 +105,6 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
   }
   for (std::size_t q = 0; q < n; ++q) {
     const Real* e = &all[order[q] * words + 1];
-    for (int d = 0; d < D; ++d)
-      g.points[q][d] = *e++;
     for (std::size_t k = 0; k < views.size(); ++k) {
       const auto c = static_cast<std::size_t>(views[k].components);
       for (std::size_t j = 0; j < c; ++j, ++e) {
@@ -105,6 +115,34 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
       }
     }
   }
+  return g;
+}
+
+/// gather_fields with the positions x: the points and their fields, ordered by id, on the root.
+template <int D, class Keep>
+GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std::int64_t> id,
+                                std::span<const Vec<D>> x,
+                                const std::vector<fields::FieldView>& views, Keep&& keep) {
+  static const fields::FieldInfo kPosition{"position", "m", fields::kNone};
+  std::vector<fields::FieldView> with_x = {
+      fields::FieldView{&kPosition, D, false, x.empty() ? nullptr : x.front().data(), nullptr,
+                        static_cast<Index>(x.size())}};
+  with_x.insert(with_x.end(), views.begin(), views.end());
+  GatheredFields all = gather_fields(comm, id, with_x, keep);
+  GatheredPoints<D> g;
+  if (!comm.root()) return g;
+  g.points.resize(static_cast<std::size_t>(all.count));
+  for (std::size_t q = 0; q < g.points.size(); ++q)
+    for (int d = 0; d < D; ++d)
+      g.points[q][d] = all.reals[0][q * D + static_cast<std::size_t>(d)];
+  g.point.count = all.count;
+  g.point.infos.assign(all.infos.begin() + 1, all.infos.end());
+  g.point.components.assign(all.components.begin() + 1, all.components.end());
+  g.point.integer.assign(all.integer.begin() + 1, all.integer.end());
+  g.point.reals.assign(std::make_move_iterator(all.reals.begin() + 1),
+                       std::make_move_iterator(all.reals.end()));
+  g.point.integers.assign(std::make_move_iterator(all.integers.begin() + 1),
+                          std::make_move_iterator(all.integers.end()));
   return g;
 }
 

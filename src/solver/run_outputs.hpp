@@ -110,9 +110,17 @@ class Outputs {
       if (!writer_) continue;
       const std::string file = fmt::format("{}_{}.vtu", parts[k]->name(), tag);
       writer_->record(file);
-      if (gathered)
-        write_points(gathered->points, gathered->views(), dir_ / file, t);
-      else
+      if (gathered && !gathered->cell_types.empty()) {
+        Geometry<D> cells;
+        cells.points = &gathered->points;
+        cells.connectivity = gathered->connectivity;
+        cells.offsets = gathered->offsets;
+        cells.cell_types = gathered->cell_types;
+        write_points(gathered->points, gathered->point.views(), dir_ / file, t, &cells,
+                     gathered->cell.views());
+      } else if (gathered) {
+        write_points(gathered->points, gathered->point.views(), dir_ / file, t);
+      } else
         write_part(*parts[k], dir_ / file, t);
       if (tag != "failure") pvd_[k].add(t, file);
     }

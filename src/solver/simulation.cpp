@@ -522,10 +522,10 @@ void check_ranks(const io::Config& c) {
                                  what, comm.size()));
   };
   for (const io::PartConfig& p : c.parts) {
-    if (!p.is(io::Method::Dem) && !p.is(io::Method::Sph))
+    if (!p.is(io::Method::Dem) && !p.is(io::Method::Sph) && !p.is(io::Method::Fem))
       refuse(p.where, "parts[" + p.name + "].method",
              "a part of method '" + std::string(io::method_name(p.method())) +
-                 "' (only DEM and SPH parts are spread yet)");
+                 "' (only DEM, SPH and FEM parts are spread yet)");
     if (p.is(io::Method::Dem) && p.packing().settle)
       refuse(p.where, "parts[" + p.name + "].packing.settle",
              "settling a packing (every rank would settle it and write the cache)");

@@ -10,7 +10,7 @@ import subprocess
 
 import numpy as np
 
-from crater_test import BIN, read_vtu, summary_without_run_block
+from crater_test import BIN, read_vtu, read_vtu_cells, summary_without_run_block
 
 MPIRUN = os.environ.get("CRATER_MPIRUN", "")
 
@@ -34,11 +34,16 @@ def plain(*args, timeout=240):
 
 
 def by_id(path):
-    """A VTU frame's points and point arrays ordered by the entities' ids, and its time."""
+    """A VTU frame's points and point arrays ordered by the entities' ids, and its time. A mesh
+    part's nodes have no id: their file order is their numbering; its cell arrays come too, in
+    the file's (element) order, named "cell:<name>"."""
     pts, arrays, _, time = read_vtu(path)
-    order = np.argsort(arrays["id"], kind="stable")
+    order = (np.argsort(arrays["id"], kind="stable") if "id" in arrays
+             else np.arange(len(pts)))
     out = {name: a[order] for name, a in arrays.items()}
     out["points"] = pts[order]
+    if "id" not in arrays:
+        out.update({f"cell:{name}": a for name, a in read_vtu_cells(path).items()})
     return out, time
 
 

@@ -59,8 +59,8 @@ class CraterRunOnRanks(unittest.TestCase):
     def test_what_does_not_run_on_ranks_is_refused(self):
         work = scratch("crater_ranks_refused")
         cases = [
-            (["paper-20cm"],
-             "key 'parts[plate].method': a part of method 'fem' (only DEM and SPH parts"),
+            (["paper-20cm"], "key 'parts[soil].packing.settle': settling a packing"),
+            (["paper-fem-only"], "key 'contacts': a contact between parts"),
             ([SCENE, "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
         ]
         for args, expected in cases:

@@ -1,0 +1,296 @@
+// The FEM part on several ranks (issue 29, docs/distributed.md, "The FEM part on ranks").
+//
+// The mesh is cut once, before the first step, when every rank has built it whole: the elements
+// by a recursive coordinate bisection of their centres at rest (each weighing one), a node goes
+// with its lowest-numbered element. A rank keeps its own elements and every element of its own
+// nodes (ghost elements, whose state it computes alike from the same nodes), and the nodes of
+// those elements (ghost nodes: another rank's), numbered as on one rank but for the gaps, so
+// that every loop runs in the same order over what it keeps. A node's force is then gathered
+// from all of its elements, here, in element order: the same bits as on one rank, with no sum
+// across ranks. After every drift the owners send their ghost nodes' positions and velocities
+// (the only exchange of a step); ghosts are never summed nor reported, and what the stages
+// leave in them between drifts is never read. The books are kept per entity and summed over
+// the own ones by the reproducible sum (fem_part.cpp), so they too have the same bits on any
+// rank count. The cuts are not made again: the mesh does not move through space as particles
+// do, and erosion thins the load only where the plate breaks.
+#include <algorithm>
+#include <cstring>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "fem/fem_part_impl.hpp"
+#include "parallel/rcb.hpp"
+
+namespace crater::fem::detail {
+namespace {
+
+/// Keeps the entries `keep` (ascending indices) of v; an empty vector stays empty.
+template <class T>
+void keep_entries(std::vector<T>& v, const std::vector<Index>& keep) {
+  if (v.empty()) return;
+  std::vector<T> kept;
+  kept.reserve(keep.size());
+  for (const Index i : keep)
+    kept.push_back(v[at(i)]);
+  v = std::move(kept);
+}
+
+/// The lowest non-negative number over the ranks, or -1. Collective.
+Index lowest_over_ranks(const parallel::Comm& comm, Index mine) {
+  const parallel::Comm::ValueId best = comm.min_with_id({mine >= 0 ? Real(0) : Real(1), mine});
+  return best.value == 0 ? best.id : -1;
+}
+
+}  // namespace
+
+template <int D>
+void FemPart<D>::distribute(const parallel::Comm& comm) {
+  if (comm_) throw std::logic_error("fem: distribute() twice");
+  constexpr int kNodes = kElementNodes<D>;
+  const Index ne = mesh_.element_count(), nn = mesh_.node_count();
+  const int me = comm.rank(), ranks = comm.size();
+  // The elements' owners: a bisection of their centres at rest (the same on every rank).
+  std::vector<Vec<D>> centre(at(ne), Vec<D>::Zero());
+  for (Index e = 0; e < ne; ++e)
+    for (const Index n : mesh_.elements[at(e)])
+      centre[at(e)] += mesh_.reference_position[at(n)] / Real(kNodes);
+  const std::vector<Real> weight(at(ne), 1);
+  const std::vector<int> element_owner =
+      parallel::rcb<D>(std::span<const Vec<D>>(centre), std::span<const Real>(weight), ranks).owner;
+  // A node's: that of its lowest-numbered element (the adjacency is in element order); a node of
+  // no element is the root's.
+  std::vector<int> node_owner(at(nn), 0);
+  for (Index i = 0; i < nn; ++i) {
+    const Index first = mesh_.node_entry_offsets[at(i)];
+    if (first < mesh_.node_entry_offsets[at(i) + 1])
+      node_owner[at(i)] = element_owner[at(mesh_.node_entries[at(first)] / kNodes)];
+  }
+  // The ranks that keep element e: its owner and its nodes' owners.
+  auto keepers = [&](Index e, auto&& add) {
+    add(element_owner[at(e)]);
+    for (const Index n : mesh_.elements[at(e)])
+      add(node_owner[at(n)]);
+  };
+  std::vector<Index> elements, nodes;  // kept here, ascending
+  std::vector<std::uint8_t> of_kept(at(nn), 0);
+  for (Index e = 0; e < ne; ++e) {
+    bool kept = false;
+    keepers(e, [&](int r) { kept = kept || r == me; });
+    if (!kept) continue;
+    elements.push_back(e);
+    for (const Index n : mesh_.elements[at(e)])
+      of_kept[at(n)] = 1;
+  }
+  for (Index i = 0; i < nn; ++i)
+    if (of_kept[at(i)] || node_owner[at(i)] == me) nodes.push_back(i);
+  std::vector<Index> local_node(at(nn), -1), local_element(at(ne), -1);
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    local_node[at(nodes[k])] = static_cast<Index>(k);
+  for (std::size_t k = 0; k < elements.size(); ++k)
+    local_element[at(elements[k])] = static_cast<Index>(k);
+
+  // Each own node goes to every other rank that keeps one of its elements; each ghost node
+  // comes from its owner. Both lists ascend in the global numbers, so they pair up.
+  send_nodes_.assign(at(ranks), {});
+  receive_nodes_.assign(at(ranks), {});
+  std::vector<std::uint8_t> to(at(ranks));
+  for (const Index i : nodes) {
+    const int owner = node_owner[at(i)];
+    if (owner != me) {
+      receive_nodes_[at(owner)].push_back(local_node[at(i)]);
+      continue;
+    }
+    std::fill(to.begin(), to.end(), 0);
+    for (Index k = mesh_.node_entry_offsets[at(i)]; k < mesh_.node_entry_offsets[at(i) + 1]; ++k)
+      keepers(mesh_.node_entries[at(k)] / kNodes, [&](int r) { to[at(r)] = 1; });
+    for (int r = 0; r < ranks; ++r)
+      if (r != me && to[at(r)]) send_nodes_[at(r)].push_back(local_node[at(i)]);
+  }
+
+  whole_nodes_ = nn;
+  whole_elements_ = ne;
+  if (comm.root()) whole_elements_nodes_ = mesh_.elements;
+  ghost_node_.resize(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k)
+    ghost_node_[k] = node_owner[at(nodes[k])] != me ? 1 : 0;
+  ghost_element_.resize(elements.size());
+  for (std::size_t k = 0; k < elements.size(); ++k)
+    ghost_element_[k] = element_owner[at(elements[k])] != me ? 1 : 0;
+
+  // Every vector with an entry per node or element keeps this rank's (what a new one must
+  // join: the checkpoint's vectors, or the list below).
+  for_each_state_vector(*this, [&](auto& v, MeshEntity entity, const char*) {
+    keep_entries(v, entity == MeshEntity::node ? nodes : elements);
+  });
+  if (!is_hjc()) {  // allocated, not saved
+    keep_entries(mesh_.mu_max, elements);
+    keep_entries(mesh_.plastic_volumetric_strain, elements);
+  }
+  keep_entries(mesh_.reference_position, nodes);
+  keep_entries(mesh_.reference_volume, elements);
+  keep_entries(mesh_.elements, elements);
+  keep_entries(constrained_, nodes);
+  keep_entries(imposed_velocity_, nodes);
+  keep_entries(dashpot_of_node_, nodes);
+  keep_entries(load_force_, nodes);
+  for (auto& element_nodes : mesh_.elements)
+    for (Index& n : element_nodes)
+      n = local_node[at(n)];
+  build_node_adjacency(mesh_);
+  for (PressureLoad& load : loads_) {
+    PressureLoad kept{load.time_s, load.pressure_pa, {}, {}};
+    for (std::size_t f = 0; f < load.faces.size(); ++f) {
+      const Index e = local_element[at(load.element[f])];
+      if (e < 0) continue;
+      auto face = load.faces[f];
+      for (Index& n : face)
+        n = local_node[at(n)];
+      kept.faces.push_back(face);
+      kept.element.push_back(e);
+    }
+    load = std::move(kept);
+  }
+  for (auto& [group, members] : group_nodes_) {
+    std::vector<Index> kept;
+    for (const Index n : members)
+      if (local_node[at(n)] >= 0) kept.push_back(local_node[at(n)]);
+    members = std::move(kept);
+  }
+  node_id_ = std::move(nodes);
+  element_id_ = std::move(elements);
+  comm_ = &comm;
+  rebuild_surface();  // of the kept elements (contacts do not run on ranks yet)
+}
+
+template <int D>
+void FemPart<D>::refresh_ghosts() {
+  const auto ranks = static_cast<std::size_t>(comm_->size());
+  constexpr std::size_t kBytes = 2 * sizeof(Vec<D>);
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    send[r].resize(send_nodes_[r].size() * kBytes);
+    std::byte* out = send[r].data();
+    for (const Index i : send_nodes_[r]) {
+      std::memcpy(out, mesh_.position[at(i)].data(), sizeof(Vec<D>));
+      std::memcpy(out + sizeof(Vec<D>), mesh_.velocity[at(i)].data(), sizeof(Vec<D>));
+      out += kBytes;
+    }
+  }
+  const std::vector<std::vector<std::byte>> got = comm_->all_to_all(send);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (got[r].size() != receive_nodes_[r].size() * kBytes)
+      throw std::logic_error("fem: ghost nodes from rank " + std::to_string(r) +
+                             " do not match the nodes it owns here");
+    const std::byte* in = got[r].data();
+    for (const Index i : receive_nodes_[r]) {
+      std::memcpy(static_cast<void*>(mesh_.position[at(i)].data()), in, sizeof(Vec<D>));
+      std::memcpy(static_cast<void*>(mesh_.velocity[at(i)].data()), in + sizeof(Vec<D>),
+                  sizeof(Vec<D>));
+      in += kBytes;
+    }
+  }
+}
+
+// A frame on ranks: the own nodes' positions and point fields, the own elements' cell fields,
+// ordered by their global numbers on the root, with the whole mesh's cells: the file one rank
+// writes, byte for byte.
+template <int D>
+std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const {
+  if (!comm_) return std::nullopt;
+  parts::GatheredPoints<D> g = parts::gather_points<D>(
+      *comm_, std::span<const std::int64_t>(node_id_), std::span<const Vec<D>>(mesh_.position),
+      point_fields(), [&](Index i) { return !ghost_node(i); });
+  parts::GatheredFields cells =
+      parts::gather_fields(*comm_, std::span<const std::int64_t>(element_id_), cell_fields(),
+                           [&](Index e) { return !ghost_element(e); });
+  if (!comm_->root()) return g;
+  g.cell = std::move(cells);
+  for (const auto& element_nodes : whole_elements_nodes_) {
+    for (const Index n : element_nodes)
+      g.connectivity.push_back(n);
+    g.offsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
+  }
+  g.cell_types.assign(whole_elements_nodes_.size(),
+                      D == 2 ? std::uint8_t{9} : std::uint8_t{12});  // QUAD, HEXAHEDRON
+  return g;
+}
+
+// The elements each rank owns (fewest, most), the ghost nodes and elements it keeps (mean,
+// most), and the bytes of one step's exchange summed over the ranks.
+template <int D>
+std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const {
+  if (!comm_) return {};
+  const parallel::Comm& comm = *comm_;
+  auto flagged = [](const std::vector<std::uint8_t>& flags) {
+    return static_cast<std::int64_t>(std::count(flags.begin(), flags.end(), 1));
+  };
+  const auto owned = static_cast<Real>(mesh_.element_count() - flagged(ghost_element_));
+  const std::int64_t ghosts = flagged(ghost_node_);
+  const auto all_ghosts = static_cast<Real>(comm.sum(ghosts));
+  const auto ranks = static_cast<Real>(comm.size());
+  return {{"owned_min", comm.min(owned)},
+          {"owned_max", comm.max(owned)},
+          {"ghost_nodes_mean", all_ghosts / ranks},
+          {"ghost_nodes_max", comm.max(static_cast<Real>(ghosts))},
+          {"ghost_elements_max", comm.max(static_cast<Real>(flagged(ghost_element_)))},
+          {"ghost_refresh_bytes_per_step", all_ghosts * 2 * sizeof(Vec<D>)}};
+}
+
+// A checkpoint on ranks: every vector gathered on the root from the entities' owners and
+// written whole, then the values the ranks agree on: the file one rank writes, byte for byte,
+// which resumes there or on any rank count (each rank loads it whole, then distribute()).
+template <int D>
+void FemPart<D>::save_gathered(parts::StateWriter& w) const {
+  const parallel::Comm& comm = *comm_;
+  ForceReport report;
+  const parts::StableStep step = stable_step();
+  report.stable_dt_s = step.dt_s;
+  report.limiting_element = step.entity_id;
+  report.inverted_element = lowest_over_ranks(comm, last_.inverted_element);
+  report.first_mass_scaled_element = lowest_over_ranks(comm, last_.first_mass_scaled_element);
+  const Index mass_scaled_first = lowest_over_ranks(comm, mass_scaled_first_);
+  if (comm.root()) w.tag("fem");
+  for_each_state_vector(*this, [&](const auto& v, MeshEntity entity, const char*) {
+    using T = typename std::decay_t<decltype(v)>::value_type;
+    const bool of_nodes = entity == MeshEntity::node;
+    const std::vector<Index>& id = of_nodes ? node_id_ : element_id_;
+    constexpr std::size_t kRow = sizeof(std::int64_t) + sizeof(T);
+    std::vector<std::byte> mine;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      if (of_nodes ? ghost_node(static_cast<Index>(k)) : ghost_element(static_cast<Index>(k)))
+        continue;
+      const std::size_t at_byte = mine.size();
+      mine.resize(at_byte + kRow);
+      std::memcpy(mine.data() + at_byte, &id[k], sizeof(std::int64_t));
+      std::memcpy(mine.data() + at_byte + sizeof(std::int64_t), &v[k], sizeof(T));
+    }
+    const std::vector<std::byte> all = comm.gather(mine);
+    if (!comm.root()) return;
+    std::vector<T> whole(at(of_nodes ? whole_nodes_ : whole_elements_));
+    if (all.size() != whole.size() * kRow)
+      throw std::logic_error("fem: a checkpoint gathered from the ranks misses entities");
+    for (std::size_t q = 0; q < whole.size(); ++q) {
+      std::int64_t k;
+      std::memcpy(&k, all.data() + q * kRow, sizeof k);
+      std::memcpy(static_cast<void*>(&whole[at(k)]), all.data() + q * kRow + sizeof(std::int64_t),
+                  sizeof(T));
+    }
+    w.vector(whole);
+  });
+  if (comm.root()) write_values(w, report, mass_scaled_first);
+}
+
+#define CRATER_FEM_RANKS(D)                                                             \
+  template void FemPart<D>::distribute(const parallel::Comm&);                          \
+  template void FemPart<D>::refresh_ghosts();                                           \
+  template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const; \
+  template std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const;             \
+  template void FemPart<D>::save_gathered(parts::StateWriter&) const;
+CRATER_FEM_RANKS(2)
+CRATER_FEM_RANKS(3)
+#undef CRATER_FEM_RANKS
+
+}  // namespace crater::fem::detail

@@ -1,0 +1,111 @@
+# ctest-processors: 2
+# ctest-timeout: 400
+"""The FEM part on several MPI ranks (issue 29, docs/distributed.md, "The FEM part on ranks").
+
+Each scene is run without a launcher on one thread (the reference) and under mpirun on several
+ranks (oversubscribed on 2 cores); every run must give the reference's files bit for bit
+(history.csv and the PVD collection byte for byte, summary.json but its "run" block, every VTU
+frame's points, point data and cell data in node and element order, read with VTK's reader, and
+the checkpoints byte for byte: the root writes the whole mesh as one rank does):
+- tests/data/fem_plate_2d.toml: the paper's Johnson-Cook plate struck in its middle, with
+  damage and erosion (20 elements erode, their nodes on the cuts too);
+- tests/data/fem_ranks_2d.toml: the plate under a pressure pulse, with gravity, dashpot ends,
+  a velocity boundary, a rigid wall with friction and selective mass scaling;
+- tests/data/fem_concrete_2d.toml: Holmquist-Johnson-Cook concrete (compaction state);
+- the 3D Taylor bar of tests/verification/fem_taylor (a Gmsh mesh file, Hex8, symmetry planes,
+  Johnson-Cook with heating) to 20 us.
+A 2-rank checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again.
+"""
+import json
+import sys
+import unittest
+
+from crater_test import SOURCE_DIR, scratch
+from on_ranks import MPIRUN, assert_resumes, assert_same_run, by_id, files, mpirun, plain
+
+DATA = SOURCE_DIR / "tests" / "data"
+sys.path.insert(0, str(SOURCE_DIR / "tests" / "verification" / "fem_taylor"))
+from test_taylor_bar import write_case  # noqa: E402  (the verification case's mesh and scene)
+
+
+def checkpoints(every):
+    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
+            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+
+
+# scene (or a function of the work directory that writes it), --set options, checkpoint
+# interval [steps], rank counts (ranks, threads per rank), elements, resumed
+CASES = {
+    "plate_erosion": (DATA / "fem_plate_2d.toml", [], 200, [(2, 1), (3, 1), (4, 1), (2, 2)],
+                      1000, True),
+    "loads_walls_mass_scaling": (DATA / "fem_ranks_2d.toml", [], 100,
+                                 [(2, 1), (3, 1), (4, 1), (2, 2)], 1000, True),
+    "concrete_hjc": (DATA / "fem_concrete_2d.toml", [], 200, [(2, 1), (3, 1)], None, False),
+    "taylor_3d": (lambda work: write_case(work, core=2, ring=2, layers=20),
+                  ["--set", "scenario.end_time_s=2e-5", "--set", "output.interval_s=1e-5"], 50,
+                  [(2, 1), (3, 1), (4, 1), (2, 2)], 240, True),
+}
+
+
+@unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")
+class FemOnRanks(unittest.TestCase):
+    def run_case(self, name):
+        scene, sets, every, ranks, elements, resume = CASES[name]
+        work = scratch(f"fem_ranks_{name}")
+        if callable(scene):
+            scene = scene(work)
+        ref = work / "plain"
+        opts = [*sets, *checkpoints(every)]
+        p = plain("run", scene, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        first, _ = by_id(ref / [n for n in files(ref) if n.endswith(".vtu")][0])
+        if elements is not None:
+            self.assertEqual(len(first["cell:eroded"]), elements)
+        ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
+        self.assertGreaterEqual(len(ckpts), 2)
+        for np_, threads in ranks:
+            with self.subTest(case=name, ranks=np_, threads=threads):
+                out = work / f"ranks{np_}_threads{threads}"
+                p = mpirun(np_, "run", scene, "--out", out, "--force", "--quiet", "--threads",
+                           threads, *opts, threads=threads)
+                self.assertEqual(p.returncode, 0, p.stderr)
+                assert_same_run(self, ref, out, f"{name}: {np_} ranks x {threads} threads",
+                                ckpts)
+                self.assert_spread(out, np_)
+        if resume:
+            for np_ in (3, 1):
+                with self.subTest(case=name, resumed_on=np_):
+                    assert_resumes(self, scene, work / "ranks2_threads1", ckpts[0], np_, opts,
+                                   f"{name}: resumed on {np_}")
+        return ref
+
+    def assert_spread(self, out, ranks):
+        # Every rank owns a share of the elements (a bisection of their centres), and holds
+        # ghost nodes where its share meets the others'.
+        figures = json.loads((out / "summary.json").read_text())["run"]["ranks_by_part"]
+        part = next(iter(figures.values()))
+        self.assertGreater(part["owned_min"], 0, figures)
+        self.assertLessEqual(part["owned_max"] - part["owned_min"], 1, figures)
+        self.assertGreater(part["ghost_nodes_max"], 0, figures)
+
+    def diagnostics(self, ref):
+        return json.loads((ref / "summary.json").read_text())["parts"][0]["diagnostics"]
+
+    def test_plate_with_erosion(self):
+        d = self.diagnostics(self.run_case("plate_erosion"))
+        self.assertGreater(d["eroded_elements"], 0)
+
+    def test_loads_walls_dashpots_mass_scaling(self):
+        d = self.diagnostics(self.run_case("loads_walls_mass_scaling"))
+        self.assertGreater(d["mass_scaled_elements"], 0)
+        self.assertGreater(d["eroded_elements"], 0)
+
+    def test_concrete_compaction(self):
+        self.run_case("concrete_hjc")
+
+    def test_taylor_bar_3d(self):
+        self.run_case("taylor_3d")
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1])
