@@ -387,20 +387,7 @@ void FemPart<D>::save_state(parts::StateWriter& w) const {
   }
   w.tag("fem");
   for_each_state_vector(*this, [&](const auto& v, MeshEntity, const char*) { w.vector(v); });
-  write_values(w, last_, mass_scaled_first_);
-}
-
-template <int D>
-void FemPart<D>::write_values(parts::StateWriter& w, const ForceReport& report,
-                              Index mass_scaled_first) const {
-  w.value(contact_pending_);
-  w.value(report.stable_dt_s);
-  w.value(report.limiting_element);
-  w.value(report.inverted_element);
-  w.value(report.first_mass_scaled_element);
-  w.value(dt_pending_);
-  w.value(stale_);
-  w.value(mass_scaled_first);
+  archive_values(w, *this, last_, mass_scaled_first_);
 }
 
 template <int D>
@@ -413,15 +400,8 @@ void FemPart<D>::load_state(parts::StateReader& r) {
     if (v.size() != n)
       r.fail(fmt::format("part '{}': {} has {} entries, the mesh {}", name_, what, v.size(), n));
   });
-  r.value(contact_pending_);
   last_ = ForceReport{};
-  r.value(last_.stable_dt_s);
-  r.value(last_.limiting_element);
-  r.value(last_.inverted_element);
-  r.value(last_.first_mass_scaled_element);
-  r.value(dt_pending_);
-  r.value(stale_);
-  r.value(mass_scaled_first_);
+  archive_values(r, *this, last_, mass_scaled_first_);
   if (std::find(mesh_.eroded.begin(), mesh_.eroded.end(), 1) != mesh_.eroded.end())
     rebuild_surface();
 }

@@ -201,10 +201,19 @@ class FemPart final : public parts::Part<D> {
     each(s.eroded_mass_of_node_, node, "eroded masses");
     each(s.eroded_kinetic_of_node_, node, "eroded kinetic energies");
   }
-  // The checkpoint's values after the vectors (`report`: the last force evaluation's findings,
-  // the whole part's on ranks).
-  void write_values(parts::StateWriter& w, const ForceReport& report,
-                    Index mass_scaled_first) const;
+  // The checkpoint's values after the vectors, for both directions (`report` and
+  // `mass_scaled_first`: the last force evaluation's findings, the whole part's on ranks).
+  template <class Archive, class Self, class Report, class First>
+  static void archive_values(Archive& a, Self& s, Report& report, First& mass_scaled_first) {
+    a.value(s.contact_pending_);
+    a.value(report.stable_dt_s);
+    a.value(report.limiting_element);
+    a.value(report.inverted_element);
+    a.value(report.first_mass_scaled_element);
+    a.value(s.dt_pending_);
+    a.value(s.stale_);
+    a.value(mass_scaled_first);
+  }
   void save_gathered(parts::StateWriter& w) const;
 
   void impose_velocity(std::size_t u) {

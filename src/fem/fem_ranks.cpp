@@ -280,7 +280,7 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
     }
     w.vector(whole);
   });
-  if (comm.root()) write_values(w, report, mass_scaled_first);
+  if (comm.root()) archive_values(w, *this, report, mass_scaled_first);
 }
 
 #define CRATER_FEM_RANKS(D)                                                             \

@@ -87,6 +87,22 @@ def assert_same_run(test, ref, out, what, checkpoints):
     assert_same_frames(test, ref, out, what)
 
 
+def assert_ranks_give(test, ref, scene, opts, ranks, checkpoints, what, check=None):
+    """`scene` run with `opts` on each (ranks, threads) of `ranks`, into the sibling
+    ranks<N>_threads<T> of the plain run `ref`, writes the files of `ref` (assert_same_run);
+    check(out, ranks), if given, looks at each run further."""
+    for np_, threads in ranks:
+        with test.subTest(case=what, ranks=np_, threads=threads):
+            out = ref.parent / f"ranks{np_}_threads{threads}"
+            p = mpirun(np_, "run", scene, "--out", out, "--force", "--quiet", "--threads",
+                       threads, *opts, threads=threads)
+            test.assertEqual(p.returncode, 0, p.stderr)
+            assert_same_run(test, ref, out, f"{what}: {np_} ranks x {threads} threads",
+                            checkpoints)
+            if check:
+                check(out, np_)
+
+
 def assert_resumes(test, scene, run, checkpoint, ranks, sets, what):
     """The run in `run` resumed from its checkpoint `checkpoint` on `ranks` ranks (1: plain)
     writes the files of the uninterrupted run again."""

@@ -21,7 +21,7 @@ import sys
 import unittest
 
 from crater_test import SOURCE_DIR, scratch
-from on_ranks import MPIRUN, assert_resumes, assert_same_run, by_id, files, mpirun, plain
+from on_ranks import MPIRUN, assert_ranks_give, assert_resumes, by_id, files, plain
 
 DATA = SOURCE_DIR / "tests" / "data"
 sys.path.insert(0, str(SOURCE_DIR / "tests" / "verification" / "fem_taylor"))
@@ -61,15 +61,7 @@ class FemOnRanks(unittest.TestCase):
             self.assertEqual(len(first["cell:eroded"]), elements)
         ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
         self.assertGreaterEqual(len(ckpts), 2)
-        for np_, threads in ranks:
-            with self.subTest(case=name, ranks=np_, threads=threads):
-                out = work / f"ranks{np_}_threads{threads}"
-                p = mpirun(np_, "run", scene, "--out", out, "--force", "--quiet", "--threads",
-                           threads, *opts, threads=threads)
-                self.assertEqual(p.returncode, 0, p.stderr)
-                assert_same_run(self, ref, out, f"{name}: {np_} ranks x {threads} threads",
-                                ckpts)
-                self.assert_spread(out, np_)
+        assert_ranks_give(self, ref, scene, opts, ranks, ckpts, name, self.assert_spread)
         if resume:
             for np_ in (3, 1):
                 with self.subTest(case=name, resumed_on=np_):
