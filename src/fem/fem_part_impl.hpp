@@ -158,18 +158,20 @@ class FemPart final : public parts::Part<D> {
   // on ranks).
   template <class Term>
   Real node_total(Term&& term) const {
-    std::vector<Real> terms;
-    terms.reserve(at(mesh_.node_count()));
-    for (Index i = 0; i < mesh_.node_count(); ++i)
-      if (!ghost_node(i)) terms.push_back(term(i));
-    return parallel::reproducible_sum(comm_ ? *comm_ : parallel::Comm{}, terms);
+    return total_over(
+        mesh_.node_count(), [&](Index i) { return ghost_node(i); }, term);
   }
   template <class Term>
   Real element_total(Term&& term) const {
+    return total_over(
+        mesh_.element_count(), [&](Index e) { return ghost_element(e); }, term);
+  }
+  template <class Ghost, class Term>
+  Real total_over(Index n, Ghost&& ghost, Term&& term) const {
     std::vector<Real> terms;
-    terms.reserve(at(mesh_.element_count()));
-    for (Index e = 0; e < mesh_.element_count(); ++e)
-      if (!ghost_element(e)) terms.push_back(term(e));
+    terms.reserve(at(n));
+    for (Index k = 0; k < n; ++k)
+      if (!ghost(k)) terms.push_back(term(k));
     return parallel::reproducible_sum(comm_ ? *comm_ : parallel::Comm{}, terms);
   }
   // The number of this rank's own elements with pred(e), over every rank (collective).
