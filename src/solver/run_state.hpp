@@ -186,23 +186,32 @@ template <int D>
 void write_checkpoint(const io::Config& c, io::RunManifest* writer, const LoopState& st,
                       const Outputs<D>& out, const std::vector<std::unique_ptr<Part<D>>>& parts,
                       const Probes<D>& probes) {
-  parts::StateWriter w;
-  st.save(w);
-  out.save(w);
-  w.tag("parts");
-  w.value(static_cast<std::uint64_t>(parts.size()));
-  for (const auto& p : parts) {
-    w.tag(p->name());
-    p->save_state(w);
+  // Every rank saves (the parts gather their state to rank 0 inside save_state); only the rank
+  // that writes the run directory keeps the bytes, passing them to the file as they come.
+  const auto save = [&](parts::StateWriter& w) {
+    st.save(w);
+    out.save(w);
+    w.tag("parts");
+    w.value(static_cast<std::uint64_t>(parts.size()));
+    for (const auto& p : parts) {
+      w.tag(p->name());
+      p->save_state(w);
+    }
+    probes.save(w);
+  };
+  if (!writer) {
+    parts::StateWriter discard([](std::string_view) {});
+    save(discard);
+    return;
   }
-  probes.save(w);
-  if (!writer) return;
   io::RunManifest& manifest = *writer;
   manifest.record("checkpoints/");
   const fs::path cdir = manifest.dir() / "checkpoints";
   fs::create_directories(cdir);
-  io::write_checkpoint(cdir / fmt::format("step_{:012d}.ckpt", st.steps),
-                       {D, c.state_hash, static_cast<std::int64_t>(st.steps), st.t}, w.bytes());
+  io::CheckpointFile file(cdir / fmt::format("step_{:012d}.ckpt", st.steps),
+                          {D, c.state_hash, static_cast<std::int64_t>(st.steps), st.t});
+  save(file.writer());
+  file.commit();
   // Keep the newest checkpoint_keep files.
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(cdir)) {

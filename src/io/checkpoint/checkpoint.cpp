@@ -18,12 +18,26 @@ namespace {
 constexpr const char* kMagic = "crater checkpoint v3";
 }
 
-void write_checkpoint(const std::filesystem::path& path, const CheckpointHeader& h,
-                      const std::string& payload) {
-  const std::string line =
-      fmt::format("{} dim={} scenario={} step={} time={:a} bytes={} checksum={:016x}\n", kMagic,
-                  h.dimension, h.scenario_hash, h.step, h.time_s, payload.size(), fnv1a(payload));
-  write_file_atomic(path, line + payload);
+namespace {
+std::string header_line(const CheckpointHeader& h, std::uint64_t bytes, std::uint64_t checksum) {
+  return fmt::format("{} dim={} scenario={} step={} time={:a} bytes={:020d} checksum={:016x}\n",
+                     kMagic, h.dimension, h.scenario_hash, h.step, h.time_s, bytes, checksum);
+}
+}  // namespace
+
+CheckpointFile::CheckpointFile(const std::filesystem::path& path, const CheckpointHeader& header)
+    : file_(std::make_unique<AtomicFile>(path)),
+      header_(header),
+      writer_([this](std::string_view bytes) { file_->write(bytes); }) {
+  file_->write(header_line(header_, 0, 0));  // the same length as the final line
+}
+
+CheckpointFile::~CheckpointFile() = default;
+
+void CheckpointFile::commit() {
+  writer_.flush();
+  file_->write_at(0, header_line(header_, writer_.size(), writer_.checksum()));
+  file_->commit();
 }
 
 CheckpointHeader read_checkpoint(const std::filesystem::path& path, std::string& payload) {

@@ -5,7 +5,9 @@
 //   crater checkpoint v3 dim=D scenario=<hash> step=N time=<hex float> bytes=B checksum=<hex>
 // then B bytes of payload: tagged blocks written by StateWriter (the loop's counters, the
 // output writers' state, each part's state in order). The checksum is FNV-1a 64 of the payload.
-// Files are written atomically (temporary file, fsync, rename). A file that is damaged, of
+// Files are written atomically (temporary file, fsync, rename) and as the state is produced:
+// the header line is written first with B as 20 zero-padded digits and filled in at the end,
+// so the payload is never held in memory whole. A file that is damaged, of
 // another format version or dimension, or of another scenario (its state hash after defaults
 // and --set: Config::state_hash, which leaves out the keys a continued run may change, such as
 // the end time) is refused with an InputError naming the file and the reason; nothing is run
@@ -15,12 +17,14 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/types.hpp"
+#include "io/output/atomic_file.hpp"
 #include "parts/state_archive.hpp"
 
 namespace crater::io {
@@ -36,9 +40,22 @@ struct CheckpointHeader {
   Real time_s = 0;
 };
 
-/// Writes header + payload atomically.
-void write_checkpoint(const std::filesystem::path& path, const CheckpointHeader& header,
-                      const std::string& payload);
+/// A checkpoint file being written: the payload through writer(), then commit() fills in the
+/// header and makes the file visible. Destroyed uncommitted, it leaves nothing behind.
+class CheckpointFile {
+ public:
+  CheckpointFile(const std::filesystem::path& path, const CheckpointHeader& header);
+  ~CheckpointFile();
+  CheckpointFile(const CheckpointFile&) = delete;
+  CheckpointFile& operator=(const CheckpointFile&) = delete;
+  StateWriter& writer() { return writer_; }
+  void commit();
+
+ private:
+  std::unique_ptr<AtomicFile> file_;
+  CheckpointHeader header_;
+  StateWriter writer_;
+};
 
 /// Reads and verifies a checkpoint (format, size, checksum). Throws InputError naming the file
 /// and what is wrong. The payload is returned in `payload`.

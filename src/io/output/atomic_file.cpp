@@ -9,31 +9,61 @@
 namespace crater::io {
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view data) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  auto fail = [&](const char* what) {
-    const std::string msg =
-        std::string("cannot write ") + path.string() + ": " + what + ": " + std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw std::runtime_error(msg);
-  };
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail("open");
-  std::size_t done = 0;
-  while (done < data.size()) {
-    const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+  AtomicFile f(path);
+  f.write(data);
+  f.commit();
+}
+
+AtomicFile::AtomicFile(const std::filesystem::path& path)
+    : path_(path), tmp_(path.string() + ".tmp") {
+  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) fail("open");
+}
+
+AtomicFile::~AtomicFile() {
+  if (fd_ < 0) return;
+  ::close(fd_);
+  ::unlink(tmp_.c_str());
+}
+
+void AtomicFile::fail(const char* what) {
+  const std::string msg =
+      std::string("cannot write ") + path_.string() + ": " + what + ": " + std::strerror(errno);
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  ::unlink(tmp_.c_str());
+  throw std::runtime_error(msg);
+}
+
+void AtomicFile::write(std::string_view data) {
+  for (std::size_t done = 0; done < data.size();) {
+    const ssize_t n = ::write(fd_, data.data() + done, data.size() - done);
     if (n < 0) {
       if (errno == EINTR) continue;
-      ::close(fd);
       fail("write");
     }
     done += static_cast<std::size_t>(n);
   }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    fail("fsync");
+}
+
+void AtomicFile::write_at(std::uint64_t offset, std::string_view data) {
+  for (std::size_t done = 0; done < data.size();) {
+    const ssize_t n =
+        ::pwrite(fd_, data.data() + done, data.size() - done, static_cast<off_t>(offset + done));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail("write");
+    }
+    done += static_cast<std::size_t>(n);
   }
+}
+
+void AtomicFile::commit() {
+  if (::fsync(fd_) != 0) fail("fsync");
+  const int fd = fd_;
+  fd_ = -1;
   if (::close(fd) != 0) fail("close");
-  if (::rename(tmp.c_str(), path.c_str()) != 0) fail("rename");
+  if (::rename(tmp_.c_str(), path_.c_str()) != 0) fail("rename");
 }
 
 AppendFile::AppendFile(const std::filesystem::path& path) : path_(path) {
