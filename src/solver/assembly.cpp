@@ -4,7 +4,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -12,6 +16,7 @@
 #include "core/hash.hpp"
 #include "dem/dem_part.hpp"
 #include "fem/fem_part.hpp"
+#include "parallel/comm.hpp"
 #include "solver/packing_cache.hpp"
 #include "sph/sph_part.hpp"
 
@@ -140,11 +145,12 @@ bool try_save_packing(const std::filesystem::path& file, std::uint64_t key,
 // state (positions and radii, grains at rest, and the contacts' springs) in both cases, so a
 // run that settled and a run that reused give identical results. The cache is the scenario's
 // cache_dir, and the user's cache where that cannot be written.
+// `used` gets the file the settled grains were read from (none: built as laid).
 template <int D>
-std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling) {
+std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling,
+                                         std::filesystem::path& used, dem::PackingReport& report) {
   const dem::PackingSettings& k = settings.packing;
   const std::string& name = settings.part.name;
-  dem::PackingReport report;
   if (!k.settle) {
     const std::vector<dem::Grain<D>> grains = laid_grains<D>(settings);
     return dem::make_dem_part<D>(settings, &grains, report);
@@ -160,6 +166,7 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
       report.reused = true;
       spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
                    cached->grains.size(), f.string());
+      used = f;
       return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
     }
   }
@@ -191,9 +198,44 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
                report.settle_steps, saved.string());
   // Read back what was saved, so this run starts from exactly what a reuse would.
+  used = saved;
   if (auto back = load_packing<D>(saved.string(), key))
     return dem::make_dem_part<D>(settings, &back->grains, report, &back->contacts);
   throw std::runtime_error("could not read back the settled packing " + saved.string());
+}
+
+// The same on several MPI ranks: rank 0 alone looks in the cache, settles and saves (the
+// settling runs on its own, not spread), and sends the file's bytes with its report to the
+// other ranks, which build the part from them: every rank starts from the same bits, and one
+// process writes the cache.
+template <int D>
+std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling) {
+  const parallel::Comm& comm = parallel::Comm::world();
+  std::filesystem::path used;
+  dem::PackingReport report;
+  if (comm.size() == 1 || !settings.packing.settle)
+    return packed_dem_part<D>(settings, settling, used, report);
+  std::unique_ptr<Part<D>> part;
+  std::string mine;
+  if (comm.root()) {
+    part = packed_dem_part<D>(settings, settling, used, report);
+    if (!used.empty()) {
+      std::ifstream in(used, std::ios::binary);
+      mine.assign(reinterpret_cast<const char*>(&report), sizeof(report));
+      mine.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+  }
+  const std::vector<std::byte> got =
+      comm.all_gather(std::as_bytes(std::span<const char>(mine.data(), mine.size())));
+  if (comm.root()) return part;
+  if (got.empty()) return packed_dem_part<D>(settings, settling, used, report);  // as laid
+  if (got.size() < sizeof(report)) throw std::logic_error("packing: short message from rank 0");
+  std::memcpy(&report, got.data(), sizeof(report));
+  const std::string_view file(reinterpret_cast<const char*>(got.data()) + sizeof(report),
+                              got.size() - sizeof(report));
+  auto settled = packing_from_bytes<D>(file, fnv1a(dem::packing_key_text<D>(settings)));
+  if (!settled) throw std::logic_error("packing: rank 0's packing does not read back");
+  return dem::make_dem_part<D>(settings, &settled->grains, report, &settled->contacts);
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ namespace crater::solver {
 namespace {
 constexpr const char* kMagic = "crater settled packing v2";
 
-std::uint64_t checksum(const std::string& payload) {
+std::uint64_t checksum(std::string_view payload) {
   return fnv1a(payload);
 }
 
@@ -59,8 +59,17 @@ template <int D>
 std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std::uint64_t key) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return std::nullopt;
-  std::string header;
-  if (!std::getline(in, header)) return std::nullopt;
+  return packing_from_bytes<D>(
+      std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), key);
+}
+
+template <int D>
+std::optional<dem::SettledPacking<D>> packing_from_bytes(std::string_view bytes,
+                                                         std::uint64_t key) {
+  const std::size_t eol = bytes.find('\n');
+  if (eol == std::string_view::npos) return std::nullopt;
+  const std::string header(bytes.substr(0, eol));
+  const std::string_view payload = bytes.substr(eol + 1);
   unsigned long long k = 0, sum = 0;
   int dim = 0, slots = 0, roll = 0;
   std::size_t count = 0;
@@ -70,7 +79,6 @@ std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std:
     return std::nullopt;
   if (k != key || dim != D || count > (std::size_t{1} << 32) || slots < 0 || slots > 64)
     return std::nullopt;
-  std::string payload((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::size_t n = count * static_cast<std::size_t>(slots);
   const std::size_t expected = count * (D + 1) * sizeof(double) +
                                n * (sizeof(std::int64_t) + sizeof(Vec<D>)) +
@@ -98,7 +106,10 @@ std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std:
 
 #define CRATER_PACKING_CACHE(D)                                                                    \
   template void save_packing<D>(const std::string&, std::uint64_t, const dem::SettledPacking<D>&); \
-  template std::optional<dem::SettledPacking<D>> load_packing<D>(const std::string&, std::uint64_t);
+  template std::optional<dem::SettledPacking<D>> load_packing<D>(const std::string&,               \
+                                                                 std::uint64_t);                   \
+  template std::optional<dem::SettledPacking<D>> packing_from_bytes<D>(std::string_view,           \
+                                                                       std::uint64_t);
 CRATER_PACKING_CACHE(2)
 CRATER_PACKING_CACHE(3)
 #undef CRATER_PACKING_CACHE

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dem/packing.hpp"
@@ -25,5 +26,9 @@ void save_packing(const std::string& path, std::uint64_t key, const dem::Settled
 /// dimension or format, or damaged (a cache miss, never an error).
 template <int D>
 std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std::uint64_t key);
+
+/// The same from the bytes of such a file (a packing rank 0 settled, sent to the other ranks).
+template <int D>
+std::optional<dem::SettledPacking<D>> packing_from_bytes(std::string_view bytes, std::uint64_t key);
 
 }  // namespace crater::solver

@@ -526,9 +526,6 @@ void check_ranks(const io::Config& c) {
       refuse(p.where, "parts[" + p.name + "].method",
              "a part of method '" + std::string(io::method_name(p.method())) +
                  "' (only DEM, SPH and FEM parts are spread yet)");
-    if (p.is(io::Method::Dem) && p.packing().settle)
-      refuse(p.where, "parts[" + p.name + "].packing.settle",
-             "settling a packing (every rank would settle it and write the cache)");
   }
   if (!c.contacts.empty()) refuse(file, "contacts", "a contact between parts");
   if (c.probes.any()) refuse(file, "probes", "the probes");

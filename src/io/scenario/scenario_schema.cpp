@@ -634,7 +634,10 @@ TableSchema make_packing() {
                    "random: mass fraction passing each sieve of sieve_diameter_m, ascending "
                    "from 0 to 1 (grains are uniform in diameter within each class)."),
               KeyType::RealArray),
-      with_default(flag("settle", "Settle the grains under gravity before the run."), "false"),
+      with_default(flag("settle",
+                        "Settle the grains under gravity before the run (on several MPI ranks: by "
+                        "rank 0 alone, which sends the packing to the others)."),
+                   "false"),
       with_default(positive(real("settle_kinetic_ratio", "1",
                                  "Settled when the grains' mean kinetic energy is below this x "
                                  "m g r of the mean grain.")),
