@@ -13,6 +13,7 @@
 // density) are evaluated over the part for the view, as for a frame: hence the cadence.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,14 @@ class Gauges {
   std::string header() const;
   /// One row of values at this step.
   std::string row(Index step, Real t_s, const PartList& parts) const;
+  /// The parts (indices, ascending) a row reads: on several ranks, gathered whole for it.
+  std::vector<std::size_t> parts_read() const {
+    std::vector<std::size_t> k;
+    for (const Read& r : reads_)
+      if (std::find(k.begin(), k.end(), r.part) == k.end()) k.push_back(r.part);
+    std::sort(k.begin(), k.end());
+    return k;
+  }
 
  private:
   // One field of one gauge at its entities.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <string_view>
 
 #include "core/index.hpp"
@@ -32,6 +33,17 @@ Real element_volume(const std::vector<Vec<D>>& x, const std::int64_t* nodes) {
   for (int k = 0; k < fem::kElementNodes<D>; ++k)
     xe[at(k)] = x[at(nodes[k])];
   return std::max(Real(0), fem::uniform_strain_gradients<D>(xe).volume);
+}
+
+// The indices 0..n-1 in ascending id (as they are without an id field).
+std::vector<Index> in_id_order(const fields::FieldView* id, Index n) {
+  std::vector<Index> order(at(n));
+  std::iota(order.begin(), order.end(), Index{0});
+  if (id && id->is_integer && id->size == n)
+    std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) {
+      return id->integer_data[at(a)] < id->integer_data[at(b)];
+    });
+  return order;
 }
 
 }  // namespace
@@ -176,7 +188,10 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
   const auto* contacts = fields::find_field(pf, "contacts");
   const auto* velocity = fields::find_field(pf, "velocity");
   const auto& xs = *soil.geometry().points;
-  for (Index i = 0; i < soil.count(); ++i) {
+  // The grains in the order of their ids, which is how the root of several ranks holds them
+  // (gathered_part.hpp): every cell's sum has the same bits on any rank count.
+  const std::vector<Index> by_id = in_id_order(fields::find_field(pf, "id"), soil.count());
+  for (const Index i : by_id) {
     Index col = 0, row = 0;
     if (!locate(xs[at(i)], col, row)) continue;
     if (contacts && velocity &&
@@ -290,6 +305,30 @@ void Probes<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, R
   peak_at_time_ = plate_max_von_mises(parts);
   peak_time_s_ = t_s;
   peak_max_ = std::max(peak_max_, peak_at_time_);
+}
+
+template <int D>
+std::vector<std::size_t> Probes<D>::read_at_rows() const {
+  std::vector<std::size_t> k;
+  if (cfg_.plate) k.push_back(*cfg_.plate);
+  if (lining_) k.push_back(*cfg_.lining);
+  if (lining_ && cfg_.lining_soil) k.push_back(*cfg_.lining_soil);
+  return k;
+}
+
+template <int D>
+std::vector<std::size_t> Probes<D>::read_after_step(Real t_s) const {
+  std::vector<std::size_t> k;
+  if (cfg_.plate && peak_time_s_ < 0 && t_s >= cfg_.stress_time_s) k.push_back(*cfg_.plate);
+  if (lining_) return read_at_rows();
+  return k;
+}
+
+template <int D>
+std::vector<std::size_t> Probes<D>::read_at_finish() const {
+  std::vector<std::size_t> k = read_at_rows();
+  if (cfg_.soil) k.push_back(*cfg_.soil);
+  return k;
 }
 
 template <int D>

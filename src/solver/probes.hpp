@@ -89,6 +89,12 @@ class Probes {
   /// After each step: samples the plate at probes.stress_time_s.
   void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s);
 
+  /// The parts (indices) history_values(), after_step() at t_s and finish() read: on several
+  /// ranks, those are gathered whole for them (gathered_part.hpp).
+  std::vector<std::size_t> read_at_rows() const;
+  std::vector<std::size_t> read_after_step(Real t_s) const;
+  std::vector<std::size_t> read_at_finish() const;
+
   /// The metrics of the current state (summary.json), and surface_profile.csv into `dir`.
   std::vector<Diagnostic> finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
                                  const std::filesystem::path& dir) const;

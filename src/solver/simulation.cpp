@@ -24,6 +24,7 @@
 #include "parallel/parallel.hpp"
 #include "solver/assembly.hpp"
 #include "solver/energy_balance.hpp"
+#include "solver/gathered_part.hpp"
 #include "solver/gauges.hpp"
 #include "solver/memory_estimate.hpp"
 #include "solver/multi_rate.hpp"
@@ -111,7 +112,10 @@ class Run {
     stamp();
     progress.finish(r_.steps, st_.t, st_.dt);
     out_->flush();
-    std::vector<Diagnostic> metrics = probes_.finish(parts_, opt_.out_dir);
+    std::vector<Diagnostic> metrics;
+    reading(probes_.read_at_finish(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
+      if (comm_.root()) metrics = probes_.finish(parts, opt_.out_dir);  // the root writes
+    });
     if (manifest_ && fs::exists(opt_.out_dir / "surface_profile.csv"))
       manifest_->record("surface_profile.csv");
     summary("completed", "", metrics);
@@ -221,6 +225,15 @@ class Run {
                                         gauges_header());
   }
 
+  // f(parts) with the parts as the probes and gauges read them: the parts themselves on one
+  // rank; on several, those of `which` gathered whole on the root (gathered_part.hpp;
+  // collective: every rank passes the same `which`). Nothing is gathered when `which` is empty.
+  template <class F>
+  void reading(const std::vector<std::size_t>& which, F&& f) {
+    const auto gathered = which.empty() ? nullptr : gathered_parts<D>(comm_, parts_, which);
+    f(gathered ? *gathered : parts_);
+  }
+
   // Several MPI ranks: every part is spread over them (Part::distribute; the scenario was
   // checked by check_ranks before the parts were built). Checkpoints are written by the root
   // as one rank would (Part::save_state gathers): they resume on one rank.
@@ -240,9 +253,14 @@ class Run {
     for (const Energies& x : per)
       st_.part_total0_j.push_back(total_energy(x));
     out_->frame(parts_, st_.t, "000000");
-    if (!gauges_.empty()) out_->gauges(gauges_.row(0, st_.t, parts_));
-    out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
-                  history_values(per, coupling_, probes_, parts_));
+    if (!gauges_.empty())
+      reading(gauges_.parts_read(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
+        out_->gauges(gauges_.row(0, st_.t, parts));
+      });
+    reading(probes_.read_at_rows(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
+      out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
+                    history_values(per, coupling_, probes_, parts));
+    });
     st_.next_frame_t = frame_time(1);
   }
 
@@ -268,7 +286,12 @@ class Run {
           st_.steps = r_.steps;
           finish_step_stages(parts_, coupling_, st_.t, dt, &clock_);
         }
-        StageClock::time(probes_s_, [&] { probes_.after_step(parts_, st_.t); });
+        StageClock::time(probes_s_, [&] {
+          reading(probes_.read_after_step(st_.t),
+                  [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
+                    probes_.after_step(parts, st_.t);
+                  });
+        });
         const bool last = st_.t >= c_.end_time_s - t_eps;
         StageClock::time(output_s_, [&] {
           record_step(dt, at_frame, last);
@@ -411,12 +434,16 @@ class Run {
       const std::vector<Energies> per = part_energies(parts_);
       const Energies e = sum_energies(per);
       st_.err = st_.track.error(e);
-      out_->history(r_.steps, st_.t, dt, e, total_energy(e), st_.err,
-                    history_values(per, coupling_, probes_, parts_));
+      reading(probes_.read_at_rows(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
+        out_->history(r_.steps, st_.t, dt, e, total_energy(e), st_.err,
+                      history_values(per, coupling_, probes_, parts));
+      });
       guard_energy(c_, st_, per, parts_);
     }
     if (!gauges_.empty() && (r_.steps % c_.output.gauges_every_steps == 0 || at_frame || last))
-      out_->gauges(gauges_.row(r_.steps, st_.t, parts_));
+      reading(gauges_.parts_read(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
+        out_->gauges(gauges_.row(r_.steps, st_.t, parts));
+      });
     if (at_frame) {
       out_->frame(parts_, st_.t, fmt::format("{:06d}", st_.frame));
       ++st_.frame;
@@ -528,8 +555,7 @@ void check_ranks(const io::Config& c) {
                  "' (only DEM, SPH and FEM parts are spread yet)");
   }
   if (!c.contacts.empty()) refuse(file, "contacts", "a contact between parts");
-  if (c.probes.any()) refuse(file, "probes", "the probes");
-  if (!c.gauges.empty()) refuse(file, "gauges", "a gauge");
+  if (c.probes.lining) refuse(file, "probes.lining", "the tunnel lining's probe");
   if (c.time.multi_rate) refuse(file, "time.multi_rate", "multi-rate stepping");
 }
 

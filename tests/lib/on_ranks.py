@@ -74,12 +74,13 @@ def assert_same_frames(test, ref, out, what):
 
 
 def assert_same_run(test, ref, out, what, checkpoints):
-    """`out` holds the files of `ref`: history, PVD collections and checkpoints byte for byte,
-    the summary but its "run" block, every frame's points and point data by id."""
+    """`out` holds the files of `ref`: every CSV file (history, gauges, surface profile), PVD
+    collections and checkpoints byte for byte, the summary but its "run" block, every frame's
+    points and point data by id."""
     names = files(ref)
     test.assertEqual(files(out), names, what)
     for n in names:
-        if n == "history.csv" or n.endswith(".pvd"):
+        if n.endswith(".csv") or n.endswith(".pvd"):
             test.assertEqual((out / n).read_bytes(), (ref / n).read_bytes(), f"{n} ({what})")
     test.assertEqual(summary_without_run_block(out / "summary.json"),
                      summary_without_run_block(ref / "summary.json"), what)
