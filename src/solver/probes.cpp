@@ -264,14 +264,17 @@ Real Probes<D>::surface_height(const Column& col, std::size_t column) const {
 }
 
 template <int D>
-Real Probes<D>::plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts) const {
+Real Probes<D>::plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                    const parallel::Comm* spread) const {
   const auto cf = parts[*cfg_.plate]->cell_fields();
   const auto* vm = fields::find_field(cf, "von_mises");
   const auto* eroded = fields::find_field(cf, "eroded");
   Real m = 0;
   for (Index e = 0; vm && e < vm->size; ++e)
     if (!eroded_at(eroded, at(e))) m = std::max(m, vm->real_data[e]);
-  return m;
+  // On ranks each holds its own elements and those around its own nodes, with the same bits
+  // as one rank: the largest over the ranks is the whole plate's (a maximum is exact).
+  return spread ? spread->max(m) : m;
 }
 
 template <int D>
@@ -285,10 +288,11 @@ std::vector<std::string> Probes<D>::history_columns() const {
 }
 
 template <int D>
-std::vector<Real> Probes<D>::history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) {
+std::vector<Real> Probes<D>::history_values(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                            const parallel::Comm* spread) {
   std::vector<Real> out;
   if (cfg_.plate) {
-    const Real m = plate_max_von_mises(parts);
+    const Real m = plate_max_von_mises(parts, spread);
     peak_max_ = std::max(peak_max_, m);
     out.push_back(m);
   }
@@ -299,35 +303,22 @@ std::vector<Real> Probes<D>::history_values(const std::vector<std::unique_ptr<Pa
 }
 
 template <int D>
-void Probes<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s) {
+void Probes<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s,
+                           const parallel::Comm* spread) {
   if (lining_) lining_->after_step(parts);
   if (!cfg_.plate || peak_time_s_ >= 0 || t_s < cfg_.stress_time_s) return;
-  peak_at_time_ = plate_max_von_mises(parts);
+  peak_at_time_ = plate_max_von_mises(parts, spread);
   peak_time_s_ = t_s;
   peak_max_ = std::max(peak_max_, peak_at_time_);
 }
 
 template <int D>
-std::vector<std::size_t> Probes<D>::read_at_rows() const {
+std::vector<std::size_t> Probes<D>::read_at_finish() const {
   std::vector<std::size_t> k;
   if (cfg_.plate) k.push_back(*cfg_.plate);
+  if (cfg_.soil) k.push_back(*cfg_.soil);
   if (lining_) k.push_back(*cfg_.lining);
   if (lining_ && cfg_.lining_soil) k.push_back(*cfg_.lining_soil);
-  return k;
-}
-
-template <int D>
-std::vector<std::size_t> Probes<D>::read_after_step(Real t_s) const {
-  std::vector<std::size_t> k;
-  if (cfg_.plate && peak_time_s_ < 0 && t_s >= cfg_.stress_time_s) k.push_back(*cfg_.plate);
-  if (lining_) return read_at_rows();
-  return k;
-}
-
-template <int D>
-std::vector<std::size_t> Probes<D>::read_at_finish() const {
-  std::vector<std::size_t> k = read_at_rows();
-  if (cfg_.soil) k.push_back(*cfg_.soil);
   return k;
 }
 

@@ -68,6 +68,7 @@
 #include <vector>
 
 #include "io/scenario/config.hpp"
+#include "parallel/comm.hpp"
 #include "solver/lining_probe.hpp"
 #include "solver/part_names.hpp"
 
@@ -83,16 +84,19 @@ class Probes {
 
   /// history.csv: the plate's largest von Mises stress (plate_max_von_mises_pa).
   std::vector<std::string> history_columns() const;
-  /// The values for a history row at time t (also the running maximum).
-  std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts);
+  /// The values for a history row at time t (also the running maximum). `spread`: the ranks
+  /// the parts are spread over (null on one rank); the plate's largest stress is then the
+  /// largest of every rank's own elements (collective).
+  std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                   const parallel::Comm* spread = nullptr);
 
-  /// After each step: samples the plate at probes.stress_time_s.
-  void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s);
+  /// After each step: samples the plate at probes.stress_time_s (collective on ranks, as
+  /// history_values).
+  void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s,
+                  const parallel::Comm* spread = nullptr);
 
-  /// The parts (indices) history_values(), after_step() at t_s and finish() read: on several
-  /// ranks, those are gathered whole for them (gathered_part.hpp).
-  std::vector<std::size_t> read_at_rows() const;
-  std::vector<std::size_t> read_after_step(Real t_s) const;
+  /// The parts (indices) finish() reads: on several ranks, those are gathered whole on the root
+  /// for it (gathered_part.hpp).
   std::vector<std::size_t> read_at_finish() const;
 
   /// The metrics of the current state (summary.json), and surface_profile.csv into `dir`.
@@ -131,7 +135,8 @@ class Probes {
   // f(q) for each column q next to column k along a horizontal axis.
   template <class F>
   void for_each_neighbour(std::size_t k, F&& f) const;
-  Real plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  Real plate_max_von_mises(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                           const parallel::Comm* spread = nullptr) const;
   Real cell_volume_ground() const {
     Real v = bin_;
     for (int d = 0; d + 1 < D; ++d)

@@ -224,9 +224,10 @@ std::vector<std::string> history_columns(const std::vector<std::unique_ptr<Part<
 template <int D>
 std::vector<Real> history_values(const std::vector<Energies>& per,
                                  const contact::Coupling<D>& coupling, Probes<D>& probes,
-                                 const std::vector<std::unique_ptr<Part<D>>>& parts) {
+                                 const std::vector<std::unique_ptr<Part<D>>>& parts,
+                                 const parallel::Comm* spread = nullptr) {
   std::vector<Real> values = coupling.history_values();
-  for (Real v : probes.history_values(parts))
+  for (Real v : probes.history_values(parts, spread))
     values.push_back(v);
   for (const auto& p : parts)
     for (Real v : p->history_values())

@@ -225,6 +225,9 @@ class Run {
                                         gauges_header());
   }
 
+  // The ranks the parts are spread over, for the probes' collective maxima; null on one rank.
+  const parallel::Comm* spread_over() const { return comm_.size() > 1 ? &comm_ : nullptr; }
+
   // f(parts) with the parts as the probes and gauges read them: the parts themselves on one
   // rank; on several, those of `which` gathered whole on the root (gathered_part.hpp;
   // collective: every rank passes the same `which`). Nothing is gathered when `which` is empty.
@@ -257,10 +260,8 @@ class Run {
       reading(gauges_.parts_read(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
         out_->gauges(gauges_.row(0, st_.t, parts));
       });
-    reading(probes_.read_at_rows(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
-      out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
-                    history_values(per, coupling_, probes_, parts));
-    });
+    out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
+                  history_values(per, coupling_, probes_, parts_, spread_over()));
     st_.next_frame_t = frame_time(1);
   }
 
@@ -286,12 +287,7 @@ class Run {
           st_.steps = r_.steps;
           finish_step_stages(parts_, coupling_, st_.t, dt, &clock_);
         }
-        StageClock::time(probes_s_, [&] {
-          reading(probes_.read_after_step(st_.t),
-                  [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
-                    probes_.after_step(parts, st_.t);
-                  });
-        });
+        StageClock::time(probes_s_, [&] { probes_.after_step(parts_, st_.t, spread_over()); });
         const bool last = st_.t >= c_.end_time_s - t_eps;
         StageClock::time(output_s_, [&] {
           record_step(dt, at_frame, last);
@@ -434,10 +430,8 @@ class Run {
       const std::vector<Energies> per = part_energies(parts_);
       const Energies e = sum_energies(per);
       st_.err = st_.track.error(e);
-      reading(probes_.read_at_rows(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
-        out_->history(r_.steps, st_.t, dt, e, total_energy(e), st_.err,
-                      history_values(per, coupling_, probes_, parts));
-      });
+      out_->history(r_.steps, st_.t, dt, e, total_energy(e), st_.err,
+                    history_values(per, coupling_, probes_, parts_, spread_over()));
       guard_energy(c_, st_, per, parts_);
     }
     if (!gauges_.empty() && (r_.steps % c_.output.gauges_every_steps == 0 || at_frame || last))
