@@ -6,8 +6,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -145,10 +143,11 @@ bool try_save_packing(const std::filesystem::path& file, std::uint64_t key,
 // state (positions and radii, grains at rest, and the contacts' springs) in both cases, so a
 // run that settled and a run that reused give identical results. The cache is the scenario's
 // cache_dir, and the user's cache where that cannot be written.
-// `used` gets the file the settled grains were read from (none: built as laid).
+// `used` gets the bytes of the packing file the settled grains were read from (empty: built as
+// laid).
 template <int D>
 std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling,
-                                         std::filesystem::path& used, dem::PackingReport& report) {
+                                         std::string& used, dem::PackingReport& report) {
   const dem::PackingSettings& k = settings.packing;
   const std::string& name = settings.part.name;
   if (!k.settle) {
@@ -162,11 +161,12 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   std::vector<std::filesystem::path> places = {file};
   if (!user_dir.empty()) places.push_back(user_dir / file_name);
   for (const auto& f : places) {
-    if (auto cached = load_packing<D>(f.string(), key)) {
+    std::string bytes = read_packing_file(f.string());
+    if (auto cached = packing_from_bytes<D>(bytes, key)) {
       report.reused = true;
       spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
                    cached->grains.size(), f.string());
-      used = f;
+      used = std::move(bytes);
       return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
     }
   }
@@ -198,8 +198,8 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
                report.settle_steps, saved.string());
   // Read back what was saved, so this run starts from exactly what a reuse would.
-  used = saved;
-  if (auto back = load_packing<D>(saved.string(), key))
+  used = read_packing_file(saved.string());
+  if (auto back = packing_from_bytes<D>(used, key))
     return dem::make_dem_part<D>(settings, &back->grains, report, &back->contacts);
   throw std::runtime_error("could not read back the settled packing " + saved.string());
 }
@@ -211,7 +211,7 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
 template <int D>
 std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling) {
   const parallel::Comm& comm = parallel::Comm::world();
-  std::filesystem::path used;
+  std::string used;
   dem::PackingReport report;
   if (comm.size() == 1 || !settings.packing.settle)
     return packed_dem_part<D>(settings, settling, used, report);
@@ -220,9 +220,8 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   if (comm.root()) {
     part = packed_dem_part<D>(settings, settling, used, report);
     if (!used.empty()) {
-      std::ifstream in(used, std::ios::binary);
       mine.assign(reinterpret_cast<const char*>(&report), sizeof(report));
-      mine.append(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+      mine += used;
     }
   }
   const std::vector<std::byte> got =

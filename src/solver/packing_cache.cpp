@@ -55,12 +55,9 @@ void save_packing(const std::string& path, std::uint64_t key, const dem::Settled
   io::write_file_atomic(path, header + payload);
 }
 
-template <int D>
-std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std::uint64_t key) {
+std::string read_packing_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  return packing_from_bytes<D>(
-      std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), key);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 template <int D>
@@ -106,8 +103,6 @@ std::optional<dem::SettledPacking<D>> packing_from_bytes(std::string_view bytes,
 
 #define CRATER_PACKING_CACHE(D)                                                                    \
   template void save_packing<D>(const std::string&, std::uint64_t, const dem::SettledPacking<D>&); \
-  template std::optional<dem::SettledPacking<D>> load_packing<D>(const std::string&,               \
-                                                                 std::uint64_t);                   \
   template std::optional<dem::SettledPacking<D>> packing_from_bytes<D>(std::string_view,           \
                                                                        std::uint64_t);
 CRATER_PACKING_CACHE(2)

@@ -22,12 +22,12 @@ namespace crater::solver {
 template <int D>
 void save_packing(const std::string& path, std::uint64_t key, const dem::SettledPacking<D>& s);
 
-/// The grains and contacts of a packing file, or nothing if it is missing, of another key,
-/// dimension or format, or damaged (a cache miss, never an error).
-template <int D>
-std::optional<dem::SettledPacking<D>> load_packing(const std::string& path, std::uint64_t key);
+/// The bytes of a packing file; empty if it cannot be read.
+std::string read_packing_file(const std::string& path);
 
-/// The same from the bytes of such a file (a packing rank 0 settled, sent to the other ranks).
+/// The grains and contacts of a packing file's bytes, or nothing if they are of another key,
+/// dimension or format, or damaged (a cache miss, never an error). Rank 0 sends the bytes of the
+/// packing it used to the other ranks, which read them with this too.
 template <int D>
 std::optional<dem::SettledPacking<D>> packing_from_bytes(std::string_view bytes, std::uint64_t key);
 
