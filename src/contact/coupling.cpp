@@ -2,8 +2,10 @@
 #include "contact/coupling.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "contact/registry.hpp"
+#include "contact/spread_coupling.hpp"
 #include "core/axial_vec.hpp"
 #include "parallel/parallel.hpp"
 
@@ -21,6 +23,15 @@ Coupling<D>::Coupling(const std::vector<ContactSettings>& contacts, const PartLi
 }
 
 template <int D>
+Coupling<D>::~Coupling() = default;
+
+template <int D>
+void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts) {
+  if (comm.size() > 1 && !pairings_.empty())
+    spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_);
+}
+
+template <int D>
 parts::StableStep Coupling<D>::stable_step(const PartList<D>& parts) const {
   StepSearch search;
   for (const PairLimits& l : limits(parts))
@@ -33,8 +44,11 @@ parts::StableStep Coupling<D>::stable_step(const PartList<D>& parts) const {
 template <int D>
 std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
   std::vector<PairLimits> out(pairings_.size());
+  // On ranks, the whole views of the last evaluation: the positions and masses the limits read
+  // have not changed since.
+  const PartList<D>& on = spread_ ? spread_->current(parts) : parts;
   for (std::size_t c = 0; c < pairings_.size(); ++c)
-    pairings_[c]->limit_step(parts, out[c]);
+    pairings_[c]->limit_step(on, out[c]);
   return out;
 }
 
@@ -70,17 +84,21 @@ void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
   ContactForces<D>& out = forces_;
   out.force.resize(parts.size());
   out.torque.resize(parts.size());
+  // On ranks, every contact over whole views of its parts; each part then takes its own share.
+  const PartList<D>& on = spread_ ? spread_->refresh(parts) : parts;
   for (std::size_t k : involved_)
-    size_for(parts, k, out);
+    size_for(on, k, out);
   for (auto& p : pairings_)
-    p->apply(parts, dt_s, out);
+    p->apply(on, dt_s, out);
   for (std::size_t k : involved_)
-    parts[k]->add_contact_forces(out.force[k], out.torque[k]);
+    on[k]->add_contact_forces(out.force[k], out.torque[k]);
+  if (spread_) spread_->hand_back(parts);
 }
 
 template <int D>
 void Coupling<D>::evaluate(const PartList<D>& parts, const std::vector<std::size_t>& which,
                            const std::vector<Real>& dt_s, std::vector<ContactForces<D>>& out) {
+  if (spread_) throw std::logic_error("contacts: multi-rate stepping does not run on ranks");
   out.resize(pairings_.size());
   for (std::size_t c : which) {
     out[c].force.resize(parts.size());

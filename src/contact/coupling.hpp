@@ -87,12 +87,23 @@
 namespace crater::contact {
 
 template <int D>
+class SpreadContacts;  // spread_coupling.hpp
+
+template <int D>
 class Coupling {
  public:
   /// The contacts `contacts` (in scenario order) between `parts`.
   Coupling(const std::vector<ContactSettings>& contacts, const PartList<D>& parts);
 
+  ~Coupling();
+
   bool empty() const { return pairings_.empty(); }
+
+  /// The parts were spread over the ranks of `comm` (Part::distribute): from now on every
+  /// contact is evaluated on every rank over whole views of its parts (spread_coupling.hpp),
+  /// and apply(), stable_step() and limits() are collective. Multi-rate stepping (evaluate())
+  /// does not run on ranks.
+  void spread(const parallel::Comm& comm, const PartList<D>& parts);
 
   /// Smallest stable step over the contacts, with the contact named in `reason`.
   parts::StableStep stable_step(const PartList<D>& parts) const;
@@ -125,8 +136,9 @@ class Coupling {
 
  private:
   std::vector<std::unique_ptr<Pairing<D>>> pairings_;
-  std::vector<std::size_t> involved_;  // parts in any contact, ascending
-  ContactForces<D> forces_;            // apply()'s per-part buffers, kept from step to step
+  std::unique_ptr<SpreadContacts<D>> spread_;  // on ranks
+  std::vector<std::size_t> involved_;          // parts in any contact, ascending
+  ContactForces<D> forces_;                    // apply()'s per-part buffers, kept from step to step
 
   /// Sizes out's zeroed forces (and torques, for rotating particles) for part k's bodies.
   void size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const;

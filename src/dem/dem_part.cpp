@@ -312,10 +312,13 @@ void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
   if (static_cast<Index>(force.size()) != f_.size() ||
       static_cast<Index>(torque.size()) != f_.size())
     throw std::logic_error("dem: contact forces for another grain count");
-  contact_.settle(f_.size(), [&](Index i) {
-    return v_[i].dot(contact_force_[i] + force[i]) +
-           angular_dot<D>(w_[i], contact_torque_[i] + torque[i]);
-  });
+  contact_.settle(
+      comm_ ? *comm_ : parallel::Comm{}, f_.size(),
+      [&](Index i) {
+        return v_[i].dot(contact_force_[i] + force[i]) +
+               angular_dot<D>(w_[i], contact_torque_[i] + torque[i]);
+      },
+      [&](Index i) { return !ghost(i); });
   parallel::for_each(f_.size(), [&](Index i) {
     contact_force_[i] = force[i];
     contact_torque_[i] = torque[i];

@@ -59,6 +59,7 @@
 #include "parts/outflow.hpp"
 #include "parts/part.hpp"
 #include "parts/region.hpp"
+#include "parts/whole_layout.hpp"
 
 namespace crater::dem::detail {
 
@@ -261,6 +262,7 @@ class DemPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
+  const parts::WholeLayout* contact_layout() const override;
   /// The grains in this rank's arrays: its own and, on ranks, the ghosts.
   Index local_count() const { return f_.size(); }
   /// Grain i is a ghost: a copy of a grain another rank owns.
@@ -691,7 +693,9 @@ class DemPart final : public parts::Part<D> {
   // local grains whose motion goes there (halo_send_) and the ghosts that come from it
   // (halo_recv_), each in the order of the exchange.
   const parallel::Comm* comm_ = nullptr;
-  Index rebalances_ = 0;  // on ranks: how often the cuts were made again
+  mutable parts::WholeLayout contact_layout_;  // contact_layout()'s, on ranks
+  mutable Index contact_layout_builds_ = -1;   // skin_.builds() it was made at (-1: none)
+  Index rebalances_ = 0;                       // on ranks: how often the cuts were made again
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::vector<Index>> halo_send_, halo_recv_;

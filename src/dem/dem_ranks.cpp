@@ -132,6 +132,7 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
 template <int D>
 void DemPart<D>::distribute_restored() {
   const parallel::Comm& comm = *comm_;
+  contact_layout_builds_ = -1;
   const auto ranks = static_cast<std::size_t>(comm.size());
   const std::vector<Vec<D>> built(skin_.positions().begin(), skin_.positions().end());
   const std::vector<Real> weight(built.size(), 1.0);
@@ -499,7 +500,22 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   self->bond_lost_ = lost;
 }
 
+// The contacts with other parts on ranks see the whole bed in the order one rank holds it: the
+// cell order of the positions at the last build of the lists (contact/spread_coupling.hpp).
+template <int D>
+const parts::WholeLayout* DemPart<D>::contact_layout() const {
+  if (!comm_) return nullptr;
+  // The same until the grains are sorted and spread again, at the next build of the lists.
+  if (contact_layout_builds_ == skin_.builds()) return &contact_layout_;
+  contact_layout_ =
+      parts::particle_layout<D>(*comm_, std::span<const std::int64_t>(id_), skin_.positions(),
+                                skin_.radius(), [&](Index i) { return !ghost(i); });
+  contact_layout_builds_ = skin_.builds();
+  return &contact_layout_;
+}
+
 #define CRATER_DEM_RANKS(D)                                                                 \
+  template const parts::WholeLayout* DemPart<D>::contact_layout() const;                    \
   template void DemPart<D>::distribute(const parallel::Comm&);                              \
   template void DemPart<D>::keep_grains(std::span<const std::uint8_t>);                     \
   template void DemPart<D>::distribute_restored();                                          \

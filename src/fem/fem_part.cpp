@@ -446,14 +446,21 @@ std::vector<parts::Diagnostic> FemPart<D>::diagnostics() const {
 template <int D>
 void FemPart<D>::rebuild_surface() {
   const SurfaceFaces<D> sf = surface_faces(mesh_);
-  const Real bulk = materials::bulk_modulus(materials::elastic_of(material_.strength));
   surface_faces_ = sf.nodes;
   surface_element_ = sf.element;
-  surface_stiffness_.resize(sf.nodes.size());
-  for (std::size_t f = 0; f < sf.nodes.size(); ++f)
-    surface_stiffness_[f] = bulk * sf.reference_area[f] * sf.reference_area[f] /
-                            mesh_.reference_volume[at(sf.element[f])];
+  surface_stiffness_ = face_stiffness(sf, mesh_);
   ++surface_revision_;
+}
+
+template <int D>
+std::vector<Real> FemPart<D>::face_stiffness(const SurfaceFaces<D>& sf,
+                                             const ExplicitMesh<D>& mesh) const {
+  const Real bulk = materials::bulk_modulus(materials::elastic_of(material_.strength));
+  std::vector<Real> k(sf.nodes.size());
+  for (std::size_t f = 0; f < k.size(); ++f)
+    k[f] = bulk * sf.reference_area[f] * sf.reference_area[f] /
+           mesh.reference_volume[at(sf.element[f])];
+  return k;
 }
 
 /// Moves the mass, kinetic, internal and hourglass energy of the elements that failed in the

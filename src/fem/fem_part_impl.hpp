@@ -33,6 +33,7 @@
 #include "parts/on_ranks.hpp"
 #include "parts/part.hpp"
 #include "parts/setup.hpp"
+#include "parts/whole_layout.hpp"
 
 namespace crater::fem::detail {
 
@@ -105,6 +106,9 @@ class FemPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
+  const parts::WholeLayout* contact_layout() const override;
+  std::optional<parts::ContactSurface<D>> whole_contact_surface(
+      const std::vector<Vec<D>>& whole_x) const override;
 
  private:
   static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
@@ -138,6 +142,8 @@ class FemPart final : public parts::Part<D> {
   }
 
   void rebuild_surface();
+  // The penalty stiffness K A^2 / V of each face's element, in the reference geometry.
+  std::vector<Real> face_stiffness(const SurfaceFaces<D>& sf, const ExplicitMesh<D>& mesh) const;
 
   Real total_mass() const {
     return node_total([&](Index i) { return mesh_.mass[at(i)]; });
@@ -305,6 +311,15 @@ class FemPart final : public parts::Part<D> {
   std::vector<std::vector<Index>> receive_nodes_;  // per rank: its nodes held here, ascending
   Index whole_nodes_ = 0, whole_elements_ = 0;
   std::vector<ElementNodes<D>> whole_elements_nodes_;  // the root's: the frames' cells
+  // The contacts on ranks see the surface of the whole mesh (whole_contact_surface): the mesh
+  // as it was before the cut, its erosion brought up to date from the elements' owners.
+  mutable ExplicitMesh<D> whole_mesh_;
+  mutable parts::WholeLayout node_layout_;  // contact_layout(): nodes in their numbering
+  mutable std::vector<std::array<Index, parts::kFaceNodes<D>>> whole_faces_;
+  mutable std::vector<Index> whole_face_element_;
+  mutable std::vector<Real> whole_face_stiffness_;
+  mutable std::uint64_t whole_revision_ = 0;   // of whole_faces_ (0: none built yet)
+  mutable std::uint64_t synced_revision_ = 0;  // surface_revision_ when last brought up to date
 
   // Output scratch.
   mutable std::vector<Vec<D>> displacement_;

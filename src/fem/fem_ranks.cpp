@@ -52,6 +52,7 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   constexpr int kNodes = kElementNodes<D>;
   const Index ne = mesh_.element_count(), nn = mesh_.node_count();
   const int me = comm.rank(), ranks = comm.size();
+  whole_mesh_ = mesh_;  // for the contacts' surface of the whole mesh
   // The elements' owners: a bisection of their centres at rest (the same on every rank).
   std::vector<Vec<D>> centre(at(ne), Vec<D>::Zero());
   for (Index e = 0; e < ne; ++e)
@@ -162,7 +163,64 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   node_id_ = std::move(nodes);
   element_id_ = std::move(elements);
   comm_ = &comm;
-  rebuild_surface();  // of the kept elements (contacts do not run on ranks yet)
+  rebuild_surface();  // of the kept elements; the contacts see the whole mesh's instead
+  // The nodes as the contacts see them: in their numbering, each sent by its owner.
+  std::vector<std::int64_t> own_ids;
+  for (std::size_t k = 0; k < node_id_.size(); ++k) {
+    if (ghost_node_[k]) continue;
+    node_layout_.owned.push_back(static_cast<Index>(k));
+    own_ids.push_back(node_id_[k]);
+  }
+  std::vector<std::int64_t> id_bytes;
+  const std::vector<std::byte> all_ids =
+      comm.all_gather(std::as_bytes(std::span<const std::int64_t>(own_ids)), &id_bytes);
+  for (std::size_t b = 0; b < all_ids.size(); b += sizeof(std::int64_t)) {
+    std::int64_t n;
+    std::memcpy(&n, all_ids.data() + b, sizeof n);
+    node_layout_.slot_of_gathered.push_back(static_cast<Index>(n));
+  }
+  for (const std::int64_t b : id_bytes)
+    node_layout_.owned_by_rank.push_back(
+        static_cast<Index>(b / static_cast<std::int64_t>(sizeof(std::int64_t))));
+  node_layout_.whole_count = nn;
+  node_layout_.whole_of_local.assign(node_id_.begin(), node_id_.end());
+}
+
+template <int D>
+const parts::WholeLayout* FemPart<D>::contact_layout() const {
+  return comm_ ? &node_layout_ : nullptr;
+}
+
+// The contact surface of the whole mesh on every rank, as one rank has it: the faces of the live
+// elements that no other live element shares, in the order surface_faces lists them, with the
+// stiffness of rebuild_surface. Brought up to date in the step an element erodes anywhere (its
+// owner's flag is sent to every rank), with the nodes' positions of that state.
+template <int D>
+std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
+    const std::vector<Vec<D>>& whole_x) const {
+  if (!comm_) return std::nullopt;
+  const bool changed_here = surface_revision_ != synced_revision_;
+  if (comm_->max(changed_here ? Real(1) : Real(0)) > 0 || whole_revision_ == 0) {
+    std::vector<std::int64_t> eroded_own;
+    for (Index e = 0; e < mesh_.element_count(); ++e)
+      if (!ghost_element(e) && mesh_.eroded[at(e)]) eroded_own.push_back(element_id_[at(e)]);
+    for (const std::int64_t e :
+         parallel::all_gather(*comm_, std::span<const std::int64_t>(eroded_own)))
+      whole_mesh_.eroded[at(e)] = 1;
+    whole_mesh_.position = whole_x;
+    const SurfaceFaces<D> sf = surface_faces(whole_mesh_);
+    whole_faces_ = sf.nodes;
+    whole_face_element_ = sf.element;
+    whole_face_stiffness_ = face_stiffness(sf, whole_mesh_);
+    ++whole_revision_;
+    synced_revision_ = surface_revision_;
+  }
+  parts::ContactSurface<D> s;
+  s.faces = &whole_faces_;
+  s.face_element = &whole_face_element_;
+  s.face_stiffness = &whole_face_stiffness_;
+  s.revision = whole_revision_;
+  return s;
 }
 
 template <int D>
@@ -284,6 +342,9 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
 }
 
 #define CRATER_FEM_RANKS(D)                                                             \
+  template const parts::WholeLayout* FemPart<D>::contact_layout() const;                \
+  template std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(   \
+      const std::vector<Vec<D>>&) const;                                                \
   template void FemPart<D>::distribute(const parallel::Comm&);                          \
   template void FemPart<D>::refresh_ghosts();                                           \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const; \

@@ -2,11 +2,13 @@
 // ContactPoints view of its fields (part.hpp): the work those forces do on it.
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "core/axial_vec.hpp"
 #include "core/index.hpp"
 #include "core/types.hpp"
+#include "parallel/comm.hpp"
 #include "parallel/parallel.hpp"
 
 namespace crater::parts {
@@ -27,15 +29,29 @@ struct ContactWork {
   }
 
   /// Books the step's work, power(i) being v_i . (F_i + F'_i) (plus the torques' share for
-  /// rotating particles), once per advance: dt/2 times the deterministic sum over [0, n).
-  template <class Power>
-  void settle(Index n, Power&& power) {
+  /// rotating particles), once per advance: dt/2 times the sum over the entities i of [0, n)
+  /// with own(i) (a rank's own, not its ghosts), by the reproducible sum over the ranks of
+  /// `comm`, so that it has the same bits for any thread and rank count. Only the particles in
+  /// contact have power: the sum takes the nonzero terms alone. Collective on ranks.
+  template <class Power, class Own>
+  void settle(const parallel::Comm& comm, Index n, Power&& power, Own&& own) {
     if (pending && last_dt_s > 0) {
       const Real half_dt = Real(0.5) * last_dt_s;
-      work_j += parallel::deterministic_sum<Real>(n, [&](Index i) { return half_dt * power(i); });
+      power_.resize(static_cast<std::size_t>(n));
+      parallel::for_each(n,
+                         [&](Index i) { power_[at(i)] = own(i) ? half_dt * power(i) : Real(0); });
+      const std::vector<Index> nonzero =
+          parallel::select(n, [&](Index i) { return power_[at(i)] != 0; });
+      std::vector<Real> terms(nonzero.size());
+      for (std::size_t q = 0; q < terms.size(); ++q)
+        terms[q] = power_[at(nonzero[q])];
+      work_j += parallel::reproducible_sum(comm, std::span<const Real>(terms));
     }
     pending = false;
   }
+
+ private:
+  std::vector<Real> power_;  // settle()'s scratch
 };
 
 /// A particle or solid part's positions as the contacts see them under multi-rate stepping

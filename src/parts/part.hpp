@@ -20,6 +20,8 @@
 
 namespace crater::parts {
 
+struct WholeLayout;  // parts/whole_layout.hpp
+
 /// Energies of one part [J] (per metre of depth in 2D). Work terms are accumulated since t = 0.
 struct Energies {
   Real kinetic_j = 0;
@@ -204,6 +206,18 @@ class Part {
                                   const std::vector<AxialVec<D>>& /*torque*/) {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
                              ") does not take part in contacts");
+  }
+  /// A spread part in contacts (docs/distributed.md, "Contacts on ranks"): where the entities
+  /// of contact_points() (particles) or contact_surface() (a solid's nodes) sit in the whole
+  /// part as one rank holds it (parts/whole_layout.hpp). Collective; valid until the part's
+  /// next stage. Null on one rank.
+  virtual const WholeLayout* contact_layout() const { return nullptr; }
+  /// A spread solid part: the contact surface of the whole mesh, its faces numbered by the
+  /// whole mesh's nodes in the order one rank lists them, given the positions of all nodes
+  /// (`whole_x`, assembled by contact_layout()); its node arrays are left null. Collective.
+  virtual std::optional<ContactSurface<D>> whole_contact_surface(
+      const std::vector<Vec<D>>& /*whole_x*/) const {
+    return std::nullopt;
   }
 
   /// Multi-rate stepping (solver/multi_rate.hpp), for a part in the middle of its step when

@@ -244,6 +244,7 @@ class Run {
     if (comm_.size() == 1) return;
     for (auto& p : parts_)
       p->distribute(comm_);
+    coupling_.spread(comm_, parts_);
   }
 
   // The energies at t = 0 (the balance's reference, each part's for the energy guard), the
@@ -547,8 +548,19 @@ void check_ranks(const io::Config& c) {
       refuse(p.where, "parts[" + p.name + "].method",
              "a part of method '" + std::string(io::method_name(p.method())) +
                  "' (only DEM, SPH and FEM parts are spread yet)");
+    // Said here, before a bed is laid or settled, as the parts would say it when spread.
+    if (p.is(io::Method::Dem) && !p.dem().absorbing_walls.empty())
+      refuse(p.where, "parts[" + p.name + "].dem.absorbing_walls",
+             "a bed whose grains leave through absorbing walls");
   }
-  if (!c.contacts.empty()) refuse(file, "contacts", "a contact between parts");
+  for (const io::PartConfig& p : c.parts)
+    if (c.domain.outflow == parts::Outflow::Remove &&
+        (p.is(io::Method::Dem) || p.is(io::Method::Sph)))
+      refuse(file, "domain.outflow",
+             "outflow removal (domain.outflow = \"remove\") of particles or grains");
+  for (const io::ContactConfig& k : c.contacts)
+    if (!k.surface_groups[0].empty() || !k.surface_groups[1].empty())
+      refuse(k.where, "contacts.surface_groups", "a contact restricted to a mesh group");
   if (c.probes.lining) refuse(file, "probes.lining", "the tunnel lining's probe");
   if (c.time.multi_rate) refuse(file, "time.multi_rate", "multi-rate stepping");
 }

@@ -251,7 +251,9 @@ void SphPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
                                     const std::vector<AxialVec<D>>& /*torque*/) {
   if (static_cast<Index>(force.size()) != f_.size())
     throw std::logic_error("sph: contact forces for another particle count");
-  contact_.settle(f_.size(), [&](Index i) { return vh_[i].dot(fc_[i] + force[i]); });
+  contact_.settle(
+      spread_.active() ? spread_.comm() : parallel::Comm{}, f_.size(),
+      [&](Index i) { return vh_[i].dot(fc_[i] + force[i]); }, [&](Index i) { return !ghost(i); });
   parallel::for_each(f_.size(), [&](Index i) {
     fc_[i] = force[i];
     a_[i] += fc_[i] / m_[i];

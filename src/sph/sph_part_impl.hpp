@@ -53,6 +53,7 @@
 #include "parts/outflow.hpp"
 #include "parts/part.hpp"
 #include "parts/region.hpp"
+#include "parts/whole_layout.hpp"
 #include "sph/burn.hpp"
 #include "sph/pair_terms.hpp"
 #include "sph/settings.hpp"
@@ -123,6 +124,7 @@ class SphPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
+  const parts::WholeLayout* contact_layout() const override;
 
  private:
   Real initial_energy(Real rho, std::optional<Real> pressure) const {
@@ -304,8 +306,10 @@ class SphPart final : public parts::Part<D> {
   // Particles removed beyond the domain box (outflow = "remove"): how many, their mass [kg] and
   // their kinetic + internal energy when removed [J] (eroded_j).
   parts::OutflowRemoval outflow_;
-  Real time_s_ = 0;           // of the last force stage, for the log
-  fields::Spread<D> spread_;  // on ranks: the cuts, the ghosts and their exchanges
+  Real time_s_ = 0;                            // of the last force stage, for the log
+  fields::Spread<D> spread_;                   // on ranks: the cuts, the ghosts and their exchanges
+  mutable parts::WholeLayout contact_layout_;  // contact_layout()'s, on ranks
+  mutable Index contact_layout_builds_ = -1;   // skin_.builds() it was made at (-1: none)
 };
 
 }  // namespace crater::sph::detail

@@ -113,7 +113,22 @@ void SphPart<D>::save_gathered(parts::StateWriter& w) const {
   archive(w, *this, whole, skin, reflections, penetration);
 }
 
+// The contacts with other parts on ranks see the whole part in the order one rank holds it
+// (contact/spread_coupling.hpp), as its checkpoints do.
+template <int D>
+const parts::WholeLayout* SphPart<D>::contact_layout() const {
+  if (!spread_.active()) return nullptr;
+  // The same until the particles are sorted and spread again, at the next build of the lists.
+  if (contact_layout_builds_ == skin_.builds()) return &contact_layout_;
+  contact_layout_ = parts::particle_layout<D>(spread_.comm(), std::span<const std::int64_t>(id_),
+                                              skin_.positions(), skin_.radius(),
+                                              [&](Index i) { return !ghost(i); });
+  contact_layout_builds_ = skin_.builds();
+  return &contact_layout_;
+}
+
 #define CRATER_SPH_RANKS(D)                                                             \
+  template const parts::WholeLayout* SphPart<D>::contact_layout() const;                \
   template void SphPart<D>::distribute(const parallel::Comm&);                          \
   template Index SphPart<D>::count() const;                                             \
   template std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const; \

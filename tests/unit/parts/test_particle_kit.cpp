@@ -66,17 +66,27 @@ TEST(OutflowRemoval, CompactsInIndexOrderAndBooks) {
   EXPECT_EQ(back.energy_j(), out.energy_j());
 }
 
-// The work of the contact forces over a step: dt/2 sum v . (F + F'), once per advance.
+// The work of the contact forces over a step: dt/2 sum v . (F + F'), once per advance, over the
+// own entities only (a rank's ghosts are their owners' to book).
 TEST(ContactWork, TrapezoidalOncePerAdvance) {
+  const parallel::Comm one;
+  const auto all = [](Index) { return true; };
   ContactWork cw;
-  cw.settle(3, [](Index) { return 1.0; });  // not moved yet: nothing
+  cw.settle(
+      one, 3, [](Index) { return 1.0; }, all);  // not moved yet: nothing
   EXPECT_EQ(cw.work_j, 0);
   cw.moved(0.2);
-  cw.settle(3, [](Index i) { return Real(i); });  // 0 + 1 + 2
+  cw.settle(
+      one, 3, [](Index i) { return Real(i); }, all);  // 0 + 1 + 2
   EXPECT_DOUBLE_EQ(cw.work_j, 0.1 * 3);
-  cw.settle(3, [](Index) { return 5.0; });  // same step again: nothing more
+  cw.settle(
+      one, 3, [](Index) { return 5.0; }, all);  // same step again: nothing more
   EXPECT_DOUBLE_EQ(cw.work_j, 0.1 * 3);
   EXPECT_FALSE(cw.pending);
+  cw.moved(0.2);
+  cw.settle(
+      one, 4, [](Index i) { return Real(i + 1); }, [](Index i) { return i % 2 == 0; });
+  EXPECT_DOUBLE_EQ(cw.work_j, 0.1 * 3 + 0.1 * (1 + 3));  // entities 0 and 2 alone
 }
 
 }  // namespace

@@ -1,0 +1,128 @@
+// Contacts between parts spread over ranks; see spread_coupling.hpp.
+#include "contact/spread_coupling.hpp"
+
+#include <stdexcept>
+#include <utility>
+
+namespace crater::contact {
+
+template <int D>
+std::optional<parts::ContactPoints<D>> WholePart<D>::contact_points() const {
+  if (!is_points_) return std::nullopt;
+  auto& p = const_cast<Points&>(points_);  // the offsets are the contacts' to write
+  parts::ContactPoints<D> v;
+  v.position = &p.position;
+  v.velocity = &p.velocity;
+  v.mass = &p.mass;
+  v.radius = &p.radius;
+  if (p.spins) v.angular_velocity = &p.angular_velocity;
+  if (p.offsets) {
+    v.surface_offset = &p.surface_offset;
+    v.surface_overlap = &p.surface_overlap;
+  }
+  if (p.ids) v.id = &p.id;
+  return v;
+}
+
+template <int D>
+void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& part,
+                            const parts::WholeLayout& layout) {
+  // Every field of the view in one all-gather.
+  parts::WholeExchange x(layout);
+  if (const auto local = part.contact_points()) {
+    is_points_ = true;
+    Points& p = points_;
+    p.spins = local->angular_velocity != nullptr;
+    p.offsets = local->surface_offset && local->surface_overlap;
+    p.ids = local->id != nullptr;
+    x.add(*local->position);
+    x.add(*local->velocity);
+    x.add(*local->mass);
+    x.add(*local->radius);
+    if (p.spins) x.add(*local->angular_velocity);
+    if (p.offsets) {
+      x.add(*local->surface_offset);
+      x.add(*local->surface_overlap);
+    }
+    if (p.ids) x.add(*local->id);
+    x.exchange(comm);
+    std::size_t f = 0;
+    p.position = x.take<Vec<D>>(f++);
+    p.velocity = x.take<Vec<D>>(f++);
+    p.mass = x.take<Real>(f++);
+    p.radius = x.take<Real>(f++);
+    if (p.spins) p.angular_velocity = x.take<AxialVec<D>>(f++);
+    if (p.offsets) {
+      p.surface_offset = x.take<Real>(f++);
+      p.surface_overlap = x.take<Real>(f++);
+    }
+    if (p.ids) p.id = x.take<std::int64_t>(f++);
+    return;
+  }
+  const auto local = part.contact_surface();
+  if (!local) throw std::logic_error("part '" + part.name() + "' offers contacts nothing");
+  x.add(*local->node_position);
+  x.add(*local->node_velocity);
+  x.add(*local->node_mass);
+  x.exchange(comm);
+  nodes_.position = x.take<Vec<D>>(0);
+  nodes_.velocity = x.take<Vec<D>>(1);
+  nodes_.mass = x.take<Real>(2);
+  surface_ = part.whole_contact_surface(nodes_.position);
+  if (!surface_) throw std::logic_error("part '" + part.name() + "' has no whole surface");
+  surface_->node_position = &nodes_.position;
+  surface_->node_velocity = &nodes_.velocity;
+  surface_->node_mass = &nodes_.mass;
+}
+
+template <int D>
+void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const {
+  const std::vector<AxialVec<D>> torque =
+      torque_.empty() ? std::vector<AxialVec<D>>{} : parts::local_of_whole(layout, torque_);
+  part.add_contact_forces(parts::local_of_whole(layout, force_), torque);
+  if (!is_points_ || !points_.offsets) return;
+  const auto local = part.contact_points();
+  for (std::size_t i = 0; i < layout.whole_of_local.size(); ++i) {
+    const auto w = at(layout.whole_of_local[i]);
+    (*local->surface_offset)[i] = points_.surface_offset[w];
+    (*local->surface_overlap)[i] = points_.surface_overlap[w];
+  }
+}
+
+template <int D>
+void WholePart<D>::refuse(const char* what) const {
+  throw std::logic_error("whole contact view of part '" + name_ + "' does not step: " + what);
+}
+
+template <int D>
+SpreadContacts<D>::SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
+                                  std::vector<std::size_t> involved)
+    : comm_(comm), involved_(std::move(involved)), layout_(parts.size(), nullptr) {
+  for (const auto& p : parts)
+    whole_.push_back(std::make_unique<WholePart<D>>(p->name(), p->method()));
+}
+
+template <int D>
+const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
+  for (const std::size_t k : involved_) {
+    layout_[k] = parts[k]->contact_layout();
+    if (!layout_[k])
+      throw std::logic_error("part '" + parts[k]->name() + "' in a contact is not spread");
+    static_cast<WholePart<D>&>(*whole_[k]).assemble(comm_, *parts[k], *layout_[k]);
+  }
+  fresh_ = true;
+  return whole_;
+}
+
+template <int D>
+void SpreadContacts<D>::hand_back(const PartList<D>& parts) const {
+  for (const std::size_t k : involved_)
+    static_cast<const WholePart<D>&>(*whole_[k]).hand_back(*parts[k], *layout_[k]);
+}
+
+template class WholePart<2>;
+template class WholePart<3>;
+template class SpreadContacts<2>;
+template class SpreadContacts<3>;
+
+}  // namespace crater::contact

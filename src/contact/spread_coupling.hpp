@@ -1,0 +1,110 @@
+// Contacts between parts spread over MPI ranks (issue 29, docs/distributed.md "Contacts on
+// ranks"): every rank evaluates every contact on whole stand-ins of its two parts, assembled from
+// the ranks' own entities in the order one rank holds them (Part::contact_layout; a solid's
+// surface is its whole mesh's, Part::whole_contact_surface). The pairings then run as on one
+// rank, over the same numbers in the same order, and every sum they take (a particle's force
+// from its faces, a node's from its particles, the step limits, the diagnostics and history
+// forces) has one rank's bits on any rank count. Each part takes back the forces of the entities
+// it holds, and the particles their contact state (the initial-penetration offsets).
+//
+// The cost is a replicated contact stage: every rank gathers the whole contact view of each part
+// in a contact (positions, velocities, masses, radii, spins, offsets, ids; a solid's nodes) at
+// every step, and evaluates every pair. Right for the scenes the tests run and for the paper's
+// 2D scene at its demo level; what scales instead (each rank the pairs of its own entities, the
+// other side's within reach sent with their sort keys) is docs/distributed.md's next step.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "contact/pairing.hpp"
+#include "parallel/comm.hpp"
+#include "parts/part.hpp"
+#include "parts/whole_layout.hpp"
+
+namespace crater::contact {
+
+/// A part as a contact sees it, whole: its contact points or surface over the whole part, and
+/// the forces the contacts hand it. It does not step.
+template <int D>
+class WholePart final : public parts::Part<D> {
+ public:
+  WholePart(std::string name, const char* method) : name_(std::move(name)), method_(method) {}
+
+  const std::string& name() const override { return name_; }
+  const char* method() const override { return method_; }
+  Index count() const override { return static_cast<Index>(points_.position.size()); }
+
+  std::optional<parts::ContactPoints<D>> contact_points() const override;
+  std::optional<parts::ContactSurface<D>> contact_surface() const override { return surface_; }
+  void add_contact_forces(const std::vector<Vec<D>>& force,
+                          const std::vector<AxialVec<D>>& torque) override {
+    force_ = force;
+    torque_ = torque;
+  }
+
+  Real mass_kg() const override { refuse("mass_kg"); }
+  parts::StableStep stable_step() const override { refuse("stable_step"); }
+  void compute_forces(Real) override { refuse("compute_forces"); }
+  std::optional<parts::Fault> check() const override { refuse("check"); }
+  void advance(Real, Real) override { refuse("advance"); }
+  void finish_step(Real) override { refuse("finish_step"); }
+  parts::Energies energies() const override { refuse("energies"); }
+  parts::Geometry<D> geometry() const override { refuse("geometry"); }
+  std::vector<fields::FieldView> point_fields() const override { refuse("point_fields"); }
+
+  /// The whole view of `part`, whose entities sit as `layout` says (collective).
+  void assemble(const parallel::Comm& comm, const parts::Part<D>& part,
+                const parts::WholeLayout& layout);
+  /// The forces handed to this stand-in, given to `part` for the entities it holds, and its
+  /// particles' contact state written back.
+  void hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const;
+
+ private:
+  [[noreturn]] void refuse(const char* what) const;
+
+  std::string name_;
+  const char* method_;
+  bool is_points_ = false;
+  struct Points {
+    std::vector<Vec<D>> position, velocity;
+    std::vector<Real> mass, radius, surface_offset, surface_overlap;
+    std::vector<AxialVec<D>> angular_velocity;
+    std::vector<std::int64_t> id;
+    bool spins = false, offsets = false, ids = false;
+  } points_;
+  struct Nodes {
+    std::vector<Vec<D>> position, velocity;
+    std::vector<Real> mass;
+  } nodes_;
+  std::optional<parts::ContactSurface<D>> surface_;
+  std::vector<Vec<D>> force_;
+  std::vector<AxialVec<D>> torque_;
+};
+
+/// The stand-ins of the parts in contacts, at the indices of the parts (the others offer
+/// nothing), refreshed at each evaluation.
+template <int D>
+class SpreadContacts {
+ public:
+  SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
+                 std::vector<std::size_t> involved);
+
+  /// The stand-ins at the parts' current state (collective).
+  const PartList<D>& refresh(const PartList<D>& parts);
+  /// The stand-ins as last refreshed (refreshed now if never).
+  const PartList<D>& current(const PartList<D>& parts) { return fresh_ ? whole_ : refresh(parts); }
+  /// Each part in a contact takes the forces of its entities from its stand-in.
+  void hand_back(const PartList<D>& parts) const;
+
+ private:
+  const parallel::Comm& comm_;
+  std::vector<std::size_t> involved_;
+  PartList<D> whole_;
+  std::vector<const parts::WholeLayout*> layout_;  // per part in a contact, of the last refresh
+  bool fresh_ = false;
+};
+
+}  // namespace crater::contact
