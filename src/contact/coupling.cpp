@@ -44,9 +44,9 @@ parts::StableStep Coupling<D>::stable_step(const PartList<D>& parts) const {
 template <int D>
 std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
   std::vector<PairLimits> out(pairings_.size());
-  // On ranks, the whole views of the last evaluation: the positions and masses the limits read
-  // have not changed since.
-  const PartList<D>& on = spread_ ? spread_->current(parts) : parts;
+  // On ranks, whole views of the current state: the parts may have lost particles since the
+  // last evaluation (outflow), and one rank's limits see them without.
+  const PartList<D>& on = spread_ ? spread_->refresh(parts) : parts;
   for (std::size_t c = 0; c < pairings_.size(); ++c)
     pairings_[c]->limit_step(on, out[c]);
   return out;

@@ -6,6 +6,10 @@
 
 namespace crater::contact {
 
+void refuse_stepping(const std::string& part, const char* what) {
+  throw std::logic_error("whole contact view of part '" + part + "' does not step: " + what);
+}
+
 template <int D>
 std::optional<parts::ContactPoints<D>> WholePart<D>::contact_points() const {
   if (!is_points_) return std::nullopt;
@@ -90,11 +94,6 @@ void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& lay
 }
 
 template <int D>
-void WholePart<D>::refuse(const char* what) const {
-  throw std::logic_error("whole contact view of part '" + name_ + "' does not step: " + what);
-}
-
-template <int D>
 SpreadContacts<D>::SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
                                   std::vector<std::size_t> involved)
     : comm_(comm), involved_(std::move(involved)), layout_(parts.size(), nullptr) {
@@ -110,7 +109,6 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
       throw std::logic_error("part '" + parts[k]->name() + "' in a contact is not spread");
     static_cast<WholePart<D>&>(*whole_[k]).assemble(comm_, *parts[k], *layout_[k]);
   }
-  fresh_ = true;
   return whole_;
 }
 

@@ -16,6 +16,7 @@
 
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@
 #include "parts/whole_layout.hpp"
 
 namespace crater::contact {
+
+/// What a stand-in that does not step says when asked to (spread_coupling.cpp).
+[[noreturn]] void refuse_stepping(const std::string& part, const char* what);
 
 /// A part as a contact sees it, whole: its contact points or surface over the whole part, and
 /// the forces the contacts hand it. It does not step.
@@ -45,15 +49,17 @@ class WholePart final : public parts::Part<D> {
     torque_ = torque;
   }
 
-  Real mass_kg() const override { refuse("mass_kg"); }
-  parts::StableStep stable_step() const override { refuse("stable_step"); }
-  void compute_forces(Real) override { refuse("compute_forces"); }
-  std::optional<parts::Fault> check() const override { refuse("check"); }
-  void advance(Real, Real) override { refuse("advance"); }
-  void finish_step(Real) override { refuse("finish_step"); }
-  parts::Energies energies() const override { refuse("energies"); }
-  parts::Geometry<D> geometry() const override { refuse("geometry"); }
-  std::vector<fields::FieldView> point_fields() const override { refuse("point_fields"); }
+  Real mass_kg() const override { refuse_stepping(name_, "mass_kg"); }
+  parts::StableStep stable_step() const override { refuse_stepping(name_, "stable_step"); }
+  void compute_forces(Real) override { refuse_stepping(name_, "compute_forces"); }
+  std::optional<parts::Fault> check() const override { refuse_stepping(name_, "check"); }
+  void advance(Real, Real) override { refuse_stepping(name_, "advance"); }
+  void finish_step(Real) override { refuse_stepping(name_, "finish_step"); }
+  parts::Energies energies() const override { refuse_stepping(name_, "energies"); }
+  parts::Geometry<D> geometry() const override { refuse_stepping(name_, "geometry"); }
+  std::vector<fields::FieldView> point_fields() const override {
+    refuse_stepping(name_, "point_fields");
+  }
 
   /// The whole view of `part`, whose entities sit as `layout` says (collective).
   void assemble(const parallel::Comm& comm, const parts::Part<D>& part,
@@ -63,8 +69,6 @@ class WholePart final : public parts::Part<D> {
   void hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const;
 
  private:
-  [[noreturn]] void refuse(const char* what) const;
-
   std::string name_;
   const char* method_;
   bool is_points_ = false;
@@ -94,8 +98,6 @@ class SpreadContacts {
 
   /// The stand-ins at the parts' current state (collective).
   const PartList<D>& refresh(const PartList<D>& parts);
-  /// The stand-ins as last refreshed (refreshed now if never).
-  const PartList<D>& current(const PartList<D>& parts) { return fresh_ ? whole_ : refresh(parts); }
   /// Each part in a contact takes the forces of its entities from its stand-in.
   void hand_back(const PartList<D>& parts) const;
 
@@ -104,7 +106,6 @@ class SpreadContacts {
   std::vector<std::size_t> involved_;
   PartList<D> whole_;
   std::vector<const parts::WholeLayout*> layout_;  // per part in a contact, of the last refresh
-  bool fresh_ = false;
 };
 
 }  // namespace crater::contact

@@ -142,6 +142,7 @@ class FemPart final : public parts::Part<D> {
   }
 
   void rebuild_surface();
+  void build_node_layout(const parallel::Comm& comm);  // fem_ranks.cpp
   // The penalty stiffness K A^2 / V of each face's element, in the reference geometry.
   std::vector<Real> face_stiffness(const SurfaceFaces<D>& sf, const ExplicitMesh<D>& mesh) const;
 

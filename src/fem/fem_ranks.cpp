@@ -164,7 +164,13 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   element_id_ = std::move(elements);
   comm_ = &comm;
   rebuild_surface();  // of the kept elements; the contacts see the whole mesh's instead
-  // The nodes as the contacts see them: in their numbering, each sent by its owner.
+  build_node_layout(comm);
+}
+
+// The nodes as the contacts see them (contact_layout): in their numbering, each sent by its
+// owner. Collective.
+template <int D>
+void FemPart<D>::build_node_layout(const parallel::Comm& comm) {
   std::vector<std::int64_t> own_ids;
   for (std::size_t k = 0; k < node_id_.size(); ++k) {
     if (ghost_node_[k]) continue;
@@ -182,7 +188,7 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   for (const std::int64_t b : id_bytes)
     node_layout_.owned_by_rank.push_back(
         static_cast<Index>(b / static_cast<std::int64_t>(sizeof(std::int64_t))));
-  node_layout_.whole_count = nn;
+  node_layout_.whole_count = whole_nodes_;
   node_layout_.whole_of_local.assign(node_id_.begin(), node_id_.end());
 }
 

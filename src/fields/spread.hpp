@@ -165,6 +165,28 @@ class Spread {
           i = to[static_cast<std::size_t>(i)];
   }
 
+  /// After set.compact(keep) (keep: 1 for the entities kept): the flags and the exchange lists
+  /// follow the kept entities; a dropped entity leaves the lists (on both sides of an exchange
+  /// when its owner and the ranks holding it as a ghost drop it alike).
+  void compacted(std::span<const std::uint8_t> keep) {
+    if (!comm_) return;
+    std::vector<Index> to(keep.size(), -1);
+    std::vector<std::uint8_t> ghost;
+    for (std::size_t i = 0; i < keep.size(); ++i) {
+      if (!keep[i]) continue;
+      to[i] = static_cast<Index>(ghost.size());
+      ghost.push_back(ghost_[i]);
+    }
+    ghost_.swap(ghost);
+    for (auto* lists : {&send_, &recv_})
+      for (auto& list : *lists) {
+        std::vector<Index> kept;
+        for (const Index i : list)
+          if (to[static_cast<std::size_t>(i)] >= 0) kept.push_back(to[static_cast<std::size_t>(i)]);
+        list.swap(kept);
+      }
+  }
+
   /// The ghosts' fields having any of `roles`, from their owners. Collective.
   void refresh(FieldSet<D>& set, unsigned roles) const {
     const parallel::Comm& comm = *comm_;

@@ -17,6 +17,7 @@
 #include "core/index.hpp"
 #include "core/types.hpp"
 #include "fields/field_set.hpp"
+#include "parallel/comm.hpp"
 #include "parallel/parallel.hpp"
 #include "parts/part.hpp"
 #include "parts/state_archive.hpp"
@@ -42,6 +43,23 @@ struct Removed {
   }
 };
 
+/// The own entities of a removal (OutflowTally: a rank's, not its ghosts), counted over every
+/// rank, and sums of what they carried by the reproducible sum: the same on every rank, for any
+/// rank and thread count.
+struct OutflowTally {
+  std::vector<Index> own;  // this rank's own leaving entities, ascending
+  Index count = 0;         // over every rank
+
+  /// The sum of term(i) over every rank's own leaving entities. Collective.
+  template <class Term>
+  Real sum(const parallel::Comm& comm, Term&& term) const {
+    std::vector<Real> terms(own.size());
+    for (std::size_t q = 0; q < terms.size(); ++q)
+      terms[q] = term(own[q]);
+    return parallel::reproducible_sum(comm, std::span<const Real>(terms));
+  }
+};
+
 /// The survivors' mask of the current removal and the ledger of everything removed so far
 /// (summary.json's left_domain_* diagnostics; checkpointed).
 class OutflowRemoval {
@@ -54,6 +72,15 @@ class OutflowRemoval {
       keep_[at(i)] = inside(i);
       return static_cast<Index>(!keep_[at(i)]);
     });
+  }
+  /// The leaving entities i of [0, n) with own(i) since the last mark(), counted over the ranks
+  /// of `comm` (collective).
+  template <class Own>
+  OutflowTally tally(const parallel::Comm& comm, Index n, Own&& own) const {
+    OutflowTally t;
+    t.own = parallel::select(n, [&](Index i) { return !kept(i) && own(i); });
+    t.count = static_cast<Index>(comm.sum(static_cast<std::int64_t>(t.own.size())));
+    return t;
   }
   /// Whether entity i survives the removal last marked.
   bool kept(Index i) const { return keep_[at(i)] != 0; }

@@ -364,13 +364,18 @@ class MultiRate {
     const auto pts = parts[p]->contact_points();
     if (acc.unit || !pts || !pts->id || pts->id->size() == acc.ids.size()) return;
     const std::vector<std::int64_t>& now = *pts->id;
+    // By id: a removal may also re-sort those that stay (an SPH part's does).
+    std::vector<std::pair<std::int64_t, std::size_t>> was(acc.ids.size());
+    for (std::size_t k = 0; k < was.size(); ++k)
+      was[k] = {acc.ids[k], k};
+    std::sort(was.begin(), was.end());
     std::vector<std::size_t> from(now.size());
-    std::size_t k = 0;
     for (std::size_t i = 0; i < now.size(); ++i) {
-      while (k < acc.ids.size() && acc.ids[k] != now[i])
-        ++k;  // removal keeps the order of those that stay
-      if (k == acc.ids.size()) throw std::logic_error("multi-rate: a particle's id was lost");
-      from[i] = k++;
+      const auto it =
+          std::lower_bound(was.begin(), was.end(), std::make_pair(now[i], std::size_t{0}));
+      if (it == was.end() || it->first != now[i])
+        throw std::logic_error("multi-rate: a particle's id was lost");
+      from[i] = it->second;
     }
     auto pick = [&](auto& v) {
       if (v.empty()) return;

@@ -554,10 +554,8 @@ void check_ranks(const io::Config& c) {
              "a bed whose grains leave through absorbing walls");
   }
   for (const io::PartConfig& p : c.parts)
-    if (c.domain.outflow == parts::Outflow::Remove &&
-        (p.is(io::Method::Dem) || p.is(io::Method::Sph)))
-      refuse(file, "domain.outflow",
-             "outflow removal (domain.outflow = \"remove\") of particles or grains");
+    if (c.domain.outflow == parts::Outflow::Remove && p.is(io::Method::Dem))
+      refuse(file, "domain.outflow", "outflow removal (domain.outflow = \"remove\") of grains");
   for (const io::ContactConfig& k : c.contacts)
     if (!k.surface_groups[0].empty() || !k.surface_groups[1].empty())
       refuse(k.where, "contacts.surface_groups", "a contact restricted to a mesh group");

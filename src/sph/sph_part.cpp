@@ -278,22 +278,30 @@ parts::Energies SphPart<D>::energies() const {
 template <int D>
 void SphPart<D>::remove_outflow() {
   const Index n = f_.size();
-  const Index leaving = outflow_.mark(n, [&](Index i) { return in_domain(i); });
-  if (leaving == 0) return;
-  const auto removed = parallel::deterministic_sum<parts::Removed>(n, [&](Index i) {
-    if (outflow_.kept(i)) return parts::Removed{};
-    return parts::Removed{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() + m_[i] * e_[i]};
-  });
-  outflow_.book(name_, "particles", time_s_, leaving, removed);
-  // The leaving particles' work books stay with the part.
-  external_work_ += parallel::deterministic_sum<Real>(
-      n, [&](Index i) { return outflow_.kept(i) ? Real(0) : work_external_[i]; });
+  outflow_.mark(n, [&](Index i) { return in_domain(i); });
+  // On ranks every rank marks its own particles and its ghosts (whose positions its owner
+  // refreshed at this force stage: every rank agrees on them); the own ones that leave are
+  // counted and summed over every rank, by the reproducible sum (one rank's bits anywhere).
+  const parallel::Comm one;
+  const parallel::Comm& comm = spread_.active() ? spread_.comm() : one;
+  const parts::OutflowTally gone = outflow_.tally(comm, n, [&](Index i) { return !ghost(i); });
+  if (gone.count == 0) return;
+  const parts::Removed removed{
+      gone.sum(comm, [&](Index i) { return m_[i]; }),
+      gone.sum(comm, [&](Index i) { return 0.5 * m_[i] * v_[i].squaredNorm() + m_[i] * e_[i]; })};
+  outflow_.book(name_, "particles", time_s_, gone.count, removed);
+  // The leaving particles' work books stay with the part: with the root on ranks, which holds
+  // the whole part's (as it holds its reflections).
+  const Real left_work = gone.sum(comm, [&](Index i) { return work_external_[i]; });
+  if (comm.root()) external_work_ += left_work;
   outflow_.compact(f_);
-  // The rates of the state without them (lists rebuilt, in their order), the contact forces
+  spread_.compacted(outflow_.survivors());
+  // The rates of the state without them (lists rebuilt, and the particles sorted as at any
+  // rebuild: the order of one rank, which a rank's share restricts), the contact forces
   // added as in add_contact_forces: the next half kick owes nothing to a removed particle and
   // the pair terms stay equal and opposite. Without this their pressure work over that half
   // kick went unbooked (1 % of the energy of the gas disk of tests/verification/outflow).
-  relist(false);
+  relist(true);
   pair_rates();
   parallel::for_each(f_.size(), [&](Index i) { a_[i] += fc_[i] / m_[i]; });
 }

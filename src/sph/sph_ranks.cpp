@@ -30,7 +30,6 @@ void SphPart<D>::distribute(const parallel::Comm& comm) {
                          "docs/distributed.md): run it on one rank");
   };
   if (spread_.active()) throw std::logic_error("sph: distribute() twice");
-  if (outflow_remove_) refuse("domain.outflow", "an SPH part whose particles leave (outflow)");
   if (summation() && cfg_.wall_no_slip && has_walls_)
     // A wall particle's density, which the summation reads, is its last average: on ranks it
     // may be a partial one from before the particles near it came to this rank.
@@ -40,7 +39,10 @@ void SphPart<D>::distribute(const parallel::Comm& comm) {
     const std::vector<Vec<D>> kept =
         spread_.restore(comm, f_, skin_.positions(), id_, halo_reach(skin_.radius()));
     skin_ = skin_.with_positions(kept);
-    if (!comm.root()) reflections_ = 0;  // the whole part's count, held by the root
+    if (!comm.root()) {  // the whole part's, held by the root
+      reflections_ = 0;
+      external_work_ = 0;
+    }
     build_lists();
     return;
   }

@@ -11,11 +11,17 @@ for byte: the root writes the whole part in the order one rank holds it):
   with the continuity density; then free-slip walls (mirror images) with the summation density;
 - tests/data/sph_ranks_3d.toml, a TNT sphere of 912 particles expanding into vacuum at km/s:
   continuity, then summation density;
-- `make run`'s demo (scenarios/demo.toml), the 2D TNT charge of 1,264 particles, 97 steps.
+- `make run`'s demo (scenarios/demo.toml), the 2D TNT charge of 1,264 particles, 97 steps;
+- tests/data/sph_outflow_ranks_2d.toml, a gas blob of 208 particles splashing on a steel plate
+  (the sph-fem contact) and leaving the domain box (domain.outflow = "remove"): 182 particles
+  leave over 3,972 steps, many removals, each a rebuild of the lists on every rank; the
+  reference must have removed most of them, and its removal books (left_domain_*) and energy
+  balance are compared with the rest.
 A 2-rank checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again. On 4
 ranks the dam break's cuts are made again as the water flows (fields::rebalanced_cuts): every
 rank keeps a share of the water.
 """
+import csv
 import json
 import sys
 import unittest
@@ -49,6 +55,8 @@ CASES = {
              [(2, 1), (3, 1), (4, 1), (2, 2)], 1264),
     "tnt_summation": (DATA / "sph_ranks_3d.toml", ['--set', 'parts.charge.sph.density="summation"'],
                       40, None, [(2, 1), (3, 1)], 912),
+    "outflow_contact": (DATA / "sph_outflow_ranks_2d.toml", [], 1500, None,
+                        [(2, 1), (3, 1), (4, 1), (2, 2)], 208),
 }
 
 
@@ -74,6 +82,7 @@ class SphOnRanks(unittest.TestCase):
                 with self.subTest(case=name, resumed_on=np_):
                     assert_resumes(self, scene, work / "ranks2_threads1", ckpts[0], np_, opts,
                                    f"{name}: resumed on {np_}")
+        return ref
 
     def assert_rebalanced(self, out):
         # The water flows out of the boxes of the cuts made at t = 0 (two of 4 ranks owned none
@@ -96,6 +105,16 @@ class SphOnRanks(unittest.TestCase):
 
     def test_tnt_sphere_summation_density(self):
         self.run_case("tnt_summation", resume=True)
+
+    def test_outflow_beside_a_contact(self):
+        ref = self.run_case("outflow_contact", resume=True)
+        summary = json.loads((ref / "summary.json").read_text())
+        blob = next(p for p in summary["parts"] if p["name"] == "blob")
+        self.assertGreater(blob["diagnostics"]["left_domain_count"], 150, blob)
+        with open(ref / "history.csv", newline="") as f:
+            rows = list(csv.DictReader(f))
+        pushed = sum(float(r["force_blob-plate_y"]) != 0 for r in rows)
+        self.assertGreater(pushed, len(rows) // 2)  # the contact acts through the removals
 
 
 if __name__ == "__main__":
