@@ -104,6 +104,15 @@ def assert_ranks_give(test, ref, scene, opts, ranks, checkpoints, what, check=No
                 check(out, np_)
 
 
+def assert_resumes_elsewhere(test, scene, ref, checkpoint, sets, what):
+    """The 2-rank run beside the plain run `ref` (ranks2_threads1), resumed from `checkpoint`
+    on 3 ranks and on 1, writes its files again (the tests/mpi cases' restart check)."""
+    for np_ in (3, 1):
+        with test.subTest(case=what, resumed_on=np_):
+            assert_resumes(test, scene, ref.parent / "ranks2_threads1", checkpoint, np_, sets,
+                           f"{what}: resumed on {np_}")
+
+
 def assert_resumes(test, scene, run, checkpoint, ranks, sets, what):
     """The run in `run` resumed from its checkpoint `checkpoint` on `ranks` ranks (1: plain)
     writes the files of the uninterrupted run again."""
