@@ -95,17 +95,7 @@ class WholeExchange {
   std::vector<std::byte> mine_, all_;
 };
 
-/// One vector assembled whole (WholeExchange with one field). Collective.
-template <class T>
-std::vector<T> assemble_whole(const parallel::Comm& comm, const WholeLayout& layout,
-                              const std::vector<T>& local) {
-  WholeExchange x(layout);
-  x.add(local);
-  x.exchange(comm);
-  return x.take<T>(0);
-}
-
-/// The entries of `whole` at each local entity's place (the inverse of assemble_whole, ghosts
+/// The entries of `whole` at each local entity's place (the inverse of WholeExchange, ghosts
 /// included); no communication.
 template <class T>
 std::vector<T> local_of_whole(const WholeLayout& layout, const std::vector<T>& whole) {
