@@ -480,6 +480,8 @@ class DemPart final : public parts::Part<D> {
 
   // Outflow (dem_state.cpp).
   void remove_outflow();
+  std::vector<Real> unhook_leaving();
+  void compact_survivors();
   template <class... Payload>
   void compact_slots(std::vector<std::int64_t>& key, std::span<const std::int64_t> gone,
                      std::vector<Payload>&... payload);
@@ -696,6 +698,7 @@ class DemPart final : public parts::Part<D> {
   mutable parts::WholeLayout contact_layout_;  // contact_layout()'s, on ranks
   mutable Index contact_layout_builds_ = -1;   // skin_.builds() it was made at (-1: none)
   Index rebalances_ = 0;                       // on ranks: how often the cuts were made again
+  Index arrivals_ = 0;                         // on ranks: grains received from another owner
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::vector<Index>> halo_send_, halo_recv_;

@@ -101,10 +101,13 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
   };
   if (comm_) throw std::logic_error("dem: distribute() twice");
   if (cfg_.bonds.enabled) refuse("dem.bonds", "a bonded bed");
-  if (outflow_remove_) refuse("dem", "a bed whose grains leave (outflow, absorbing walls)");
   if (!moving_.empty()) refuse("dem.wall_motion", "a moving wall");
   if (!bodies_.empty()) refuse("packing", "settling around fixed bodies");
   comm_ = &comm;
+  // The part's books of grains removed are the root's: energies() and diagnostics() add every
+  // rank's (every rank has just built, or restored, the whole part's).
+  if (!comm.root())
+    external_work_ = contact_dissipated_ = local_dissipated_ = wall_reflections_ = 0;
   if (!packed_) pack_history(partner_, xi_, roll_);
   packed_ = true;
   if (skin_.radius() > 0 && skin_.positions().size() == static_cast<std::size_t>(f_.size())) {
@@ -128,7 +131,10 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
 // A part restored from a checkpoint, with the lists of the run that wrote it: the shares, the
 // ghosts and the lists are made from the positions at that build (skin_.positions()), as the
 // ranks would have made them then, so that the next rebuild comes at the same step as in the
-// run that was not interrupted. Every rank holds the whole part: no message is needed.
+// run that was not interrupted. Every rank holds the whole part: no message is needed. A
+// checkpoint written between a removal of grains and the next force stage holds the survivors'
+// positions of the build without a list (VerletSkin::compacted): the shares and ghosts are made
+// from them, and the lists are left to that force stage, as in the run that wrote it.
 template <int D>
 void DemPart<D>::distribute_restored() {
   const parallel::Comm& comm = *comm_;
@@ -201,7 +207,7 @@ void DemPart<D>::distribute_restored() {
   skin_ = skin_.with_positions(std::move(sorted));
   clear_wall_slots();
   moved_sq_ = -1;
-  build_lists();
+  if (skin_.listed()) build_lists();
 }
 
 // The walls' histories per grain, emptied for the new count (unpack_history fills them from the
@@ -320,9 +326,11 @@ void DemPart<D>::redistribute(Real reach) {
     if (static_cast<int>(r) != comm.rank()) pack(leaving[r], send[r]);
   auto received = comm.all_to_all(send);
   keep_grains(keep);
+  const Index staying = f_.size();
   for (std::size_t r = 0; r < ranks; ++r)
     if (static_cast<int>(r) != comm.rank()) unpack(received[r]);
   const Index owned = f_.size();
+  arrivals_ += owned - staying;
 
   // 3. The ghosts: the other ranks' grains within reach of this rank's.
   fields::Halo<D> halo;
@@ -418,8 +426,9 @@ std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const {
                                  [&](Index i) { return !ghost(i); });
 }
 
-// The grains each rank owns (fewest, most) and the ghosts it holds (mean, most), and the bytes
-// of one refresh of the ghosts' motion summed over the ranks.
+// The grains each rank owns (fewest, most) and the ghosts it holds (mean, most), the bytes of one
+// refresh of the ghosts' motion summed over the ranks, how often the cuts were made again, and
+// how many grains moved to another rank (arrivals summed over the ranks).
 template <int D>
 std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const {
   if (!comm_) return {};
@@ -435,7 +444,8 @@ std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const {
           {"ghosts_mean", all_ghosts / ranks},
           {"ghosts_max", comm_->max(static_cast<Real>(ghosts))},
           {"ghost_refresh_bytes_per_step", all_ghosts * kRefreshBytes},
-          {"rebalances", static_cast<Real>(rebalances_)}};
+          {"rebalances", static_cast<Real>(rebalances_)},
+          {"migrations", static_cast<Real>(comm_->sum(static_cast<std::int64_t>(arrivals_)))}};
 }
 
 // A checkpoint on ranks: every rank sends its grains (fields, packed histories, and where each

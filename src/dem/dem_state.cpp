@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dem/dem_part_impl.hpp"
+#include "fields/spread.hpp"
 
 namespace crater::dem::detail {
 namespace {
@@ -145,13 +146,23 @@ Real DemPart<D>::unbalanced_ratio() const {
 // bonds (elastic_ of the grains they end with), which would otherwise vanish from contact_j.
 // The rest keep their order (compaction in index order) and their contact and bond histories
 // (packed, less the slots keyed by a removed grain); the list is rebuilt at the next force
-// stage: the same numbers for any thread count, and after a restart from this state.
+// stage, and until then the survivors' positions of the last build still give their order
+// (VerletSkin::compacted): the same numbers for any thread count, and after a restart from
+// this state.
+// On ranks every rank marks its own grains and its ghosts (whose positions their owners sent at
+// this force stage, so that every rank holding a grain decides alike); the own ones that leave
+// are counted over every rank, and what they carried summed by the reproducible sum (one rank's
+// bits on any number); the part's books of removed grains are the root's (energies() adds each
+// rank's).
 template <int D>
 void DemPart<D>::remove_outflow() {
   const Index n = f_.size();
   const bool frame = std::exchange(frame_step_, false);
-  const Index leaving = outflow_.mark(n, [&](Index i) { return stays(i); });
-  if (leaving == 0) {
+  outflow_.mark(n, [&](Index i) { return stays(i); });
+  const parallel::Comm one;
+  const parallel::Comm& comm = comm_ ? *comm_ : one;
+  const parts::OutflowTally gone = outflow_.tally(comm, n, [&](Index i) { return !ghost(i); });
+  if (gone.count == 0) {
     outflow_wait_ = 0;
     return;
   }
@@ -159,21 +170,55 @@ void DemPart<D>::remove_outflow() {
   // there but their contacts and gravity), booked as the part's; frames show none of them.
   if (++outflow_wait_ < outflow_batch_steps_ && !frame) return;
   outflow_wait_ = 0;
-  const parts::Removed left = parallel::deterministic_sum<parts::Removed>(n, [&](Index i) {
-    if (!outflow_.kept(i))
-      return parts::Removed{m_[i], 0.5 * m_[i] * v_[i].squaredNorm() +
-                                       angular_kinetic<D>(inertia_[i], w_[i]) + elastic_[i]};
-    // A staying grain's contacts and bonds with leaving ones: the energy of those it owns
-    // leaves with them (the others' is in the leaving grain's elastic_), and their forces
-    // leave its force_ and torque_ (undoing grain_pass), so that the next half kick owes
-    // nothing to a removed grain (exactly so without local damping, which acted on the sum).
-    Real lost = 0;
+  const std::vector<Real> lost = unhook_leaving();
+  // What the leaving grains carried, and what the staying ones' contacts with them held.
+  const std::vector<Index> holding = parallel::select(n, [&](Index i) { return lost[at(i)] != 0; });
+  std::vector<Real> energy(gone.own.size() + holding.size());
+  for (std::size_t q = 0; q < gone.own.size(); ++q) {
+    const Index i = gone.own[q];
+    energy[q] =
+        0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]) + elastic_[i];
+  }
+  for (std::size_t q = 0; q < holding.size(); ++q)
+    energy[gone.own.size() + q] = lost[at(holding[q])];
+  const parts::Removed left{gone.sum(comm, [&](Index i) { return m_[i]; }),
+                            parallel::reproducible_sum(comm, std::span<const Real>(energy))};
+  outflow_.book(name_, "grains", time_s_, gone.count, left,
+                leave_domain_ ? (cfg_.absorbing_walls.empty()
+                                     ? "domain.outflow = \"remove\""
+                                     : "domain.outflow = \"remove\"; absorbing walls transmit")
+                              : "absorbing walls transmit");
+  // The leaving grains' work books stay with the part (the root's on ranks).
+  const Real external = gone.sum(comm, [&](Index i) { return work_external_[i]; });
+  const Real contact = gone.sum(comm, [&](Index i) { return work_contact_[i]; });
+  const Real damping = gone.sum(comm, [&](Index i) { return work_damping_[i]; });
+  const Real reflections = gone.sum(comm, [&](Index i) { return reflections_[i]; });
+  if (comm.root()) {
+    external_work_ += external;
+    contact_dissipated_ += contact;
+    local_dissipated_ += damping;
+    wall_reflections_ += reflections;
+  }
+  compact_survivors();
+}
+
+// A staying grain's contacts and bonds with leaving ones (outflow_'s mark): the energy of those
+// it owns leaves with them (the others' is in the leaving grain's elastic_; returned per grain,
+// and taken off its elastic_), and their forces leave its force_ and torque_ (undoing
+// grain_pass), so that the next half kick owes nothing to a removed grain (exactly so without
+// local damping, which acted on the sum). Ghosts are their owners' to correct.
+template <int D>
+std::vector<Real> DemPart<D>::unhook_leaving() {
+  std::vector<Real> lost(static_cast<std::size_t>(f_.size()), 0);
+  parallel::for_each(f_.size(), [&](Index i) {
+    if (!outflow_.kept(i) || ghost(i)) return;
+    Real held = 0;
     const auto own_first = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i)]);
     const auto own_last = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i) + 1]);
     for (std::size_t k = own_first; k < own_last; ++k) {
       if (outflow_.kept(pair_j_[k])) continue;
       const std::uint8_t flags = cache_.flags[k];
-      if (flags) lost += cache_.elastic[k];
+      if (flags) held += cache_.elastic[k];
       if (flags & kContactOn) {
         force_[i] -= cache_.contact[k].f1;
         torque_[i] -= cache_.t1[k];
@@ -201,43 +246,30 @@ void DemPart<D>::remove_outflow() {
         bonds_[i] -= 1;
       }
     }
-    elastic_[i] -= lost;
-    return parts::Removed{0, lost};
+    elastic_[i] -= held;
+    lost[at(i)] = held;
   });
-  outflow_.book(name_, "grains", time_s_, leaving, left,
-                leave_domain_ ? (cfg_.absorbing_walls.empty()
-                                     ? "domain.outflow = \"remove\""
-                                     : "domain.outflow = \"remove\"; absorbing walls transmit")
-                              : "absorbing walls transmit");
+  return lost;
+}
 
-  // The leaving grains' work books stay with the part.
-  struct Books {
-    Real external = 0, contact = 0, damping = 0, reflections = 0;
-    Books& operator+=(const Books& o) {
-      external += o.external;
-      contact += o.contact;
-      damping += o.damping;
-      reflections += o.reflections;
-      return *this;
-    }
-  };
-  const Books books = parallel::deterministic_sum<Books>(n, [&](Index i) {
-    if (outflow_.kept(i)) return Books{};
-    return Books{work_external_[i], work_contact_[i], work_damping_[i], reflections_[i]};
-  });
-  external_work_ += books.external;
-  contact_dissipated_ += books.contact;
-  local_dissipated_ += books.damping;
-  wall_reflections_ += books.reflections;
-  std::vector<std::int64_t> gone;  // ids of the leaving grains, sorted
-  for (Index i = 0; i < n; ++i)
-    if (!outflow_.kept(i)) gone.push_back(id_[i]);
+// The leaving grains (outflow_'s mark) leave the arrays, the slots of their contacts and bonds,
+// and on ranks the ghost flags and the exchange lists; the lists wait for the next force stage.
+template <int D>
+void DemPart<D>::compact_survivors() {
+  std::vector<std::int64_t> gone;  // ids of the leaving grains (ghosts too), sorted
+  for (const Index i : parallel::select(f_.size(), [&](Index k) { return !outflow_.kept(k); }))
+    gone.push_back(id_[i]);
   std::sort(gone.begin(), gone.end());
   if (!packed_) pack_history(partner_, xi_, roll_);
   packed_ = true;
   compact_slots(partner_, gone, xi_, roll_);
   compact_slots(bond_partner_, gone, bond_);
+  const Index count = f_.size();
   const Index kept = outflow_.compact(f_);
+  // The first failing grain of the last force stage, else the count (none: the run goes on).
+  for (Index* first : {&overflow_, &bond_lost_, &unhealthy_})
+    if (*first >= count) *first = kept;
+  if (comm_) fields::compact_exchange(outflow_.survivors(), ghost_, halo_send_, halo_recv_);
   if (!bond_partner_new_.empty()) {  // scratch of the next pair pass
     bond_partner_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, kNoContact);
     bond_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, ParallelBondState<D>{});
@@ -247,7 +279,8 @@ void DemPart<D>::remove_outflow() {
   if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
   wall_live_.assign(static_cast<std::size_t>(kept), 0);
   if (!wall_load_.empty()) wall_load_.assign(wall_slots, WallLoad{});
-  skin_.invalidate();
+  skin_.compacted(outflow_.survivors());
+  contact_layout_builds_ = -1;  // the whole bed has fewer grains
 }
 
 // The kMaxContacts slots of each kept grain (outflow_.survivors()), in order, less the slots keyed
@@ -355,7 +388,7 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   archive_bonds_and_ledgers(r, *this, skin_);
   if (moving_.size() != moving) r.fail("it holds another number of moving walls");
   set_wall_planes();
-  if (skin_.radius() > 0) build_lists();
+  if (skin_.listed()) build_lists();
 }
 
 #define CRATER_DEM_STATE(D)                                                                   \
@@ -367,6 +400,8 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   template std::pair<Real, Real> DemPart<D>::settling_measure() const;                        \
   template Real DemPart<D>::unbalanced_ratio() const;                                         \
   template void DemPart<D>::remove_outflow();                                                 \
+  template std::vector<Real> DemPart<D>::unhook_leaving();                                    \
+  template void DemPart<D>::compact_survivors();                                              \
   template Index DemPart<D>::pair_owner(std::size_t) const;                                   \
   template void DemPart<D>::save_state(parts::StateWriter&) const;                            \
   template void DemPart<D>::load_state(parts::StateReader&);                                  \

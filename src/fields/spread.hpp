@@ -66,6 +66,30 @@ std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
                                comm.size());
 }
 
+/// After a compaction of a spread part's local entities (keep[i] != 0: entity i is kept; the kept
+/// ones keep their order): the ghost flags and the exchange lists (local indices, per rank)
+/// follow the kept entities. A dropped entity leaves the lists, on both sides of an exchange when
+/// its owner and the ranks that hold it as a ghost drop it alike.
+inline void compact_exchange(std::span<const std::uint8_t> keep, std::vector<std::uint8_t>& ghost,
+                             std::vector<std::vector<Index>>& send,
+                             std::vector<std::vector<Index>>& recv) {
+  std::vector<Index> to(keep.size(), -1);
+  std::vector<std::uint8_t> kept_ghost;
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    if (!keep[i]) continue;
+    to[i] = static_cast<Index>(kept_ghost.size());
+    kept_ghost.push_back(i < ghost.size() ? ghost[i] : std::uint8_t{0});
+  }
+  ghost.swap(kept_ghost);
+  for (auto* lists : {&send, &recv})
+    for (auto& list : *lists) {
+      std::vector<Index> kept;
+      for (const Index i : list)
+        if (to[static_cast<std::size_t>(i)] >= 0) kept.push_back(to[static_cast<std::size_t>(i)]);
+      list.swap(kept);
+    }
+}
+
 template <int D>
 class Spread {
  public:
@@ -80,6 +104,8 @@ class Spread {
   Index ghosts() const { return static_cast<Index>(std::count(ghost_.begin(), ghost_.end(), 1)); }
   /// How many times the cuts were made again (rebalanced_cuts).
   Index rebalances() const { return rebalances_; }
+  /// How many entities arrived at this rank from another owner at rebuilds (migrations).
+  Index arrivals() const { return arrivals_; }
 
   /// Cuts the whole set (every rank holds all of it, in the same order) by RCB of the positions
   /// x (a field of `set`), every entity weighted 1, and keeps this rank's entities, in their
@@ -125,6 +151,7 @@ class Spread {
     for (std::size_t i = 0; i < owner.size(); ++i)
       owner[i] = cuts_.owner(x[i]);
     Traffic moved = migrate(comm, set, std::span<const int>(owner), id);
+    arrivals_ += moved.received;
     const Index owned = set.size();
 
     Halo<D> halo;
@@ -169,22 +196,7 @@ class Spread {
   /// follow the kept entities; a dropped entity leaves the lists (on both sides of an exchange
   /// when its owner and the ranks holding it as a ghost drop it alike).
   void compacted(std::span<const std::uint8_t> keep) {
-    if (!comm_) return;
-    std::vector<Index> to(keep.size(), -1);
-    std::vector<std::uint8_t> ghost;
-    for (std::size_t i = 0; i < keep.size(); ++i) {
-      if (!keep[i]) continue;
-      to[i] = static_cast<Index>(ghost.size());
-      ghost.push_back(ghost_[i]);
-    }
-    ghost_.swap(ghost);
-    for (auto* lists : {&send_, &recv_})
-      for (auto& list : *lists) {
-        std::vector<Index> kept;
-        for (const Index i : list)
-          if (to[static_cast<std::size_t>(i)] >= 0) kept.push_back(to[static_cast<std::size_t>(i)]);
-        list.swap(kept);
-      }
+    if (comm_) compact_exchange(keep, ghost_, send_, recv_);
   }
 
   /// The ghosts' fields having any of `roles`, from their owners. Collective.
@@ -262,6 +274,7 @@ class Spread {
   std::vector<std::uint8_t> ghost_;              // per local entity
   std::vector<std::vector<Index>> send_, recv_;  // per rank: what goes there, what comes from it
   Index rebalances_ = 0;
+  Index arrivals_ = 0;
 };
 
 }  // namespace crater::fields

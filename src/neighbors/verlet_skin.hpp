@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -21,7 +22,7 @@ class VerletSkin {
   /// True when no list exists or a point of x has moved too far for `need` (the interaction
   /// radius the owner needs now).
   bool stale(std::span<const Vec<D>> x, Real need) const {
-    if (radius_ <= 0 || x.size() != built_.size()) return true;
+    if (!listed() || x.size() != built_.size()) return true;
     return stale_given(moved_sq(x), static_cast<Index>(x.size()), need);
   }
 
@@ -32,7 +33,7 @@ class VerletSkin {
   /// measured already (the max of |x_i - positions()_i|^2 from 0, NaNs skipped as std::max
   /// skips them).
   bool stale_given(Real moved_sq, Index count, Real need) const {
-    if (radius_ <= 0 || static_cast<std::size_t>(count) != built_.size()) return true;
+    if (!listed() || static_cast<std::size_t>(count) != built_.size()) return true;
     return 2 * std::sqrt(moved_sq) + need > radius_;
   }
 
@@ -40,8 +41,22 @@ class VerletSkin {
   Real built(std::span<const Vec<D>> x, Real need) {
     built_.assign(x.begin(), x.end());
     radius_ = (1 + skin_) * need;
+    listed_ = true;
     ++builds_;
     return radius_;
+  }
+
+  /// After the owner removed entities between rebuilds (keep[i] != 0: entity i stays; the
+  /// survivors keep their order): the list's indices are void, so stale() is true until the next
+  /// built(), but the survivors' positions of the build are kept, with the radius, because they
+  /// still give the order the owner holds its entities in (cell_sort_order of a subset is the
+  /// restriction of the whole set's): a rank's share of them, a checkpoint written on ranks.
+  void compacted(std::span<const std::uint8_t> keep) {
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < built_.size() && i < keep.size(); ++i)
+      if (keep[i]) built_[k++] = built_[i];
+    built_.resize(k);
+    listed_ = false;
   }
 
   /// Forgets the last rebuild, after the owner removed entities (the lists' indices are void):
@@ -49,6 +64,7 @@ class VerletSkin {
   void invalidate() {
     built_.clear();
     radius_ = 0;
+    listed_ = false;
   }
 
   /// This state with other positions of the last rebuild (the whole set's, gathered from
@@ -59,7 +75,10 @@ class VerletSkin {
     return s;
   }
 
+  /// The radius of the last build (0 before the first and after invalidate()).
   Real radius() const { return radius_; }
+  /// A list stands for positions(): built, and neither invalidated nor compacted since.
+  bool listed() const { return radius_ > 0 && listed_; }
   /// The positions of the last rebuild (a restored list is rebuilt from them).
   std::span<const Vec<D>> positions() const { return built_; }
 
@@ -68,6 +87,7 @@ class VerletSkin {
     w.tag("verlet_skin");
     w.value(radius_);
     w.value(builds_);
+    w.value(listed_);
     w.vector(built_);
   }
   template <class Reader>
@@ -75,6 +95,7 @@ class VerletSkin {
     r.tag("verlet_skin");
     r.value(radius_);
     r.value(builds_);
+    r.value(listed_);
     r.vector(built_);
   }
   Index builds() const { return builds_; }
@@ -90,6 +111,7 @@ class VerletSkin {
 
   Real skin_;
   Real radius_ = 0;
+  bool listed_ = false;
   std::vector<Vec<D>> built_;
   Index builds_ = 0;
 };

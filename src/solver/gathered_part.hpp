@@ -15,6 +15,12 @@
 
 namespace crater::solver {
 
+// What a gathered part is not for (a logic error of the caller). A free function: GCC 12 does
+// not see a member's [[noreturn]] in a class template's other members (-Wreturn-type).
+[[noreturn]] inline void refuse_gathered(const std::string& name, const char* what) {
+  throw std::logic_error("gathered part '" + name + "' is for reading: " + what);
+}
+
 template <int D>
 class GatheredPart final : public parts::Part<D> {
  public:
@@ -35,18 +41,15 @@ class GatheredPart final : public parts::Part<D> {
   std::vector<fields::FieldView> point_fields() const override { return g_.point.views(); }
   std::vector<fields::FieldView> cell_fields() const override { return g_.cell.views(); }
 
-  Real mass_kg() const override { refuse("mass_kg"); }
-  parts::StableStep stable_step() const override { refuse("stable_step"); }
-  void compute_forces(Real) override { refuse("compute_forces"); }
-  std::optional<parts::Fault> check() const override { refuse("check"); }
-  void advance(Real, Real) override { refuse("advance"); }
-  void finish_step(Real) override { refuse("finish_step"); }
-  parts::Energies energies() const override { refuse("energies"); }
+  Real mass_kg() const override { refuse_gathered(name_, "mass_kg"); }
+  parts::StableStep stable_step() const override { refuse_gathered(name_, "stable_step"); }
+  void compute_forces(Real) override { refuse_gathered(name_, "compute_forces"); }
+  std::optional<parts::Fault> check() const override { refuse_gathered(name_, "check"); }
+  void advance(Real, Real) override { refuse_gathered(name_, "advance"); }
+  void finish_step(Real) override { refuse_gathered(name_, "finish_step"); }
+  parts::Energies energies() const override { refuse_gathered(name_, "energies"); }
 
  private:
-  [[noreturn]] void refuse(const char* what) const {
-    throw std::logic_error("gathered part '" + name_ + "' is for reading: " + what);
-  }
   std::string name_;
   const char* method_;
   parts::GatheredPoints<D> g_;

@@ -548,14 +548,7 @@ void check_ranks(const io::Config& c) {
       refuse(p.where, "parts[" + p.name + "].method",
              "a part of method '" + std::string(io::method_name(p.method())) +
                  "' (only DEM, SPH and FEM parts are spread yet)");
-    // Said here, before a bed is laid or settled, as the parts would say it when spread.
-    if (p.is(io::Method::Dem) && !p.dem().absorbing_walls.empty())
-      refuse(p.where, "parts[" + p.name + "].dem.absorbing_walls",
-             "a bed whose grains leave through absorbing walls");
   }
-  for (const io::PartConfig& p : c.parts)
-    if (c.domain.outflow == parts::Outflow::Remove && p.is(io::Method::Dem))
-      refuse(file, "domain.outflow", "outflow removal (domain.outflow = \"remove\") of grains");
   for (const io::ContactConfig& k : c.contacts)
     if (!k.surface_groups[0].empty() || !k.surface_groups[1].empty())
       refuse(k.where, "contacts.surface_groups", "a contact restricted to a mesh group");

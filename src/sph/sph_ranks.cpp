@@ -66,7 +66,8 @@ std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const {
 }
 
 // The particles each rank owns (fewest, most) and the ghosts it holds (mean, most), the bytes of
-// one refresh of the ghosts' state summed over the ranks, and how often the cuts were made again.
+// one refresh of the ghosts' state summed over the ranks, how often the cuts were made again, and
+// how many particles moved to another rank (arrivals summed over the ranks).
 template <int D>
 std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const {
   if (!spread_.active()) return {};
@@ -74,13 +75,15 @@ std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const {
   const auto owned = static_cast<Real>(spread_.owned(f_.size()));
   const Index ghosts = spread_.ghosts();
   const auto all_ghosts = static_cast<Real>(comm.sum(static_cast<std::int64_t>(ghosts)));
-  return {{"owned_min", comm.min(owned)},
-          {"owned_max", comm.max(owned)},
-          {"ghosts_mean", all_ghosts / static_cast<Real>(comm.size())},
-          {"ghosts_max", comm.max(static_cast<Real>(ghosts))},
-          {"ghost_refresh_bytes_per_step",
-           all_ghosts * static_cast<Real>(f_.packed_bytes(fields::kHalo)) * (summation() ? 2 : 1)},
-          {"rebalances", static_cast<Real>(spread_.rebalances())}};
+  return {
+      {"owned_min", comm.min(owned)},
+      {"owned_max", comm.max(owned)},
+      {"ghosts_mean", all_ghosts / static_cast<Real>(comm.size())},
+      {"ghosts_max", comm.max(static_cast<Real>(ghosts))},
+      {"ghost_refresh_bytes_per_step",
+       all_ghosts * static_cast<Real>(f_.packed_bytes(fields::kHalo)) * (summation() ? 2 : 1)},
+      {"rebalances", static_cast<Real>(spread_.rebalances())},
+      {"migrations", static_cast<Real>(comm.sum(static_cast<std::int64_t>(spread_.arrivals())))}};
 }
 
 // A checkpoint on ranks: every rank sends its particles (every field, and where each was when the

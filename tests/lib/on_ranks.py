@@ -88,15 +88,15 @@ def assert_same_run(test, ref, out, what, checkpoints):
     assert_same_frames(test, ref, out, what)
 
 
-def assert_ranks_give(test, ref, scene, opts, ranks, checkpoints, what, check=None):
+def assert_ranks_give(test, ref, scene, opts, ranks, checkpoints, what, check=None, timeout=240):
     """`scene` run with `opts` on each (ranks, threads) of `ranks`, into the sibling
     ranks<N>_threads<T> of the plain run `ref`, writes the files of `ref` (assert_same_run);
-    check(out, ranks), if given, looks at each run further."""
+    check(out, ranks), if given, looks at each run further. `timeout`: per run [s]."""
     for np_, threads in ranks:
         with test.subTest(case=what, ranks=np_, threads=threads):
             out = ref.parent / f"ranks{np_}_threads{threads}"
             p = mpirun(np_, "run", scene, "--out", out, "--force", "--quiet", "--threads",
-                       threads, *opts, threads=threads)
+                       threads, *opts, threads=threads, timeout=timeout)
             test.assertEqual(p.returncode, 0, p.stderr)
             assert_same_run(test, ref, out, f"{what}: {np_} ranks x {threads} threads",
                             checkpoints)
@@ -113,9 +113,9 @@ def assert_resumes_elsewhere(test, scene, ref, checkpoint, sets, what):
                            f"{what}: resumed on {np_}")
 
 
-def assert_resumes(test, scene, run, checkpoint, ranks, sets, what):
+def assert_resumes(test, scene, run, checkpoint, ranks, sets, what, timeout=240):
     """The run in `run` resumed from its checkpoint `checkpoint` on `ranks` ranks (1: plain)
-    writes the files of the uninterrupted run again."""
+    writes the files of the uninterrupted run again. `timeout`: of the resumed run [s]."""
     again = run.parent / f"{run.name}_resumed_on_{ranks}"
     if again.exists():
         shutil.rmtree(again)
@@ -123,7 +123,7 @@ def assert_resumes(test, scene, run, checkpoint, ranks, sets, what):
     (again / "summary.json").unlink()
     args = ["run", scene, "--restart", again / "checkpoints" / checkpoint, "--quiet",
             "--threads", "1", *sets]
-    p = mpirun(ranks, *args) if ranks > 1 else plain(*args)
+    p = mpirun(ranks, *args, timeout=timeout) if ranks > 1 else plain(*args, timeout=timeout)
     test.assertEqual(p.returncode, 0, p.stderr)
     for n in files(run):
         if n.endswith(".vtu") or n in ("summary.json", "crater-command.toml"):

@@ -15,6 +15,12 @@ the contacts' state), and each part must be spread over every rank:
 - tests/data/contacts_ranks_2d.toml: a TNT disk (316 particles) in a lattice bed of 550
   grains under a clamped Johnson-Cook plate of 480 quads; the products reach the plate through
   the grains, erode some 25 elements (the contact surfaces change) and push through;
+- the same with paper-20cm's boundaries for the grains: absorbing (viscous, transmitting) walls
+  at the sides and the bottom (the top a rigid wall) and domain.outflow = "remove", so that
+  90 grains leave through the absorbing faces during the run (removed in the steps they cross, their ghosts with
+  them on the ranks that hold them); the checkpoint it resumes from (step 500) is written in a
+  step that removed a grain, before the lists are built again (2, 3 and 4 ranks of one
+  thread: the blasts cover 2 ranks of 2 threads);
 - tests/data/contacts_ranks_3d.toml: the same in 3D, a TNT sphere (280 particles) off the
   box's axis in a bed of 294 spheres under a clamped plate of 288 Hex8.
 The reference must have every contact active (some nonzero force in its history.csv columns),
@@ -47,6 +53,13 @@ CASES = {
                  {"charge": 316, "plate": 480, "soil": 550}, True),
     "blast_3d": (DATA / "contacts_ranks_3d.toml", [], 400, [(2, 1), (3, 1), (4, 1), (2, 2)],
                  {"charge": 280, "plate": 288, "soil": 294}, False),
+    "grains_leave_2d": (DATA / "contacts_ranks_2d.toml",
+                        ["--set", 'parts.soil.dem.walls=["top"]', "--set",
+                         'parts.soil.dem.absorbing_walls=["left","right","bottom"]', "--set",
+                         "parts.soil.dem.absorbing_wall_p_wave_speed_m_s=450.0", "--set",
+                         'domain.outflow="remove"'],
+                        500, [(2, 1), (3, 1), (4, 1)],
+                        {"charge": 316, "plate": 480, "soil": 550}, True),
 }
 
 
@@ -67,6 +80,7 @@ class ContactsOnRanks(unittest.TestCase):
         self.assert_contacts_active(ref)
         if erodes:  # erosion changes the plate's surface under the contacts
             self.assertGreater(self.diagnostics(ref, "plate")["eroded_elements"], 0)
+        self.assert_counts_kept(ref, counts)
         ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
         self.assertGreaterEqual(len(ckpts), 2)
         assert_ranks_give(self, ref, scene, opts, ranks, ckpts, name, self.assert_spread)
@@ -100,6 +114,15 @@ class ContactsOnRanks(unittest.TestCase):
         for part in PARTS:
             self.assertGreater(figures[part]["owned_min"], 0, (part, figures))
 
+    def assert_counts_kept(self, ref, counts):
+        # Particles and grains that leave are counted: those left and those gone make the
+        # first frame's count exactly (the ranks' runs give these files bit for bit).
+        parts = json.loads((ref / "summary.json").read_text())["parts"]
+        for p in parts:
+            if "left_domain_count" in p["diagnostics"]:
+                self.assertEqual(p["count"] + p["diagnostics"]["left_domain_count"],
+                                 counts[p["name"]], p["name"])
+
     def diagnostics(self, ref, part):
         parts = json.loads((ref / "summary.json").read_text())["parts"]
         return next(p for p in parts if p["name"] == part)["diagnostics"]
@@ -109,6 +132,10 @@ class ContactsOnRanks(unittest.TestCase):
 
     def test_blast_3d(self):
         self.run_case("blast_3d")
+
+    def test_grains_leave_2d(self):
+        ref = self.run_case("grains_leave_2d")
+        self.assertGreater(self.diagnostics(ref, "soil")["left_domain_count"], 50)
 
 
 if __name__ == "__main__":

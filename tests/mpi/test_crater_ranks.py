@@ -89,9 +89,9 @@ class CraterRunOnRanks(unittest.TestCase):
     def test_what_does_not_run_on_ranks_is_refused(self):
         work = scratch("crater_ranks_refused")
         cases = [
-            (["paper-20cm"], "key 'parts[soil].dem.absorbing_walls': a bed whose grains leave"),
-            ([SCENE, "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
-            ([SCENE, "--set", 'domain.outflow="remove"'], "key 'domain.outflow': outflow removal"),
+            (["paper-20cm", "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
+            ([SCENE, "--set", "parts.bed.dem.wall_motion=[{face=\"top\",velocity_m_s=-0.1}]"],
+             "key 'parts[bed].dem.wall_motion'"),
         ]
         for args, expected in cases:
             with self.subTest(args=args):
