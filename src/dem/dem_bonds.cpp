@@ -28,6 +28,7 @@ BondRadiusRule bond_rule(BondRadius r) {
 template <int D>
 void DemPart<D>::make_bonds() {
   const Index n = f_.size();
+  bonded_ = true;
   bond_partner_.assign(static_cast<std::size_t>(n) * kMaxContacts, kNoContact);
   bond_.assign(static_cast<std::size_t>(n) * kMaxContacts, ParallelBondState<D>{});
   update_neighbors();

@@ -44,13 +44,22 @@ void DemPart<D>::compute_forces(Real t) {
         // A frame's stage sums the walls' stress moments in an instance of grain_pass of its
         // own: the other steps' has no trace of them.
         // Ghosts are their owners' to move.
+        // A ghost's bond slots hold the bonds with this rank's grains that the pairs above
+        // wrote (the others are its owner's); the rest are emptied.
+        const bool bonds = !bond_partner_new_.empty();
         if (stress_step_)
           parallel::for_each(n, [&](Index i) {
-            if (!ghost(i)) grain_pass<Law, true>(i, dt, laws);
+            if (!ghost(i))
+              grain_pass<Law, true>(i, dt, laws);
+            else if (bonds)
+              close_ghost_bond_slots(i);
           });
         else
           parallel::for_each(n, [&](Index i) {
-            if (!ghost(i)) grain_pass<Law, false>(i, dt, laws);
+            if (!ghost(i))
+              grain_pass<Law, false>(i, dt, laws);
+            else if (bonds)
+              close_ghost_bond_slots(i);
           });
       },
       laws_);
@@ -61,9 +70,15 @@ void DemPart<D>::compute_forces(Real t) {
   // Bonds of this step become last step's (contact histories are updated in place).
   bond_partner_.swap(bond_partner_new_);
   bond_.swap(bond_new_);
-  // The energy taken out over the last step went to the grains' books (grain_pass).
-  if (!bond_partner_.empty())
-    bonds_broken_ += parallel::deterministic_sum<Real>(n, [&](Index i) { return bond_breaks_[i]; });
+  // The energy taken out over the last step went to the grains' books (grain_pass). The bonds
+  // that broke are counted by the grains that owned them, here and on the other ranks (an
+  // integer sum: exact in any order).
+  if (bonded_) {  // on every rank, even one that holds none of the part's grains now
+    const auto breaks = parallel::deterministic_sum<std::int64_t>(n, [&](Index i) {
+      return ghost(i) ? std::int64_t{0} : static_cast<std::int64_t>(bond_breaks_[i]);
+    });
+    bonds_broken_ += static_cast<Real>(comm_ ? comm_->sum(breaks) : breaks);
+  }
 }
 
 // Slot of the bond between `owner` and `partner` (last step's buffer), or -1.
@@ -475,19 +490,34 @@ inline std::pair<Real, Real> DemPart<D>::absorbing_wall_loads(Index i, Vec<D>& f
   return {absorbed, static_power};
 }
 
-// grain_pass, with bonds: empties grain i's bond slots past this step's, and checks that every
-// bond it owned was met in the list (kBondReach).
+// grain_pass, with bonds: empties grain i's bond slots past this step's (their states too, so
+// that a checkpoint holds no state of an older step, whichever rank held the grain then), and
+// checks that every bond it owned was met in the list (kBondReach).
 template <int D>
 inline void DemPart<D>::close_bond_slots(Index i, const PairTally& tally) {
   const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
-  for (int k = tally.bond_slots; k < kMaxContacts; ++k)
+  for (int k = tally.bond_slots; k < kMaxContacts; ++k) {
     bond_partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
+    bond_new_[base + static_cast<std::size_t>(k)] = ParallelBondState<D>{};
+  }
   int owned = 0;
   for (int k = 0; k < kMaxContacts; ++k)
     owned += bond_partner_[base + static_cast<std::size_t>(k)] != kNoContact;
   if (tally.bonds_seen != owned) {
 #pragma omp critical(crater_dem_overflow)
     bond_lost_ = std::min(bond_lost_, i);
+  }
+}
+
+// A ghost's bond slots past those its pairs wrote this step (pair_law) emptied, so that a bond
+// that broke, or one with a grain of another rank, is not read back from an older step. No
+// count of its bonds is checked: its owner checks them.
+template <int D>
+inline void DemPart<D>::close_ghost_bond_slots(Index i) {
+  const std::size_t base = static_cast<std::size_t>(i) * kMaxContacts;
+  for (int k = tally_[static_cast<std::size_t>(i)].bond_slots; k < kMaxContacts; ++k) {
+    bond_partner_new_[base + static_cast<std::size_t>(k)] = kNoContact;
+    bond_new_[base + static_cast<std::size_t>(k)] = ParallelBondState<D>{};
   }
 }
 

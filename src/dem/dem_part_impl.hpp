@@ -258,7 +258,7 @@ class DemPart final : public parts::Part<D> {
   /// part: each rank keeps the grains of its box of a recursive coordinate bisection and, from
   /// the next force stage on, holds copies (ghosts) of the other ranks' grains within reach of
   /// its own. Results are then those of one rank, bit for bit. Throws InputError for a model
-  /// that does not run on several ranks yet (bonds, outflow, moving walls, settling).
+  /// that does not run on several ranks yet (moving walls, settling around fixed bodies).
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
@@ -489,8 +489,10 @@ class DemPart final : public parts::Part<D> {
   // The checkpoint blocks after the contact history, for both directions (Self: const for
   // writing), so that save_state and load_state cannot drift apart (dem_state.cpp).
   // `skin`: the part's own, or (a checkpoint written on ranks) the whole bed's.
-  template <class Archive, class Self, class Skin>
-  static void archive_bonds_and_ledgers(Archive& a, Self& s, Skin& skin);
+  // `bond_partner`, `bond`: the part's bonds, or (a checkpoint written on ranks) the whole bed's.
+  template <class Archive, class Self, class Skin, class BondPartner, class Bond>
+  static void archive_bonds_and_ledgers(Archive& a, Self& s, Skin& skin, BondPartner& bond_partner,
+                                        Bond& bond);
   // save_state on ranks: the whole part written by the root rank as one rank would (dem_ranks.cpp).
   void save_gathered(parts::StateWriter& w) const;
 
@@ -505,14 +507,24 @@ class DemPart final : public parts::Part<D> {
     const std::vector<std::int64_t>& partner;
     const std::vector<Vec<D>>& xi;
     const std::vector<AngularVec<D>>& roll;
+    const std::vector<std::int64_t>& bond_partner;  // last step's bonds (empty: none)
+    const std::vector<ParallelBondState<D>>& bond;
+  };
+  // Where unpack_grains appends the slots it reads (the part's own, or a checkpoint's whole set).
+  struct SlotsInto {
+    std::vector<std::int64_t>& partner;
+    std::vector<Vec<D>>& xi;
+    std::vector<AngularVec<D>>& roll;
+    std::vector<std::int64_t>& bond_partner;
+    std::vector<ParallelBondState<D>>& bond;
   };
   void pack_grains(std::span<const Index> which, std::vector<std::byte>& out,
                    const PackedSlots& slots) const;
   void clear_wall_slots();
   void unpack_grains(std::span<const std::byte> in, fields::FieldSet<D>& set,
-                     std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
-                     std::vector<AngularVec<D>>& roll) const;
+                     const SlotsInto& into) const;
   void keep_grains(std::span<const std::uint8_t> keep);  // with their packed slots
+  void resize_bond_scratch();
   void reorder_halo(std::span<const Index> order);
   void refresh_ghosts();
 
@@ -553,6 +565,7 @@ class DemPart final : public parts::Part<D> {
                                                                            SymTensor* moment,
                                                                            bool in_bed);
   [[gnu::always_inline]] inline void close_bond_slots(Index i, const PairTally& tally);
+  inline void close_ghost_bond_slots(Index i);
   inline void clear_wall(std::uint32_t& live, std::size_t w, std::size_t at);
 
   std::string name_;
@@ -660,7 +673,9 @@ class DemPart final : public parts::Part<D> {
   std::vector<WallLoad> wall_load_;  // per grain and wall (as wall_xi_), with moving walls
   Vec<D> clear_lo_, clear_hi_;
   Vec<D> guard_lo_, guard_hi_;  // inside these bounds a grain is beyond no face (reflect_at_walls)
-  // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds.
+  // Bonds: kMaxContacts slots per grain (partner id of higher id, state); empty without bonds
+  // (and on a rank that holds none of the part's grains: bonded_ says whether the part has them).
+  bool bonded_ = false;
   std::vector<std::int64_t> bond_partner_, bond_partner_new_;
   std::vector<ParallelBondState<D>> bond_, bond_new_;
 

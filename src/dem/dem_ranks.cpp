@@ -21,6 +21,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/dem_part_impl.hpp"
@@ -100,7 +101,6 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
                          "docs/distributed.md): run it on one rank");
   };
   if (comm_) throw std::logic_error("dem: distribute() twice");
-  if (cfg_.bonds.enabled) refuse("dem.bonds", "a bonded bed");
   if (!moving_.empty()) refuse("dem.wall_motion", "a moving wall");
   if (!bodies_.empty()) refuse("packing", "settling around fixed bodies");
   comm_ = &comm;
@@ -238,11 +238,23 @@ void DemPart<D>::keep_grains(std::span<const std::uint8_t> keep) {
   compact(partner_);
   compact(xi_);
   compact(roll_);
+  compact(bond_partner_);
+  compact(bond_);
   f_.compact(keep);
+  resize_bond_scratch();
+}
+
+// The next pair pass's bond slots (written in full by it), for the current count.
+template <int D>
+void DemPart<D>::resize_bond_scratch() {
+  if (!bonded_) return;
+  bond_partner_new_.assign(bond_partner_.size(), kNoContact);
+  bond_new_.assign(bond_.size(), ParallelBondState<D>{});
 }
 
 // A message: the grains' count, their fields (every field) and their packed slots (those of
-// `slots_of`: partner_, xi_, roll_ at a rebuild; histories packed for the purpose otherwise).
+// `slots_of`: partner_, xi_, roll_ at a rebuild; histories packed for the purpose otherwise),
+// and with bonds their bond slots (partner ids and states).
 template <int D>
 void DemPart<D>::pack_grains(std::span<const Index> which, std::vector<std::byte>& out,
                              const PackedSlots& slots_of) const {
@@ -259,14 +271,17 @@ void DemPart<D>::pack_grains(std::span<const Index> which, std::vector<std::byte
     if (rolling)
       for (std::size_t s = 0; s < slots; ++s)
         put(out, angular_reals<D>(slots_of.roll[base + s]), kAngular<D> * sizeof(Real));
+    if (bonded_) {
+      put(out, slots_of.bond_partner.data() + base, slots * sizeof(std::int64_t));
+      put(out, slots_of.bond.data() + base, slots * sizeof(ParallelBondState<D>));
+    }
   }
 }
 
 // Appends the grains of a message of pack_grains to `set` and their slots to the others.
 template <int D>
 void DemPart<D>::unpack_grains(std::span<const std::byte> in, fields::FieldSet<D>& set,
-                               std::vector<std::int64_t>& partner, std::vector<Vec<D>>& xi,
-                               std::vector<AngularVec<D>>& roll) const {
+                               const SlotsInto& into) const {
   constexpr auto slots = static_cast<std::size_t>(kMaxContacts);
   const bool rolling = rolling_.friction > 0;
   Reader r{in};
@@ -275,16 +290,22 @@ void DemPart<D>::unpack_grains(std::span<const std::byte> in, fields::FieldSet<D
   const auto n = static_cast<std::size_t>(count);
   set.unpack_append(r.take(n * set.packed_bytes(fields::kEveryField)), fields::kEveryField);
   for (std::size_t q = 0; q < n; ++q) {
-    const std::size_t base = partner.size();
-    partner.resize(base + slots);
-    xi.resize(base + slots);
-    r.get(partner.data() + base, slots * sizeof(std::int64_t));
+    const std::size_t base = into.partner.size();
+    into.partner.resize(base + slots);
+    into.xi.resize(base + slots);
+    r.get(into.partner.data() + base, slots * sizeof(std::int64_t));
     for (std::size_t s = 0; s < slots; ++s)
-      r.get(reals<D>(xi[base + s]), D * sizeof(Real));
+      r.get(reals<D>(into.xi[base + s]), D * sizeof(Real));
     if (rolling) {
-      roll.resize(base + slots);
+      into.roll.resize(base + slots);
       for (std::size_t s = 0; s < slots; ++s)
-        r.get(angular_reals<D>(roll[base + s]), kAngular<D> * sizeof(Real));
+        r.get(angular_reals<D>(into.roll[base + s]), kAngular<D> * sizeof(Real));
+    }
+    if (bonded_) {
+      into.bond_partner.resize(base + slots);
+      into.bond.resize(base + slots);
+      r.get(into.bond_partner.data() + base, slots * sizeof(std::int64_t));
+      r.get(into.bond.data() + base, slots * sizeof(ParallelBondState<D>));
     }
   }
   if (r.at != in.size()) throw std::logic_error("dem ranks: a message is too long");
@@ -295,9 +316,11 @@ void DemPart<D>::redistribute(Real reach) {
   const parallel::Comm& comm = *comm_;
   const auto ranks = static_cast<std::size_t>(comm.size());
   auto pack = [&](std::span<const Index> which, std::vector<std::byte>& out) {
-    pack_grains(which, out, {partner_, xi_, roll_});
+    pack_grains(which, out, {partner_, xi_, roll_, bond_partner_, bond_});
   };
-  auto unpack = [&](std::span<const std::byte> in) { unpack_grains(in, f_, partner_, xi_, roll_); };
+  auto unpack = [&](std::span<const std::byte> in) {
+    unpack_grains(in, f_, {partner_, xi_, roll_, bond_partner_, bond_});
+  };
 
   // 1. The ghosts go.
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(f_.size()));
@@ -352,6 +375,7 @@ void DemPart<D>::redistribute(Real reach) {
   ghost_.assign(static_cast<std::size_t>(f_.size()), 1);
   std::fill_n(ghost_.begin(), at(owned), std::uint8_t{0});
   clear_wall_slots();
+  resize_bond_scratch();
 }
 
 // After the canonical sort (order[k]: the grain now at k): the ghost flags and the halo's
@@ -459,8 +483,8 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   std::vector<Vec<D>> xi;
   std::vector<AngularVec<D>> roll;
   if (!packed_) pack_history(partner, xi, roll);
-  const PackedSlots slots_of =
-      packed_ ? PackedSlots{partner_, xi_, roll_} : PackedSlots{partner, xi, roll};
+  const PackedSlots slots_of = packed_ ? PackedSlots{partner_, xi_, roll_, bond_partner_, bond_}
+                                       : PackedSlots{partner, xi, roll, bond_partner_, bond_};
   const auto [owned, built] =
       parts::owned_at_build<D>(f_.size(), skin_.positions(), [&](Index i) { return ghost(i); });
   std::vector<std::byte> mine;
@@ -471,13 +495,14 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   if (!comm.root()) return;  // the root writes
   fields::FieldSet<D> whole = f_;
   whole.resize(0);
-  std::vector<std::int64_t> w_partner;
+  std::vector<std::int64_t> w_partner, w_bond_partner;
   std::vector<Vec<D>> w_xi;
   std::vector<AngularVec<D>> w_roll;
+  std::vector<ParallelBondState<D>> w_bond;
   std::size_t from = 0;
   for (const std::int64_t b : bytes) {
     unpack_grains(std::span<const std::byte>(all).subspan(from, static_cast<std::size_t>(b)), whole,
-                  w_partner, w_xi, w_roll);
+                  {w_partner, w_xi, w_roll, w_bond_partner, w_bond});
     from += static_cast<std::size_t>(b);
   }
   // The order of one rank: cells of the positions at the build, by id within a cell.
@@ -495,18 +520,20 @@ void DemPart<D>::save_gathered(parts::StateWriter& w) const {
   permute(w_partner, slots);
   permute(w_xi, slots);
   permute(w_roll, slots);
+  permute(w_bond_partner, slots);
+  permute(w_bond, slots);
   w.tag("dem");
   whole.save(w);
   w.vector(w_partner);
   w.vector(w_xi);
   w.vector(w_roll);
   const neighbors::VerletSkin<D> skin = skin_.with_positions(std::move(w_built));
-  // bond_lost_ is a grain index, the count when none was lost (no bonds on ranks): the whole
-  // part's count, as one rank holds it.
+  // bond_lost_ is a grain index, the count when none was lost (a lost one ends the run): the
+  // whole part's count, as one rank holds it.
   auto* self = const_cast<DemPart<D>*>(this);  // set for the write, then back
   const Index lost = bond_lost_;
   self->bond_lost_ = whole.size();
-  archive_bonds_and_ledgers(w, *this, skin);
+  archive_bonds_and_ledgers(w, *this, skin, std::as_const(w_bond_partner), std::as_const(w_bond));
   self->bond_lost_ = lost;
 }
 
@@ -537,8 +564,8 @@ const parts::WholeLayout* DemPart<D>::contact_layout() const {
                                         const PackedSlots&) const;                          \
   template void DemPart<D>::clear_wall_slots();                                             \
   template void DemPart<D>::unpack_grains(std::span<const std::byte>, fields::FieldSet<D>&, \
-                                          std::vector<std::int64_t>&, std::vector<Vec<D>>&, \
-                                          std::vector<AngularVec<D>>&) const;               \
+                                          const SlotsInto&) const;                          \
+  template void DemPart<D>::resize_bond_scratch();                                          \
   template Index DemPart<D>::count() const;                                                 \
   template std::optional<parts::Fault> DemPart<D>::check() const;                           \
   template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const;     \

@@ -330,10 +330,11 @@ Index DemPart<D>::pair_owner(std::size_t k) const {
 }
 
 template <int D>
-template <class Archive, class Self, class Skin>
-void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s, Skin& skin) {
-  a.vector(s.bond_partner_);
-  a.vector(s.bond_);
+template <class Archive, class Self, class Skin, class BondPartner, class Bond>
+void DemPart<D>::archive_bonds_and_ledgers(Archive& a, Self& s, Skin& skin,
+                                           BondPartner& bond_partner, Bond& bond) {
+  a.vector(bond_partner);
+  a.vector(bond);
   a.value(s.contact_.last_dt_s);
   a.value(s.bond_lost_);
   a.value(s.bonds_initial_);
@@ -372,7 +373,7 @@ void DemPart<D>::save_state(parts::StateWriter& w) const {
     w.vector(xi);
     w.vector(roll);
   }
-  archive_bonds_and_ledgers(w, *this, skin_);
+  archive_bonds_and_ledgers(w, *this, skin_, bond_partner_, bond_);
 }
 
 template <int D>
@@ -385,28 +386,33 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   r.vector(roll_);
   packed_ = true;
   const std::size_t moving = moving_.size();
-  archive_bonds_and_ledgers(r, *this, skin_);
+  archive_bonds_and_ledgers(r, *this, skin_, bond_partner_, bond_);
+  if (!bond_partner_.empty()) {  // the next pair pass's scratch, for the count loaded
+    bond_partner_new_.assign(bond_partner_.size(), kNoContact);
+    bond_new_.assign(bond_.size(), ParallelBondState<D>{});
+  }
   if (moving_.size() != moving) r.fail("it holds another number of moving walls");
   set_wall_planes();
   if (skin_.listed()) build_lists();
 }
 
-#define CRATER_DEM_STATE(D)                                                                   \
-  template std::optional<parts::Fault> DemPart<D>::local_check() const;                       \
-  template Real DemPart<D>::mass_kg() const;                                                  \
-  template parts::Energies DemPart<D>::energies() const;                                      \
-  template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const;                    \
-  template std::vector<Grain<D>> DemPart<D>::grains() const;                                  \
-  template std::pair<Real, Real> DemPart<D>::settling_measure() const;                        \
-  template Real DemPart<D>::unbalanced_ratio() const;                                         \
-  template void DemPart<D>::remove_outflow();                                                 \
-  template std::vector<Real> DemPart<D>::unhook_leaving();                                    \
-  template void DemPart<D>::compact_survivors();                                              \
-  template Index DemPart<D>::pair_owner(std::size_t) const;                                   \
-  template void DemPart<D>::save_state(parts::StateWriter&) const;                            \
-  template void DemPart<D>::load_state(parts::StateReader&);                                  \
-  template void DemPart<D>::archive_bonds_and_ledgers(parts::StateWriter&, const DemPart<D>&, \
-                                                      const neighbors::VerletSkin<D>&);
+#define CRATER_DEM_STATE(D)                                                    \
+  template std::optional<parts::Fault> DemPart<D>::local_check() const;        \
+  template Real DemPart<D>::mass_kg() const;                                   \
+  template parts::Energies DemPart<D>::energies() const;                       \
+  template std::vector<parts::Diagnostic> DemPart<D>::diagnostics() const;     \
+  template std::vector<Grain<D>> DemPart<D>::grains() const;                   \
+  template std::pair<Real, Real> DemPart<D>::settling_measure() const;         \
+  template Real DemPart<D>::unbalanced_ratio() const;                          \
+  template void DemPart<D>::remove_outflow();                                  \
+  template std::vector<Real> DemPart<D>::unhook_leaving();                     \
+  template void DemPart<D>::compact_survivors();                               \
+  template Index DemPart<D>::pair_owner(std::size_t) const;                    \
+  template void DemPart<D>::save_state(parts::StateWriter&) const;             \
+  template void DemPart<D>::load_state(parts::StateReader&);                   \
+  template void DemPart<D>::archive_bonds_and_ledgers(                         \
+      parts::StateWriter&, const DemPart<D>&, const neighbors::VerletSkin<D>&, \
+      const std::vector<std::int64_t>&, const std::vector<ParallelBondState<D>>&);
 CRATER_DEM_STATE(2)
 CRATER_DEM_STATE(3)
 #undef CRATER_DEM_STATE

@@ -18,16 +18,27 @@ every file is again the uninterrupted run's.
 The same bed settled under gravity first ([parts.packing] settle = true): on 2 ranks rank 0
 alone settles it and writes the cache (one file, the plain run's byte for byte), and the run is
 the plain run's bit for bit; on 3 ranks the cached packing is reused, with the same history.
+A bonded block (tests/data/dem_bonded_2d.toml, 800 disks, 1,540 parallel bonds, linear
+springs, rolling resistance, rate-dependent friction) thrown onto a walled floor, run to 20 ms
+(2,684 steps): 901 bonds break, fragments roll, and grains change ranks (188 arrivals on a new
+rank on 2 ranks, 1,176 on 4) with their bonds; bit for bit on 2, 3, 4 ranks and 2 ranks of 2
+threads, its 2-rank checkpoint resumed on 3 ranks and on 1.
+tests/data/outflow_2d.toml (a gas disk, a cloud of grains and two bonded columns leaving a
+small box, domain.outflow = "remove": the gas and the columns leave whole, 76 of the cloud's 96
+grains, so the ranks end up holding none of a part's entities, bonded ones included): bit for bit on 2, 3 and 4
+ranks, resumed on 3 and on 1.
 Scenes with what does not run on ranks yet are refused with exit code 2 and a message naming
 the key.
 """
+import json
 import shutil
 import subprocess
 import sys
 import unittest
 
 from crater_test import BIN, SOURCE_DIR, scratch
-from on_ranks import MPIRUN, assert_resumes, assert_same_run, by_id, files, mpirun
+from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes, assert_resumes_elsewhere,
+                      assert_same_run, by_id, files, mpirun, plain)
 
 SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
 # Checkpoints by step count only (a wall-clock one would come when a run is slow).
@@ -85,6 +96,49 @@ class CraterRunOnRanks(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertEqual((out / "history.csv").read_bytes(), (ref / "history.csv").read_bytes())
         self.assertEqual([f.name for f in cache.iterdir()], [packed.name])
+
+    def test_bonded_block_on_ranks(self):
+        work = scratch("crater_ranks_bonded")
+        ref = work / "plain"
+        scene = SOURCE_DIR / "tests" / "data" / "dem_bonded_2d.toml"
+        opts = ["--set", "scenario.end_time_s=0.02", "--set", "output.interval_s=0.005",
+                "--set", "output.checkpoint_every_steps=1000", "--set",
+                "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+        p = plain("run", scene, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        diagnostics = json.loads((ref / "summary.json").read_text())["parts"][0]["diagnostics"]
+        self.assertGreater(diagnostics["bonds_broken"], 100)  # bonds break during the run
+        self.assertLess(diagnostics["bonds_broken"], diagnostics["bonds_initial"])  # and hold
+
+        def moved(out, np_):  # grains changed ranks with their bonds
+            figures = json.loads((out / "summary.json").read_text())["run"]["ranks_by_part"]
+            self.assertGreater(figures["rock"]["migrations"], 50, figures)
+
+        ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
+        self.assertEqual(len(ckpts), 3)
+        assert_ranks_give(self, ref, scene, opts, [(2, 1), (3, 1), (4, 1), (2, 2)], ckpts,
+                          "bonded", moved)
+        assert_resumes_elsewhere(self, scene, ref, ckpts[0], opts, "bonded")
+
+    def test_outflow_scene_on_ranks(self):
+        work = scratch("crater_ranks_outflow")
+        ref = work / "plain"
+        scene = SOURCE_DIR / "tests" / "data" / "outflow_2d.toml"
+        opts = ["--set", "output.checkpoint_every_steps=100", "--set",
+                "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+        p = plain("run", scene, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        parts = json.loads((ref / "summary.json").read_text())["parts"]
+        for part in parts:  # every one that left is booked
+            first, _ = by_id(ref / f"{part['name']}_000000.vtu")
+            self.assertEqual(part["count"] + part["diagnostics"]["left_domain_count"],
+                             len(first["id"]), part["name"])
+        # the gas and the bonded columns are gone whole: no rank holds any of them
+        self.assertEqual([p["count"] for p in parts if p["name"] != "cloud"], [0, 0])
+        ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
+        self.assertGreaterEqual(len(ckpts), 3)
+        assert_ranks_give(self, ref, scene, opts, [(2, 1), (3, 1), (4, 1)], ckpts, "outflow")
+        assert_resumes_elsewhere(self, scene, ref, ckpts[1], opts, "outflow")
 
     def test_what_does_not_run_on_ranks_is_refused(self):
         work = scratch("crater_ranks_refused")

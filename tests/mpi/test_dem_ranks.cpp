@@ -232,17 +232,16 @@ TEST(DemRanks, BedOnRanksMatchesOneRankBitForBit2D) {
 }
 
 TEST(DemRanks, ModelsNotYetOnRanksAreRefused) {
-  const io::Config config = io::load_scenario_text(
-      scenario(2), "dem-ranks.toml",
-      {"parts.bed.dem.bonds.enabled=true", "parts.bed.dem.bonds.normal_stiffness_pa_m=1e12",
-       "parts.bed.dem.bonds.shear_stiffness_pa_m=1e12",
-       "parts.bed.dem.bonds.tensile_strength_pa=1e6", "parts.bed.dem.bonds.shear_strength_pa=1e6"});
+  const io::Config config =
+      io::load_scenario_text(scenario(2), "dem-ranks.toml",
+                             {R"(parts.bed.dem.wall_motion=[{face="top",velocity_m_s=-0.1}])"});
   DemPart<2> part(solver::dem_settings(config, config.parts.at(0)));
   try {
     part.distribute(parallel::Comm::world());
-    ADD_FAILURE() << "a bonded bed was spread over ranks";
+    ADD_FAILURE() << "a bed with a moving wall was spread over ranks";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("parts[bed].dem.bonds"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("parts[bed].dem.wall_motion"), std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("does not run on several MPI ranks"), std::string::npos);
   }
 }

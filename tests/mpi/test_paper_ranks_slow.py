@@ -11,7 +11,8 @@ quick set is test_paper_ranks.py, `make test-slow` runs this one):
   particles, 20,130 spheres and 5,760 Hex8 with its symmetry planes, the three contacts) on
   2, 3 and 4 ranks and 2 ranks of 2 threads, and its 2-rank checkpoint of step 1000 resumed
   on 3 ranks and on 1. Its bed is settled first if the cache does not hold it (about 4 min on
-  one thread).
+  one thread). By 1 ms its bed has hardly moved (3-43 grains change ranks), so only that some
+  cross is asked of it.
 Each run must give the plain one-thread run's files bit for bit, as in the quick set.
 """
 import sys
@@ -45,7 +46,8 @@ class PaperOnRanksSlow(unittest.TestCase):
         ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
         self.assertEqual(len(ckpts), 3)
         assert_ranks_give(self, ref, "paper-3d", OPTS_3D, [(2, 1), (3, 1), (4, 1), (2, 2)], ckpts,
-                          "paper-3d", lambda out, np_: assert_spread(self, out, np_), timeout=900)
+                          "paper-3d", lambda out, np_: assert_spread(self, out, np_, 0),
+                          timeout=900)
         for np_ in (3, 1):
             assert_resumes(self, "paper-3d", work / "ranks2_threads1", "step_000000001000.ckpt",
                            np_, OPTS_3D, f"paper-3d: resumed on {np_}", timeout=900)
