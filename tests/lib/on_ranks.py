@@ -15,6 +15,13 @@ from crater_test import BIN, read_vtu, read_vtu_cells, summary_without_run_block
 MPIRUN = os.environ.get("CRATER_MPIRUN", "")
 
 
+def checkpoints(every):
+    """--set options for a checkpoint every `every` steps (by step count only: a wall-clock one
+    would come when a run is slow), all of them kept."""
+    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
+            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+
+
 def mpirun(np_, *args, threads=1, timeout=240):
     """crater under the launcher on np_ ranks of `threads` threads (oversubscribed as needed)."""
     env = dict(os.environ)

@@ -33,16 +33,13 @@ import sys
 import unittest
 
 from crater_test import SOURCE_DIR, scratch
-from on_ranks import MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, files, plain
+from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, checkpoints,
+                      files, plain)
 
 DATA = SOURCE_DIR / "tests" / "data"
 PARTS = ("charge", "plate", "soil")
 CONTACTS = ("charge-plate", "soil-plate", "charge-soil")
 
-
-def checkpoints(every):
-    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
-            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
 
 
 # scene, --set options, checkpoint interval [steps], rank counts (ranks, threads per rank),

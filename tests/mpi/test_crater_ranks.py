@@ -38,7 +38,7 @@ import unittest
 
 from crater_test import BIN, SOURCE_DIR, scratch
 from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes, assert_resumes_elsewhere,
-                      assert_same_run, by_id, files, mpirun, plain)
+                      assert_same_run, by_id, checkpoints, files, mpirun, plain)
 
 SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
 # Checkpoints by step count only (a wall-clock one would come when a run is slow).
@@ -102,8 +102,7 @@ class CraterRunOnRanks(unittest.TestCase):
         ref = work / "plain"
         scene = SOURCE_DIR / "tests" / "data" / "dem_bonded_2d.toml"
         opts = ["--set", "scenario.end_time_s=0.02", "--set", "output.interval_s=0.005",
-                "--set", "output.checkpoint_every_steps=1000", "--set",
-                "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+                *checkpoints(1000)]
         p = plain("run", scene, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
         self.assertEqual(p.returncode, 0, p.stderr)
         diagnostics = json.loads((ref / "summary.json").read_text())["parts"][0]["diagnostics"]
@@ -124,8 +123,7 @@ class CraterRunOnRanks(unittest.TestCase):
         work = scratch("crater_ranks_outflow")
         ref = work / "plain"
         scene = SOURCE_DIR / "tests" / "data" / "outflow_2d.toml"
-        opts = ["--set", "output.checkpoint_every_steps=100", "--set",
-                "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+        opts = checkpoints(100)
         p = plain("run", scene, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
         self.assertEqual(p.returncode, 0, p.stderr)
         parts = json.loads((ref / "summary.json").read_text())["parts"]

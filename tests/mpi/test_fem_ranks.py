@@ -21,16 +21,13 @@ import sys
 import unittest
 
 from crater_test import SOURCE_DIR, scratch
-from on_ranks import MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, files, plain
+from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, checkpoints,
+                      files, plain)
 
 DATA = SOURCE_DIR / "tests" / "data"
 sys.path.insert(0, str(SOURCE_DIR / "tests" / "verification" / "fem_taylor"))
 from test_taylor_bar import write_case  # noqa: E402  (the verification case's mesh and scene)
 
-
-def checkpoints(every):
-    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
-            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
 
 
 # scene (or a function of the work directory that writes it), --set options, checkpoint

@@ -26,11 +26,10 @@ import sys
 import unittest
 
 from crater_test import scratch
-from on_ranks import MPIRUN, assert_ranks_give, by_id, plain
+from on_ranks import MPIRUN, assert_ranks_give, by_id, checkpoints, plain
 
 # The demo level to 1 ms (3,793 steps), a checkpoint every 1,000 steps and at the end.
-OPTS = ["--set", "scenario.end_time_s=1.0e-3", "--set", "output.checkpoint_every_steps=1000",
-        "--set", "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+OPTS = ["--set", "scenario.end_time_s=1.0e-3", *checkpoints(1000)]
 PARTS = ("charge", "plate", "soil")
 
 

@@ -19,11 +19,10 @@ import sys
 import unittest
 
 from crater_test import scratch
-from on_ranks import MPIRUN, assert_ranks_give, assert_resumes, plain
+from on_ranks import MPIRUN, assert_ranks_give, assert_resumes, checkpoints, plain
 from test_paper_ranks import OPTS, assert_spread, run_reference
 
-OPTS_3D = ["--set", "scenario.end_time_s=1.0e-3", "--set", "output.checkpoint_every_steps=500",
-           "--set", "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
+OPTS_3D = ["--set", "scenario.end_time_s=1.0e-3", *checkpoints(500)]
 
 
 @unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")

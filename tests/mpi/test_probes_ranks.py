@@ -20,7 +20,7 @@ hold the probes' state). A 2-rank checkpoint is resumed on 3 ranks and on 1.
 import unittest
 
 from crater_test import SOURCE_DIR, scratch
-from on_ranks import MPIRUN, assert_ranks_give, assert_resumes, plain
+from on_ranks import MPIRUN, assert_ranks_give, assert_resumes, checkpoints, plain
 
 DATA = SOURCE_DIR / "tests" / "data"
 RANKS = [(2, 1), (3, 1), (2, 2)]
@@ -80,10 +80,6 @@ CASES = {
     "sph_gauges": (DATA / "sph_ranks_2d.toml", FLUID_GAUGES, [], 500, "step_000000000500.ckpt"),
 }
 
-
-def checkpoints(every):
-    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
-            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=20"]
 
 
 @unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")

@@ -27,14 +27,11 @@ import sys
 import unittest
 
 from crater_test import SOURCE_DIR, scratch
-from on_ranks import MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, files, plain
+from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, checkpoints,
+                      files, plain)
 
 DATA = SOURCE_DIR / "tests" / "data"
 
-
-def checkpoints(every):
-    return ["--set", f"output.checkpoint_every_steps={every}", "--set",
-            "output.checkpoint_every_s=0", "--set", "output.checkpoint_keep=10"]
 
 
 # scene, --set options, checkpoint interval [steps], the checkpoints written, rank counts
