@@ -13,6 +13,17 @@ import numpy as np
 from crater_test import BIN, read_vtu, read_vtu_cells, summary_without_run_block
 
 MPIRUN = os.environ.get("CRATER_MPIRUN", "")
+# The slow set (tests/mpi/test_ranks_full_slow.py, label slow) runs every case on every rank and
+# thread count it lists; `make test` runs most of them on 2 and 3 ranks of one thread.
+FULL = os.environ.get("CRATER_RANKS_FULL") == "1"
+QUICK = [(2, 1), (3, 1)]
+
+
+def rank_counts(counts):
+    """The (ranks, threads per rank) of `counts` a case runs on: those in QUICK under `make
+    test`, all of them in the slow set. Each test file keeps one case of each kind on all its
+    counts in `make test` (4 ranks, 2 ranks of 2 threads) by listing them without this."""
+    return list(counts) if FULL else [c for c in counts if c in QUICK]
 
 
 def checkpoints(every):

@@ -26,6 +26,9 @@ the contacts' state), and each part must be spread over every rank:
 The reference must have every contact active (some nonzero force in its history.csv columns),
 so that the comparison cannot pass on a scene where the contacts do nothing. A 2-rank
 checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again.
+Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks of 2
+threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
+runs every case on every count (test_ranks_full_slow.py).
 """
 import csv
 import json
@@ -34,7 +37,7 @@ import unittest
 
 from crater_test import SOURCE_DIR, scratch
 from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, checkpoints,
-                      files, plain)
+                      files, plain, rank_counts)
 
 DATA = SOURCE_DIR / "tests" / "data"
 PARTS = ("charge", "plate", "soil")
@@ -48,14 +51,15 @@ CONTACTS = ("charge-plate", "soil-plate", "charge-soil")
 CASES = {
     "blast_2d": (DATA / "contacts_ranks_2d.toml", [], 500, [(2, 1), (3, 1), (4, 1), (2, 2)],
                  {"charge": 316, "plate": 480, "soil": 550}, True),
-    "blast_3d": (DATA / "contacts_ranks_3d.toml", [], 400, [(2, 1), (3, 1), (4, 1), (2, 2)],
+    "blast_3d": (DATA / "contacts_ranks_3d.toml", [], 400,
+                 rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]),
                  {"charge": 280, "plate": 288, "soil": 294}, False),
     "grains_leave_2d": (DATA / "contacts_ranks_2d.toml",
                         ["--set", 'parts.soil.dem.walls=["top"]', "--set",
                          'parts.soil.dem.absorbing_walls=["left","right","bottom"]', "--set",
                          "parts.soil.dem.absorbing_wall_p_wave_speed_m_s=450.0", "--set",
                          'domain.outflow="remove"'],
-                        500, [(2, 1), (3, 1), (4, 1)],
+                        500, rank_counts([(2, 1), (3, 1), (4, 1)]),
                         {"charge": 316, "plate": 480, "soil": 550}, True),
 }
 

@@ -25,10 +25,13 @@ rank on 2 ranks, 1,176 on 4) with their bonds; bit for bit on 2, 3, 4 ranks and 
 threads, its 2-rank checkpoint resumed on 3 ranks and on 1.
 tests/data/outflow_2d.toml (a gas disk, a cloud of grains and two bonded columns leaving a
 small box, domain.outflow = "remove": the gas and the columns leave whole, 76 of the cloud's 96
-grains, so the ranks end up holding none of a part's entities, bonded ones included): bit for bit on 2, 3 and 4
-ranks, resumed on 3 and on 1.
+grains, so the ranks end up holding none of a part's entities, bonded ones included): bit for
+bit on 2, 3 and 4 ranks, resumed on 3 and on 1.
 Scenes with what does not run on ranks yet are refused with exit code 2 and a message naming
 the key.
+Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks of 2
+threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
+runs every case on every count (test_ranks_full_slow.py).
 """
 import json
 import shutil
@@ -38,7 +41,7 @@ import unittest
 
 from crater_test import BIN, SOURCE_DIR, scratch
 from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes, assert_resumes_elsewhere,
-                      assert_same_run, by_id, checkpoints, files, mpirun, plain)
+                      assert_same_run, by_id, checkpoints, files, mpirun, plain, rank_counts)
 
 SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
 # Checkpoints by step count only (a wall-clock one would come when a run is slow).
@@ -115,8 +118,8 @@ class CraterRunOnRanks(unittest.TestCase):
 
         ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
         self.assertEqual(len(ckpts), 3)
-        assert_ranks_give(self, ref, scene, opts, [(2, 1), (3, 1), (4, 1), (2, 2)], ckpts,
-                          "bonded", moved)
+        assert_ranks_give(self, ref, scene, opts, rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]),
+                          ckpts, "bonded", moved)
         assert_resumes_elsewhere(self, scene, ref, ckpts[0], opts, "bonded")
 
     def test_outflow_scene_on_ranks(self):
@@ -135,7 +138,8 @@ class CraterRunOnRanks(unittest.TestCase):
         self.assertEqual([p["count"] for p in parts if p["name"] != "cloud"], [0, 0])
         ckpts = sorted(f.name for f in (ref / "checkpoints").iterdir())
         self.assertGreaterEqual(len(ckpts), 3)
-        assert_ranks_give(self, ref, scene, opts, [(2, 1), (3, 1), (4, 1)], ckpts, "outflow")
+        assert_ranks_give(self, ref, scene, opts, rank_counts([(2, 1), (3, 1), (4, 1)]), ckpts,
+                          "outflow")
         assert_resumes_elsewhere(self, scene, ref, ckpts[1], opts, "outflow")
 
     def test_what_does_not_run_on_ranks_is_refused(self):

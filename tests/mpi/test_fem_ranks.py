@@ -15,6 +15,9 @@ the checkpoints byte for byte: the root writes the whole mesh as one rank does):
 - the 3D Taylor bar of tests/verification/fem_taylor as that test runs it (a Gmsh mesh file of
   1,920 Hex8, symmetry planes, Johnson-Cook with heating, 3,713 steps to 80 us).
 A 2-rank checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again.
+Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks of 2
+threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
+runs every case on every count (test_ranks_full_slow.py).
 """
 import json
 import sys
@@ -22,7 +25,7 @@ import unittest
 
 from crater_test import SOURCE_DIR, scratch
 from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, checkpoints,
-                      files, plain)
+                      files, plain, rank_counts)
 
 DATA = SOURCE_DIR / "tests" / "data"
 sys.path.insert(0, str(SOURCE_DIR / "tests" / "verification" / "fem_taylor"))
@@ -36,9 +39,10 @@ CASES = {
     "plate_erosion": (DATA / "fem_plate_2d.toml", [], 200, [(2, 1), (3, 1), (4, 1), (2, 2)],
                       1000, True),
     "loads_walls_mass_scaling": (DATA / "fem_ranks_2d.toml", [], 100,
-                                 [(2, 1), (3, 1), (4, 1), (2, 2)], 1000, True),
+                                 rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]), 1000, True),
     "concrete_hjc": (DATA / "fem_concrete_2d.toml", [], 200, [(2, 1), (3, 1)], None, False),
-    "taylor_3d": (write_case, [], 1000, [(2, 1), (3, 1), (4, 1), (2, 2)], 1920, True),
+    "taylor_3d": (write_case, [], 1000, rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]), 1920,
+                  True),
 }
 
 

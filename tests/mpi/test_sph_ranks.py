@@ -20,6 +20,9 @@ for byte: the root writes the whole part in the order one rank holds it):
 A 2-rank checkpoint is resumed on 3 ranks and on 1: the uninterrupted run's files again. On 4
 ranks the dam break's cuts are made again as the water flows (fields::rebalanced_cuts): every
 rank keeps a share of the water.
+Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks of 2
+threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
+runs every case on every count (test_ranks_full_slow.py).
 """
 import csv
 import json
@@ -28,7 +31,7 @@ import unittest
 
 from crater_test import SOURCE_DIR, scratch
 from on_ranks import (MPIRUN, assert_ranks_give, assert_resumes_elsewhere, by_id, checkpoints,
-                      files, plain)
+                      files, plain, rank_counts)
 
 DATA = SOURCE_DIR / "tests" / "data"
 
@@ -47,13 +50,13 @@ CASES = {
                                  "step_000000002458.ckpt"], [(2, 1), (3, 1)], 800),
     "tnt_continuity": (DATA / "sph_ranks_3d.toml", [], 50,
                        ["step_000000000050.ckpt", "step_000000000086.ckpt"],
-                       [(2, 1), (3, 1), (4, 1), (2, 2)], 912),
+                       rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]), 912),
     "demo": ("demo", [], 50, ["step_000000000050.ckpt", "step_000000000097.ckpt"],
-             [(2, 1), (3, 1), (4, 1), (2, 2)], 1264),
+             rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]), 1264),
     "tnt_summation": (DATA / "sph_ranks_3d.toml", ['--set', 'parts.charge.sph.density="summation"'],
                       40, None, [(2, 1), (3, 1)], 912),
     "outflow_contact": (DATA / "sph_outflow_ranks_2d.toml", [], 1500, None,
-                        [(2, 1), (3, 1), (4, 1), (2, 2)], 208),
+                        rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]), 208),
 }
 
 
