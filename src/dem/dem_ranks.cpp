@@ -124,6 +124,7 @@ void DemPart<D>::distribute(const parallel::Comm& comm) {
   ghost_.assign(static_cast<std::size_t>(f_.size()), 0);
   halo_send_.assign(static_cast<std::size_t>(comm.size()), {});
   halo_recv_.assign(static_cast<std::size_t>(comm.size()), {});
+  resize_bond_scratch();
   skin_.invalidate();  // the first force stage builds the lists, and the ghosts
   moved_sq_ = -1;
 }
@@ -206,6 +207,7 @@ void DemPart<D>::distribute_restored() {
     sorted[q] = local_built[at(order[q])];
   skin_ = skin_.with_positions(std::move(sorted));
   clear_wall_slots();
+  resize_bond_scratch();
   moved_sq_ = -1;
   if (skin_.listed()) build_lists();
 }
@@ -241,10 +243,10 @@ void DemPart<D>::keep_grains(std::span<const std::uint8_t> keep) {
   compact(bond_partner_);
   compact(bond_);
   f_.compact(keep);
-  resize_bond_scratch();
 }
 
-// The next pair pass's bond slots (written in full by it), for the current count.
+// The next pair pass's bond slots (written in full by it), for the current count: after the
+// grains were spread, moved or removed, or loaded.
 template <int D>
 void DemPart<D>::resize_bond_scratch() {
   if (!bonded_) return;

@@ -270,10 +270,7 @@ void DemPart<D>::compact_survivors() {
   for (Index* first : {&overflow_, &bond_lost_, &unhealthy_})
     if (*first >= count) *first = kept;
   if (comm_) fields::compact_exchange(outflow_.survivors(), ghost_, halo_send_, halo_recv_);
-  if (!bond_partner_new_.empty()) {  // scratch of the next pair pass
-    bond_partner_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, kNoContact);
-    bond_new_.assign(static_cast<std::size_t>(kept) * kMaxContacts, ParallelBondState<D>{});
-  }
+  resize_bond_scratch();
   const std::size_t wall_slots = static_cast<std::size_t>(kept) * wall_planes_.size();
   wall_xi_.assign(wall_slots, Vec<D>::Zero());
   if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
@@ -387,10 +384,7 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   packed_ = true;
   const std::size_t moving = moving_.size();
   archive_bonds_and_ledgers(r, *this, skin_, bond_partner_, bond_);
-  if (!bond_partner_.empty()) {  // the next pair pass's scratch, for the count loaded
-    bond_partner_new_.assign(bond_partner_.size(), kNoContact);
-    bond_new_.assign(bond_.size(), ParallelBondState<D>{});
-  }
+  resize_bond_scratch();
   if (moving_.size() != moving) r.fail("it holds another number of moving walls");
   set_wall_planes();
   if (skin_.listed()) build_lists();
