@@ -1,7 +1,7 @@
 """The figure of the biaxial test (docs/figures/dem_biaxial.png): mobilised friction angle and
 volumetric strain against axial strain, one line per packing, with the peak and residual
-marked. test_biaxial.py calls figure() after its runs; run alone, it reduces the runs a
-previous test left in CRATER_TEST_TMP/biaxial:
+marked. test_biaxial_seeds_slow.py calls figure() after its runs; run alone, it reduces the
+runs a previous test left in CRATER_TEST_TMP/biaxial:
 
     CRATER_TEST_TMP=build/release/tests/tmp /usr/bin/python3 \
         tests/verification/dem_biaxial/plot_biaxial.py

@@ -8,7 +8,8 @@ top 6 cm move down at 5 mm/s: a compression pulse (stress rho_b c v ~ 1.6 kPa, s
 overburden below 0.2 m) runs down the column. Its front reaches depth z at t(z), the first
 frame in which the grains between z - 5 cm and z + 5 cm move down at half their band's peak
 speed; c_p is the slope of z against t(z) (least squares over 0.3-1.7 m). Run by
-test_bed_p_wave.py; `python3 pwave_case.py SEED...` prints the speeds.
+test_bed_p_wave.py (seed 1) and test_bed_p_wave_seeds_slow.py (seeds 1-3); `python3
+pwave_case.py SEED...` prints the speeds.
 
 `scale` (default 1) multiplies every length (grains, column, pulse, bands, depths) and time
 (frames, duration) by lam and divides gravity by lam: the same case, similar in every term

@@ -1,19 +1,21 @@
 # ctest-timeout: 1200
-# ctest-cost: 180
+# ctest-cost: 65
 """The P-wave speed of the paper's sand bed from a pulse (issue 24; pwave_case.py has the setup).
 
-Three packings (seeds 1-3) of the paper-20cm demo bed's grains, 1 m x 2 m, settled under
-gravity between frictionless walls; a 5 mm/s downward pulse from the top; c_p from the front's
-arrival against depth (0.3-1.7 m). Checks:
+One packing (seed 1) of the paper-20cm demo bed's grains, 1 m x 2 m, settled under gravity
+between frictionless walls; a 5 mm/s downward pulse from the top; c_p from the front's arrival
+against depth (0.3-1.7 m). Checks:
 - the speed grows with depth as Hertzian contacts make it: c ~ p^beta ~ z^beta, beta = 1/6
   for a packing whose contacts stiffen as F^(1/3) and whose fabric does not change (effective-
   medium theory, Digby 1981, Walton 1987), up to 1/4 where new contacts form under load
   (Goddard 1990, Proc. R. Soc. Lond. A 430:105). Fitting t(z) = t_0 + z^(1 - beta) / (c_1 (1 - beta))
-  gives beta within [0.12, 0.30] for every seed (measured: about 0.17);
-- the three seeds agree within 15 % of their mean (the scatter is reported in
-  docs/validation.md);
-- paper-20cm's absorbing_wall_p_wave_speed_m_s is within 5 % of the measured mean (the
-  column's average speed over 0.3-1.7 m): the walls' impedance is the bed's.
+  gives beta within [0.12, 0.30] (measured: about 0.17);
+- paper-20cm's absorbing_wall_p_wave_speed_m_s is within 5 % of the measured speed (the
+  column's average over 0.3-1.7 m): the walls' impedance is the bed's. The three packings of
+  the slow set spread by 0.4 % (docs/validation.md), so one packing stands for them here.
+The three packings (seeds 1-3), their agreement and the same checks for each run in the slow set
+(test_bed_p_wave_seeds_slow.py, `make test-slow`): the statistics of a calibration study, 2 of
+the 3 minutes of this case, beyond what `make test` can give it.
 """
 import re
 import sys
@@ -29,10 +31,12 @@ SOURCE = Path(__file__).resolve().parents[3]
 
 
 class BedPWave(unittest.TestCase):
+    SEEDS = (1,)
+
     @classmethod
     def setUpClass(cls):
-        work = scratch("bed_p_wave")
-        cls.results = {s: run_seed(s, work) for s in (1, 2, 3)}
+        work = scratch(f"bed_p_wave_{len(cls.SEEDS)}")
+        cls.results = {s: run_seed(s, work) for s in cls.SEEDS}
 
     def test_speed_grows_as_hertz_contacts_make_it(self):
         for seed, (c, depths, arrive, _) in self.results.items():
@@ -45,12 +49,6 @@ class BedPWave(unittest.TestCase):
             print(f"seed {seed}: c_p {c:.1f} m/s, beta {beta:.3f}")
             self.assertGreaterEqual(beta, 0.12, f"seed {seed}")
             self.assertLessEqual(beta, 0.30, f"seed {seed}")
-
-    def test_seeds_agree(self):
-        speeds = np.array([r[0] for r in self.results.values()])
-        print(f"c_p per seed: {speeds} m/s, mean {speeds.mean():.1f}, "
-              f"spread {np.ptp(speeds) / speeds.mean():.3f}")
-        self.assertLess(np.abs(speeds - speeds.mean()).max() / speeds.mean(), 0.15)
 
     def test_paper_walls_use_it(self):
         text = (SOURCE / "scenarios" / "paper-20cm.toml").read_text()
