@@ -32,6 +32,12 @@ void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts) {
 }
 
 template <int D>
+std::optional<std::pair<std::int64_t, std::int64_t>> Coupling<D>::view_counts() const {
+  if (!spread_) return std::nullopt;
+  return std::pair{spread_->gathers(), spread_->reused()};
+}
+
+template <int D>
 parts::StableStep Coupling<D>::stable_step(const PartList<D>& parts) const {
   StepSearch search;
   for (const PairLimits& l : limits(parts))
@@ -45,8 +51,9 @@ template <int D>
 std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
   std::vector<PairLimits> out(pairings_.size());
   // On ranks, whole views of the current state: the parts may have lost particles since the
-  // last evaluation (outflow), and one rank's limits see them without.
-  const PartList<D>& on = spread_ ? spread_->refresh(parts) : parts;
+  // last evaluation (outflow), and one rank's limits see them without; those of the last
+  // evaluation when nothing the limits read has changed since (SpreadContacts::for_limits).
+  const PartList<D>& on = spread_ ? spread_->for_limits(parts) : parts;
   for (std::size_t c = 0; c < pairings_.size(); ++c)
     pairings_[c]->limit_step(on, out[c]);
   return out;

@@ -76,8 +76,11 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/pairing.hpp"
@@ -98,6 +101,9 @@ class Coupling {
   ~Coupling();
 
   bool empty() const { return pairings_.empty(); }
+  /// On ranks: how many times the whole views were gathered, and how many step limits took
+  /// those of the forces instead (SpreadContacts::for_limits); none on one rank.
+  std::optional<std::pair<std::int64_t, std::int64_t>> view_counts() const;
 
   /// The parts were spread over the ranks of `comm` (Part::distribute): from now on every
   /// contact is evaluated on every rank over whole views of its parts (spread_coupling.hpp),

@@ -1,6 +1,7 @@
 // Contacts between parts spread over ranks; see spread_coupling.hpp.
 #include "contact/spread_coupling.hpp"
 
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -96,20 +97,73 @@ void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& lay
 template <int D>
 SpreadContacts<D>::SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
                                   std::vector<std::size_t> involved)
-    : comm_(comm), involved_(std::move(involved)), layout_(parts.size(), nullptr) {
+    : comm_(comm),
+      involved_(std::move(involved)),
+      layout_(parts.size(), nullptr),
+      stamp_(parts.size()) {
   for (const auto& p : parts)
     whole_.push_back(std::make_unique<WholePart<D>>(p->name(), p->method()));
 }
 
 template <int D>
 const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
+  ++gathers_;
   for (const std::size_t k : involved_) {
     layout_[k] = parts[k]->contact_layout();
     if (!layout_[k])
       throw std::logic_error("part '" + parts[k]->name() + "' in a contact is not spread");
     static_cast<WholePart<D>&>(*whole_[k]).assemble(comm_, *parts[k], *layout_[k]);
+    stamp_[k].take(*parts[k], *layout_[k]);
   }
   return whole_;
+}
+
+template <int D>
+const PartList<D>& SpreadContacts<D>::for_limits(const PartList<D>& parts) {
+  Real changed = 0;
+  for (const std::size_t k : involved_) {
+    const parts::WholeLayout* layout = parts[k]->contact_layout();  // collective when rebuilt
+    if (!layout || layout != layout_[k] || !stamp_[k].same(*parts[k], *layout)) changed = 1;
+  }
+  // Every rank refreshes, or none: the gathers are collective.
+  if (comm_.max(changed) > 0) return refresh(parts);
+  ++reused_;
+  return whole_;
+}
+
+template <int D>
+void SpreadContacts<D>::Stamp::take(const parts::Part<D>& part, const parts::WholeLayout& layout) {
+  valid = true;
+  whole_of_local = layout.whole_of_local;
+  revision = 0;
+  id.clear();
+  if (const auto p = part.contact_points()) {
+    position = *p->position;
+    mass = *p->mass;
+    if (p->id) id = *p->id;
+  } else if (const auto s = part.contact_surface()) {
+    position = *s->node_position;
+    mass = *s->node_mass;
+    revision = s->revision;
+  }
+}
+
+template <int D>
+bool SpreadContacts<D>::Stamp::same(const parts::Part<D>& part,
+                                    const parts::WholeLayout& layout) const {
+  if (!valid || layout.whole_of_local != whole_of_local) return false;
+  // Bit for bit (a NaN never matches: such a state is refreshed).
+  auto bits = [](const auto& a, const auto& b) {
+    return a.size() == b.size() &&
+           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
+  };
+  if (const auto p = part.contact_points())
+    return bits(*p->position, position) && bits(*p->mass, mass) &&
+           (p->id ? bits(*p->id, id) : id.empty());
+  if (const auto s = part.contact_surface())
+    return s->revision == revision && bits(*s->node_position, position) &&
+           bits(*s->node_mass, mass);
+  return false;
 }
 
 template <int D>

@@ -9,11 +9,13 @@
 //
 // The cost is a replicated contact stage: every rank gathers the whole contact view of each part
 // in a contact (positions, velocities, masses, radii, spins, offsets, ids; a solid's nodes) at
-// every step, and evaluates every pair. Right for the scenes the tests run and for the paper's
-// 2D scene at its demo level; what scales instead (each rank the pairs of its own entities, the
-// other side's within reach sent with their sort keys) is docs/distributed.md's next step.
+// every step (once: the step limits take the views of the forces, for_limits), and evaluates
+// every pair. Right for the scenes the tests run and for the paper's 2D scene at its demo
+// level; what scales instead (views of the contact zone alone, then each rank the pairs of its
+// own entities) is docs/distributed.md's next step.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -98,6 +100,18 @@ class SpreadContacts {
 
   /// The stand-ins at the parts' current state (collective).
   const PartList<D>& refresh(const PartList<D>& parts);
+  /// The stand-ins for the step limits (collective): those of the last refresh when no rank's
+  /// part in a contact has changed what the limits read since (positions, masses, ids, the
+  /// layout, a surface's nodes and faces), else refreshed. Between a step's contact forces and
+  /// the next step's limits come the second half kick (velocities, which the limits do not
+  /// read) and an SPH part's new contact radii, which the limits read only through the pairs
+  /// of a stale load (pairing.hpp, load_stale), that is after a change of count, which
+  /// refreshes. A step's limits then cost a comparison of what each rank holds and one
+  /// maximum, not the gathers of every part's view.
+  const PartList<D>& for_limits(const PartList<D>& parts);
+  /// Refreshes so far, and step limits that took the last refresh's views instead.
+  std::int64_t gathers() const { return gathers_; }
+  std::int64_t reused() const { return reused_; }
   /// Each part in a contact takes the forces of its entities from its stand-in.
   void hand_back(const PartList<D>& parts) const;
 
@@ -106,6 +120,19 @@ class SpreadContacts {
   std::vector<std::size_t> involved_;
   PartList<D> whole_;
   std::vector<const parts::WholeLayout*> layout_;  // per part in a contact, of the last refresh
+  /// What the step limits read of a part's local entities, as the last refresh saw it.
+  struct Stamp {
+    bool valid = false;
+    std::vector<Index> whole_of_local;
+    std::vector<Vec<D>> position;
+    std::vector<Real> mass;
+    std::vector<std::int64_t> id;
+    std::uint64_t revision = 0;
+    void take(const parts::Part<D>& part, const parts::WholeLayout& layout);
+    bool same(const parts::Part<D>& part, const parts::WholeLayout& layout) const;
+  };
+  std::vector<Stamp> stamp_;
+  std::int64_t gathers_ = 0, reused_ = 0;
 };
 
 }  // namespace crater::contact

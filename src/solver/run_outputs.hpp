@@ -359,6 +359,13 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
     }
     j.end_object();
   }
+  if (const auto views = coupling ? coupling->view_counts() : std::nullopt) {
+    // The contacts' whole views on ranks: gathered, and reused by the step limits.
+    j.key("contact_views").begin_object();
+    j.field("gathers", static_cast<double>(views->first));
+    j.field("reused_for_limits", static_cast<double>(views->second));
+    j.end_object();
+  }
   // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.
   j.field("loop_time_s", r.loop_s);
   // This process's steps over its own wall time (a resumed run counts from where it resumed).
