@@ -22,4 +22,13 @@ template <int D>
 void build_pair_radius_list(std::span<const Vec<D>> x, std::span<const Real> reach,
                             NeighborList& out, std::vector<NeighborList>& scratch);
 
+/// For each point i of a, the points j of b with |a_i - b_j| <= max(reach_a[i], reach_b[j]),
+/// ascending: the same levels and search between two sets (SPH: the fluid against its mirror
+/// images, each image with its parent's radius). Throws std::invalid_argument when a radius is
+/// not positive and finite or the radii do not match the points.
+template <int D>
+void build_cross_radius_list(std::span<const Vec<D>> a, std::span<const Real> reach_a,
+                             std::span<const Vec<D>> b, std::span<const Real> reach_b,
+                             NeighborList& out, std::vector<NeighborList>& scratch);
+
 }  // namespace crater::neighbors

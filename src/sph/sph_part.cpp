@@ -364,7 +364,7 @@ void SphPart<D>::set_list_h() {
   if (h_max_ <= 2 * lo) parallel::for_each(f_.size(), [&](Index i) { h_list_[i] = h_max_; });
 }
 
-// Lists at the last rebuild's positions (a restart: the same); walls/images: the largest h.
+// Lists at the last rebuild's positions (a restart: the same); wall particles: the largest h.
 template <int D>
 void SphPart<D>::build_lists() {
   const std::span<const Vec<D>> xb = skin_.positions();
@@ -380,7 +380,15 @@ void SphPart<D>::build_lists() {
   if (has_walls_ && !cfg_.wall_no_slip) {
     ghosts_.select(xb, radius, cfg_.walls, domain_lo_, domain_hi_);
     ghosts_.place(xb);
-    neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(ghosts_.x), radius, fluid_to_ghost_);
+    // An image takes its parent's reach: a pair is listed when within the larger of the two,
+    // as between two particles (not at the largest reach of all, which a few hot particles set).
+    ghost_reach_.resize(static_cast<std::size_t>(ghosts_.size()));
+    parallel::for_each(ghosts_.size(), [&](Index g) {
+      ghost_reach_[at(g)] = list_reach_[at(ghosts_.parent[at(g)])];
+    });
+    neighbors::build_cross_radius_list<D>(
+        xb, std::span<const Real>(list_reach_), std::span<const Vec<D>>(ghosts_.x),
+        std::span<const Real>(ghost_reach_), fluid_to_ghost_, levels_);
   }
 }
 

@@ -292,7 +292,8 @@ class SphPart final : public parts::Part<D> {
   std::vector<Vec<D>> wall_x_, wall_mirror_;
   WallState<D> wall_;  // their pressure, density, sound speed and velocity (average_wall_state)
 
-  Ghosts<D> ghosts_;  // mirror images behind free-slip walls
+  Ghosts<D> ghosts_;               // mirror images behind free-slip walls
+  std::vector<Real> ghost_reach_;  // build_lists: per image its parent's list reach
 
   neighbors::NeighborList list_, wall_to_fluid_, fluid_to_wall_, fluid_to_ghost_;
   std::vector<neighbors::NeighborList> levels_;  // build_pair_radius_list's scratch

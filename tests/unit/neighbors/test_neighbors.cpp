@@ -586,6 +586,65 @@ TEST(PairRadiusList, MatchesBruteForce3D) {
   check_pair_radius_against_brute_force<3>();
 }
 
+// Two sets (SPH's fluid and its mirror images): for each a, the b within the larger radius.
+template <int D>
+void check_cross_radius_against_brute_force() {
+  std::uint64_t seed = 91 + D;
+  for (auto [na, nb] : {std::pair<std::size_t, std::size_t>{1, 1}, {7, 300}, {1200, 500}}) {
+    for (Real spread : {1.0, 1.5, 8.0, 40.0}) {
+      const auto a = random_points<D>(na, -0.5, 0.5, seed++);
+      const auto b = random_points<D>(nb, -0.3, 0.6, seed++);
+      std::mt19937_64 rng(seed++);
+      std::uniform_real_distribution<Real> u(0, 1);
+      std::vector<Real> ra(na), rb(nb);
+      for (auto& r : ra)
+        r = 0.02 * std::pow(spread, u(rng) * u(rng) * u(rng));
+      for (auto& r : rb)
+        r = 0.02 * std::pow(spread, u(rng) * u(rng));
+      Rows expected(na);
+      for (std::size_t i = 0; i < na; ++i)
+        for (std::size_t j = 0; j < nb; ++j) {
+          const Real r = std::max(ra[i], rb[j]);
+          if (dist2<D>(a[i], b[j]) <= r * r) expected[i].push_back(static_cast<Index>(j));
+        }
+      NeighborList nl;
+      std::vector<NeighborList> scratch;
+      build_cross_radius_list<D>(sp(a), std::span<const Real>(ra), sp(b), std::span<const Real>(rb),
+                                 nl, scratch);
+      SCOPED_TRACE(::testing::Message() << "D=" << D << " na=" << na << " spread=" << spread);
+      EXPECT_EQ(nl.size(), static_cast<Index>(na));
+      EXPECT_EQ(rows_of(nl), expected);
+    }
+  }
+}
+
+TEST(CrossRadiusList, MatchesBruteForce2D) {
+  check_cross_radius_against_brute_force<2>();
+}
+TEST(CrossRadiusList, MatchesBruteForce3D) {
+  check_cross_radius_against_brute_force<3>();
+}
+
+TEST(CrossRadiusList, RejectsBadRadiiAndTakesEmptySets) {
+  const auto a = random_points<2>(10, 0, 1, 3), b = random_points<2>(6, 0, 1, 4);
+  std::vector<Real> ra(a.size(), 0.1), rb(b.size(), 0.2);
+  NeighborList nl;
+  std::vector<NeighborList> scratch;
+  rb[2] = -1;
+  EXPECT_THROW(build_cross_radius_list<2>(sp(a), std::span<const Real>(ra), sp(b),
+                                          std::span<const Real>(rb), nl, scratch),
+               std::invalid_argument);
+  rb[2] = 0.2;
+  EXPECT_THROW(build_cross_radius_list<2>(sp(a), std::span<const Real>(ra).first(3), sp(b),
+                                          std::span<const Real>(rb), nl, scratch),
+               std::invalid_argument);
+  const std::vector<Vec<2>> none;
+  build_cross_radius_list<2>(sp(a), std::span<const Real>(ra), sp(none), std::span<const Real>(),
+                             nl, scratch);
+  EXPECT_EQ(nl.size(), 10);
+  EXPECT_EQ(nl.total_pairs(), 0);
+}
+
 TEST(PairRadiusList, OneRadiusIsTheFullList) {
   const auto x = random_points<3>(2000, 0, 1, 5);
   const std::vector<Real> reach(x.size(), 0.07);

@@ -1,5 +1,5 @@
 # ctest-timeout: 600
-# ctest-cost: 120
+# ctest-cost: 70
 """The Sedov-Taylor point blast in an ideal gas (gamma = 1.4), cylindrical (2D) and spherical
 (3D), against the self-similar solution.
 
