@@ -46,6 +46,18 @@ int circle_line(const V2& p, Real a, const V2& n, Real c, std::array<V2, 2>& out
   return 2;
 }
 
+// circle_circle(p, a, q, b) with q - p given by its length d > 0 and direction u (computed
+// as there): the same points, bit for bit.
+int circle_circle_at(const V2& p, Real a, Real b, Real d, const V2& u, std::array<V2, 2>& out) {
+  if (!(d > 0) || d > a + b || d < std::abs(a - b)) return 0;
+  const Real x = (d * d + a * a - b * b) / (2 * d);
+  const Real h = std::sqrt(std::max(Real(0), a * a - x * x));
+  const V2 perp(-u[1], u[0]);
+  out[0] = p + x * u + h * perp;
+  out[1] = p + x * u - h * perp;
+  return 2;
+}
+
 using Support = detail::Support<2>;
 
 class Disks final : public detail::Deposition<2, Disks, 16> {
@@ -75,25 +87,62 @@ class Disks final : public detail::Deposition<2, Disks, 16> {
     const Real ra = ga.r + r;
     // The grains within reach, and of them those that can be in the way of a place touching a
     // (one in the way of x, |x - ga.x| = ga.r + r, is within ga.r + g.r + 2 r of a): the test
-    // that a place is free looks at these (and a) alone, the one last in the way first.
-    std::vector<std::size_t> reach, in_way{a};
-    for_near(ga.x, ga.r + 2 * r + in_.r_max, [&](std::int64_t j) {
-      if (static_cast<std::size_t>(j) == a) return;
-      const Grain<2>& g = grains_[static_cast<std::size_t>(j)];
-      reach.push_back(static_cast<std::size_t>(j));
-      if ((g.x - ga.x).norm() <= ga.r + g.r + 2 * r) in_way.push_back(static_cast<std::size_t>(j));
-    });
+    // that a place is free looks at these (and a) alone, the one last in the way first. Both
+    // in for_near's order, from the grains near a (near(a, r)).
+    const std::vector<Near>& near = near_of(a, r);
+    std::array<std::int64_t, 2> lo, hi;
+    reach_.clear();
+    in_way_.assign(1, a);
+    if (cells_near(ga.x, ga.r + 2 * r + in_.r_max, lo, hi))
+      for (const Near& n : near) {
+        if (n.cell[0] < lo[0] || n.cell[0] > hi[0] || n.cell[1] < lo[1] || n.cell[1] > hi[1])
+          continue;
+        reach_.push_back(&n);
+        if (n.d <= ga.r + grains_[n.j].r + 2 * r) in_way_.push_back(n.j);
+      }
     std::size_t last_in_way = 0;
-    auto free_at = [&](const V2& x) { return fits_among(in_way, last_in_way, x, r); };
+    auto free_at = [&](const V2& x) { return fits_among(in_way_, last_in_way, x, r); };
     std::optional<V2> best;
     std::array<V2, 2> pts;
-    for (const std::size_t j : reach) {
-      const Grain<2>& gb = grains_[j];
-      consider(pts, circle_circle(ga.x, ra, gb.x, gb.r + r, pts), best, free_at);
-    }
+    for (const Near* n : reach_)
+      consider(pts, circle_circle_at(ga.x, ra, grains_[n->j].r + r, n->d, n->u, pts), best,
+               free_at);
     for (const Support& s : supports_)
       consider(pts, cross_support(s, ga.x, ra, r, pts), best, free_at);
     return best;
+  }
+
+  // A grain near open grain a: its index, cell, distance from a and direction from a.
+  struct Near {
+    std::size_t j = 0;
+    std::array<std::int64_t, 2> cell{};
+    Real d = 0;
+    V2 u = V2::Zero();
+  };
+
+  // The grains in the cells within a's reach for a grain of radius r or more, in for_near's
+  // order (the first axis fastest): collected once per open grain and count of grains for the
+  // largest radius asked (the window's radii come largest first), and filtered by cell for the
+  // smaller ones, which keeps for_near's order.
+  const std::vector<Near>& near_of(std::size_t a, Real r) const {
+    if (near_a_ == a && near_count_ == grains_.size() && near_r_ >= r) return near_;
+    near_a_ = a;
+    near_count_ = grains_.size();
+    near_r_ = r;
+    near_.clear();
+    const Grain<2>& ga = grains_[a];
+    for_near(ga.x, ga.r + 2 * r + in_.r_max, [&](std::int64_t j) {
+      if (static_cast<std::size_t>(j) == a) return;
+      const Grain<2>& gb = grains_[static_cast<std::size_t>(j)];
+      Near n;
+      n.j = static_cast<std::size_t>(j);
+      n.cell = cell_of(gb.x);
+      const V2 pq = gb.x - ga.x;
+      n.d = pq.norm();
+      if (n.d > 0) n.u = pq / n.d;
+      near_.push_back(n);
+    });
+    return near_;
   }
 
   // The lowest place that rests on two of the supports alone (a first grain, or the first on
@@ -121,6 +170,12 @@ class Disks final : public detail::Deposition<2, Disks, 16> {
   }
 
   const std::vector<Support> supports_;
+  // Scratch of lowest_next_to (kept between calls: no allocation per call).
+  mutable std::vector<Near> near_;
+  mutable std::size_t near_a_ = static_cast<std::size_t>(-1), near_count_ = 0;
+  mutable Real near_r_ = 0;
+  mutable std::vector<const Near*> reach_;
+  mutable std::vector<std::size_t> in_way_;
 };
 
 }  // namespace

@@ -206,13 +206,7 @@ class Deposition {
   template <class P>
   bool any_near(const V& x, Real reach, P&& pred) const {
     std::array<std::int64_t, D> lo, hi, c;
-    for (int d = 0; d < D; ++d) {
-      lo[d] = std::max<std::int64_t>(
-          0, static_cast<std::int64_t>(std::floor((x[d] - reach - in_.lo[d]) / cell_)));
-      hi[d] = std::min<std::int64_t>(
-          cells_[d] - 1, static_cast<std::int64_t>(std::floor((x[d] + reach - in_.lo[d]) / cell_)));
-      if (hi[d] < lo[d]) return false;
-    }
+    if (!cells_near(x, reach, lo, hi)) return false;
     c = lo;
     while (true) {
       for (std::int64_t g = head_[cell_index(c)]; g >= 0; g = next_[static_cast<std::size_t>(g)])
@@ -233,6 +227,29 @@ class Deposition {
       f(j);
       return false;
     });
+  }
+
+  // The cells within `reach` of x, each axis's range (clamped to the grid as any_near's); false
+  // when none.
+  bool cells_near(const V& x, Real reach, std::array<std::int64_t, D>& lo,
+                  std::array<std::int64_t, D>& hi) const {
+    for (int d = 0; d < D; ++d) {
+      lo[d] = std::max<std::int64_t>(
+          0, static_cast<std::int64_t>(std::floor((x[d] - reach - in_.lo[d]) / cell_)));
+      hi[d] = std::min<std::int64_t>(
+          cells_[d] - 1, static_cast<std::int64_t>(std::floor((x[d] + reach - in_.lo[d]) / cell_)));
+      if (hi[d] < lo[d]) return false;
+    }
+    return true;
+  }
+
+  // The cell a grain at x is kept in.
+  std::array<std::int64_t, D> cell_of(const V& x) const {
+    std::array<std::int64_t, D> c;
+    for (int d = 0; d < D; ++d)
+      c[d] = std::clamp<std::int64_t>(
+          static_cast<std::int64_t>(std::floor((x[d] - in_.lo[d]) / cell_)), 0, cells_[d] - 1);
+    return c;
   }
 
   // The fitting points of pts[0..n), the lowest kept in best; fit(x) says whether x fits.
@@ -277,11 +294,7 @@ class Deposition {
     if (grains_.size() >= in_.max_grains) throw std::length_error("dense packing: too many grains");
     const auto k = static_cast<std::int64_t>(grains_.size());
     grains_.push_back({x, r});
-    std::array<std::int64_t, D> c;
-    for (int d = 0; d < D; ++d)
-      c[d] = std::clamp<std::int64_t>(
-          static_cast<std::int64_t>(std::floor((x[d] - in_.lo[d]) / cell_)), 0, cells_[d] - 1);
-    const std::size_t cell = cell_index(c);
+    const std::size_t cell = cell_index(cell_of(x));
     next_.push_back(head_[cell]);
     head_[cell] = k;
     open_.push({height(x), k});
