@@ -32,9 +32,9 @@ void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts) {
 }
 
 template <int D>
-std::optional<std::pair<std::int64_t, std::int64_t>> Coupling<D>::view_counts() const {
+std::optional<typename Coupling<D>::ViewCounts> Coupling<D>::view_counts() const {
   if (!spread_) return std::nullopt;
-  return std::pair{spread_->gathers(), spread_->reused()};
+  return ViewCounts{spread_->gathers(), spread_->reused(), spread_->static_kept()};
 }
 
 template <int D>

@@ -101,9 +101,13 @@ class Coupling {
   ~Coupling();
 
   bool empty() const { return pairings_.empty(); }
-  /// On ranks: how many times the whole views were gathered, and how many step limits took
-  /// those of the forces instead (SpreadContacts::for_limits); none on one rank.
-  std::optional<std::pair<std::int64_t, std::int64_t>> view_counts() const;
+  /// On ranks: how many times the whole views were gathered, how many step limits took those
+  /// of the forces instead (SpreadContacts::for_limits), and how many particle views were
+  /// gathered without their masses, ids and radii (kept); none on one rank.
+  struct ViewCounts {
+    std::int64_t gathers = 0, reused_for_limits = 0, static_kept = 0;
+  };
+  std::optional<ViewCounts> view_counts() const;
 
   /// The parts were spread over the ranks of `comm` (Part::distribute): from now on every
   /// contact is evaluated on every rank over whole views of its parts (spread_coupling.hpp),

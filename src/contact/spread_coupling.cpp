@@ -1,8 +1,10 @@
 // Contacts between parts spread over ranks; see spread_coupling.hpp.
 #include "contact/spread_coupling.hpp"
 
+#include <bit>
 #include <cstring>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 namespace crater::contact {
@@ -30,8 +32,34 @@ std::optional<parts::ContactPoints<D>> WholePart<D>::contact_points() const {
 }
 
 template <int D>
+unsigned WholePart<D>::unchanged(const parts::Part<D>& part,
+                                 const parts::WholeLayout& layout) const {
+  const auto local = part.contact_points();
+  if (!is_points_ || !local || points_.position.size() != at(layout.whole_count)) return 0;
+  const Points& p = points_;
+  if (p.offsets != (local->surface_offset && local->surface_overlap) ||
+      p.ids != (local->id != nullptr))
+    return 0;
+  // The view's whole values against this rank's own, bit for bit (a NaN never matches).
+  auto holds = [&](const auto& whole, const auto& mine) {
+    using T = std::decay_t<decltype(whole[0])>;
+    for (const Index i : layout.owned)
+      if (std::memcmp(&whole[at(layout.whole_of_local[at(i)])], &mine[at(i)], sizeof(T)) != 0)
+        return false;
+    return true;
+  };
+  unsigned same = 0;
+  if (holds(p.mass, *local->mass) && (!p.ids || holds(p.id, *local->id))) same |= kMassId;
+  if (holds(p.radius, *local->radius)) same |= kRadius;
+  if (!p.offsets || (holds(p.surface_offset, *local->surface_offset) &&
+                     holds(p.surface_overlap, *local->surface_overlap)))
+    same |= kContactState;
+  return same;
+}
+
+template <int D>
 void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& part,
-                            const parts::WholeLayout& layout) {
+                            const parts::WholeLayout& layout, unsigned kept) {
   // Every field of the view in one all-gather.
   parts::WholeExchange x(layout);
   if (const auto local = part.contact_points()) {
@@ -40,28 +68,30 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
     p.spins = local->angular_velocity != nullptr;
     p.offsets = local->surface_offset && local->surface_overlap;
     p.ids = local->id != nullptr;
+    const bool mass_id = !(kept & kMassId), radius = !(kept & kRadius),
+               state = p.offsets && !(kept & kContactState);
     x.add(*local->position);
     x.add(*local->velocity);
-    x.add(*local->mass);
-    x.add(*local->radius);
+    if (mass_id) x.add(*local->mass);
+    if (radius) x.add(*local->radius);
     if (p.spins) x.add(*local->angular_velocity);
-    if (p.offsets) {
+    if (state) {
       x.add(*local->surface_offset);
       x.add(*local->surface_overlap);
     }
-    if (p.ids) x.add(*local->id);
+    if (p.ids && mass_id) x.add(*local->id);
     x.exchange(comm);
     std::size_t f = 0;
     p.position = x.take<Vec<D>>(f++);
     p.velocity = x.take<Vec<D>>(f++);
-    p.mass = x.take<Real>(f++);
-    p.radius = x.take<Real>(f++);
+    if (mass_id) p.mass = x.take<Real>(f++);
+    if (radius) p.radius = x.take<Real>(f++);
     if (p.spins) p.angular_velocity = x.take<AxialVec<D>>(f++);
-    if (p.offsets) {
+    if (state) {
       p.surface_offset = x.take<Real>(f++);
       p.surface_overlap = x.take<Real>(f++);
     }
-    if (p.ids) p.id = x.take<std::int64_t>(f++);
+    if (p.ids && mass_id) p.id = x.take<std::int64_t>(f++);
     return;
   }
   const auto local = part.contact_surface();
@@ -112,7 +142,23 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
     layout_[k] = parts[k]->contact_layout();
     if (!layout_[k])
       throw std::logic_error("part '" + parts[k]->name() + "' in a contact is not spread");
-    static_cast<WholePart<D>&>(*whole_[k]).assemble(comm_, *parts[k], *layout_[k]);
+    auto& whole = static_cast<WholePart<D>&>(*whole_[k]);
+    // A particle view keeps the fields that no rank's own entities have changed since the last
+    // gather (the same layout on every rank): one sum over the ranks of how many ranks changed
+    // each group of fields (WholePart::Kept), a 20-bit digit per group.
+    unsigned kept = 0;
+    if (parts[k]->contact_points()) {
+      const unsigned same =
+          stamp_[k].same_layout(*layout_[k]) ? whole.unchanged(*parts[k], *layout_[k]) : 0;
+      std::int64_t changed = 0;
+      for (const unsigned bit : {1u, 2u, 4u})
+        if (!(same & bit)) changed += std::int64_t{1} << (20 * std::countr_zero(bit));
+      changed = comm_.sum(changed);
+      for (const unsigned bit : {1u, 2u, 4u})
+        if (((changed >> (20 * std::countr_zero(bit))) & ((1 << 20) - 1)) == 0) kept |= bit;
+      if (kept & WholePart<D>::kMassId) ++static_kept_;
+    }
+    whole.assemble(comm_, *parts[k], *layout_[k], kept);
     stamp_[k].take(*parts[k], *layout_[k]);
   }
   return whole_;
@@ -135,6 +181,7 @@ template <int D>
 void SpreadContacts<D>::Stamp::take(const parts::Part<D>& part, const parts::WholeLayout& layout) {
   valid = true;
   whole_of_local = layout.whole_of_local;
+  owned = layout.owned;
   revision = 0;
   id.clear();
   if (const auto p = part.contact_points()) {

@@ -9,10 +9,11 @@
 //
 // The cost is a replicated contact stage: every rank gathers the whole contact view of each part
 // in a contact (positions, velocities, masses, radii, spins, offsets, ids; a solid's nodes) at
-// every step (once: the step limits take the views of the forces, for_limits), and evaluates
-// every pair. Right for the scenes the tests run and for the paper's 2D scene at its demo
-// level; what scales instead (views of the contact zone alone, then each rank the pairs of its
-// own entities) is docs/distributed.md's next step.
+// every step (once: the step limits take the views of the forces, for_limits; the masses, ids,
+// radii and contact state only when some rank's have changed), and evaluates every pair. Right for
+// the scenes the tests run and for the paper's 2D scene at its demo level; what scales instead
+// (views of the contact zone alone, then each rank the pairs of its own entities) is
+// docs/distributed.md's next step.
 #pragma once
 
 #include <cstdint>
@@ -63,9 +64,17 @@ class WholePart final : public parts::Part<D> {
     refuse_stepping(name_, "point_fields");
   }
 
-  /// The whole view of `part`, whose entities sit as `layout` says (collective).
+  /// The fields of a particle view that may keep their whole values from the last assemble
+  /// (bits of `kept` in assemble and of unchanged()).
+  enum Kept : unsigned { kMassId = 1, kRadius = 2, kContactState = 4 };
+  /// Of those fields, the ones whose values in this view are `part`'s for every entity this
+  /// rank owns, bit for bit (0 for a surface, or a view not assembled for this layout's part).
+  unsigned unchanged(const parts::Part<D>& part, const parts::WholeLayout& layout) const;
+  /// The whole view of `part`, whose entities sit as `layout` says (collective): every field
+  /// gathered but those `kept` (the same bits on every rank; the layout that of the last
+  /// assemble), whose whole values stay.
   void assemble(const parallel::Comm& comm, const parts::Part<D>& part,
-                const parts::WholeLayout& layout);
+                const parts::WholeLayout& layout, unsigned kept = 0);
   /// The forces handed to this stand-in, given to `part` for the entities it holds, and its
   /// particles' contact state written back.
   void hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const;
@@ -109,9 +118,12 @@ class SpreadContacts {
   /// refreshes. A step's limits then cost a comparison of what each rank holds and one
   /// maximum, not the gathers of every part's view.
   const PartList<D>& for_limits(const PartList<D>& parts);
-  /// Refreshes so far, and step limits that took the last refresh's views instead.
+  /// Refreshes so far, step limits that took the last refresh's views instead, and the
+  /// particle views refreshed without their masses, ids and radii (kept: unchanged on every
+  /// rank since).
   std::int64_t gathers() const { return gathers_; }
   std::int64_t reused() const { return reused_; }
+  std::int64_t static_kept() const { return static_kept_; }
   /// Each part in a contact takes the forces of its entities from its stand-in.
   void hand_back(const PartList<D>& parts) const;
 
@@ -123,16 +135,19 @@ class SpreadContacts {
   /// What the step limits read of a part's local entities, as the last refresh saw it.
   struct Stamp {
     bool valid = false;
-    std::vector<Index> whole_of_local;
+    std::vector<Index> whole_of_local, owned;
     std::vector<Vec<D>> position;
     std::vector<Real> mass;
     std::vector<std::int64_t> id;
     std::uint64_t revision = 0;
     void take(const parts::Part<D>& part, const parts::WholeLayout& layout);
     bool same(const parts::Part<D>& part, const parts::WholeLayout& layout) const;
+    bool same_layout(const parts::WholeLayout& layout) const {
+      return valid && layout.whole_of_local == whole_of_local && layout.owned == owned;
+    }
   };
   std::vector<Stamp> stamp_;
-  std::int64_t gathers_ = 0, reused_ = 0;
+  std::int64_t gathers_ = 0, reused_ = 0, static_kept_ = 0;
 };
 
 }  // namespace crater::contact

@@ -360,10 +360,12 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
     j.end_object();
   }
   if (const auto views = coupling ? coupling->view_counts() : std::nullopt) {
-    // The contacts' whole views on ranks: gathered, and reused by the step limits.
+    // The contacts' whole views on ranks: gathered, reused by the step limits, and particle
+    // views gathered without their unchanged masses, ids and radii.
     j.key("contact_views").begin_object();
-    j.field("gathers", static_cast<double>(views->first));
-    j.field("reused_for_limits", static_cast<double>(views->second));
+    j.field("gathers", static_cast<double>(views->gathers));
+    j.field("reused_for_limits", static_cast<double>(views->reused_for_limits));
+    j.field("static_fields_kept", static_cast<double>(views->static_kept));
     j.end_object();
   }
   // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.
