@@ -27,14 +27,19 @@ Coupling<D>::~Coupling() = default;
 
 template <int D>
 void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts) {
-  if (comm.size() > 1 && !pairings_.empty())
-    spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_);
+  if (comm.size() <= 1 || pairings_.empty()) return;
+  std::vector<std::pair<std::size_t, std::size_t>> sides;
+  for (const auto& p : pairings_)
+    sides.emplace_back(p->points(), p->other());
+  spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_, std::move(sides));
 }
 
 template <int D>
-std::optional<typename Coupling<D>::ViewCounts> Coupling<D>::view_counts() const {
+std::optional<ViewCounts> Coupling<D>::view_counts() const {
   if (!spread_) return std::nullopt;
-  return ViewCounts{spread_->gathers(), spread_->reused(), spread_->static_kept()};
+  return ViewCounts{spread_->gathers(),        spread_->reused(),
+                    spread_->static_kept(),    spread_->zone_views(),
+                    spread_->zone_particles(), spread_->zone_whole_particles()};
 }
 
 template <int D>

@@ -92,6 +92,15 @@ namespace crater::contact {
 template <int D>
 class SpreadContacts;  // spread_coupling.hpp
 
+/// On ranks: how many times the contacts' views were gathered, how many step limits took those
+/// of the forces instead (SpreadContacts::for_limits), how many whole particle views were
+/// gathered without their masses, ids and radii (kept), and the contact zones' views: how many,
+/// with how many particles in sum, of how many in their whole parts.
+struct ViewCounts {
+  std::int64_t gathers = 0, reused_for_limits = 0, static_kept = 0;
+  std::int64_t zone_views = 0, zone_particles = 0, zone_whole_particles = 0;
+};
+
 template <int D>
 class Coupling {
  public:
@@ -101,12 +110,7 @@ class Coupling {
   ~Coupling();
 
   bool empty() const { return pairings_.empty(); }
-  /// On ranks: how many times the whole views were gathered, how many step limits took those
-  /// of the forces instead (SpreadContacts::for_limits), and how many particle views were
-  /// gathered without their masses, ids and radii (kept); none on one rank.
-  struct ViewCounts {
-    std::int64_t gathers = 0, reused_for_limits = 0, static_kept = 0;
-  };
+  /// On ranks: the counts of its views (ViewCounts); none on one rank.
   std::optional<ViewCounts> view_counts() const;
 
   /// The parts were spread over the ranks of `comm` (Part::distribute): from now on every

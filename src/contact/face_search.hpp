@@ -15,10 +15,11 @@
 
 namespace crater::contact {
 
-/// Largest particle radius [m] (-infinity when none). On one thread: a scan of a few thousand
-/// radii costs about what a fork and join of the team would.
+/// Largest particle radius [m] (-infinity when none), of the whole part. On one thread: a scan of a
+/// few thousand radii costs about what a fork and join of the team would.
 template <int D>
 Real largest_radius(const parts::ContactPoints<D>& pts) {
+  if (pts.whole_count >= 0) return pts.whole_largest_radius_m;  // a contact zone's view
   Real r = -std::numeric_limits<Real>::infinity();
   for (const Real ri : *pts.radius)
     r = std::max(r, ri);

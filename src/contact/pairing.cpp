@@ -96,6 +96,7 @@ Real lightest_face_node(const parts::ContactSurface<D>& surf) {
 
 template <int D>
 Real lightest_particle(const parts::ContactPoints<D>& pts) {
+  if (pts.whole_count >= 0) return pts.whole_lightest_kg;  // a contact zone's view
   return parallel::min_over(static_cast<Index>(pts.mass->size()),
                             std::numeric_limits<Real>::infinity(),
                             [&](Index i) { return (*pts.mass)[at(i)]; });

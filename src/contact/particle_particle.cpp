@@ -17,10 +17,10 @@ namespace crater::contact {
 template <int D>
 void ParticleParticle<D>::limit_step(const PartList<D>& parts, PairLimits& limits) const {
   const auto pts = parts[this->points_]->contact_points();
-  if (!pts || pts->mass->empty()) return;
+  if (!pts || parts::whole_point_count(*pts) == 0) return;
   const Real m_min = lightest_particle(*pts);
   const auto grains = parts[this->other_]->contact_points();
-  if (!grains || grains->radius->empty()) return;
+  if (!grains || parts::whole_point_count(*grains) == 0) return;
   const Real r_max = largest_radius(*grains);
   const Real k_max = this->settings_.penalty_scale * grain_modulus_pa_ * (D == 3 ? r_max : Real(1));
   const Real m_grain = lightest_particle(*grains);

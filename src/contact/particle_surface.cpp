@@ -97,7 +97,7 @@ std::vector<Push<D>> pushes(const ContactSettings& settings, const std::vector<F
 template <int D>
 void ParticleSurface<D>::limit_step(const PartList<D>& parts, PairLimits& limits) const {
   const auto pts = parts[this->points_]->contact_points();
-  if (!pts || pts->mass->empty()) return;
+  if (!pts || parts::whole_point_count(*pts) == 0) return;
   const Real m_min = lightest_particle(*pts);
   const auto surf = this->surface_of(parts, 1);
   if (!surf || surf->face_stiffness->empty()) return;

@@ -1,8 +1,14 @@
 // Contacts between parts spread over ranks; see spread_coupling.hpp.
 #include "contact/spread_coupling.hpp"
 
+#include "contact/contact_zone.hpp"
+#include "core/axial_vec.hpp"
+
+#include <algorithm>
 #include <bit>
 #include <cstring>
+#include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -28,6 +34,11 @@ std::optional<parts::ContactPoints<D>> WholePart<D>::contact_points() const {
     v.surface_overlap = &p.surface_overlap;
   }
   if (p.ids) v.id = &p.id;
+  if (zone_) {
+    v.whole_count = whole_count_;
+    v.whole_lightest_kg = whole_lightest_kg_;
+    v.whole_largest_radius_m = whole_largest_radius_m_;
+  }
   return v;
 }
 
@@ -62,6 +73,7 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
                             const parts::WholeLayout& layout, unsigned kept) {
   // Every field of the view in one all-gather.
   parts::WholeExchange x(layout);
+  zone_ = false;
   if (const auto local = part.contact_points()) {
     is_points_ = true;
     Points& p = points_;
@@ -112,6 +124,27 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
 
 template <int D>
 void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const {
+  if (zone_) {
+    const std::size_t n = view_of_local_.size();
+    std::vector<Vec<D>> force(n, Vec<D>::Zero());
+    std::vector<AxialVec<D>> torque(torque_.empty() ? 0 : n, axial_zero<D>());
+    for (std::size_t i = 0; i < n; ++i)
+      if (const Index k = view_of_local_[i]; k >= 0) {
+        force[i] = force_[at(k)];
+        if (!torque.empty()) torque[i] = torque_[at(k)];
+      }
+    part.add_contact_forces(force, torque);
+    if (!points_.offsets) return;
+    const auto local = part.contact_points();
+    for (std::size_t i = 0; i < n; ++i)
+      if (const Index k = view_of_local_[i]; k >= 0) {
+        (*local->surface_offset)[i] = points_.surface_offset[at(k)];
+        (*local->surface_overlap)[i] = points_.surface_overlap[at(k)];
+      } else {
+        (*local->surface_offset)[i] = -1;
+      }
+    return;
+  }
   const std::vector<AxialVec<D>> torque =
       torque_.empty() ? std::vector<AxialVec<D>>{} : parts::local_of_whole(layout, torque_);
   part.add_contact_forces(parts::local_of_whole(layout, force_), torque);
@@ -126,9 +159,12 @@ void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& lay
 
 template <int D>
 SpreadContacts<D>::SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
-                                  std::vector<std::size_t> involved)
+                                  std::vector<std::size_t> involved,
+                                  std::vector<std::pair<std::size_t, std::size_t>> sides)
     : comm_(comm),
       involved_(std::move(involved)),
+      sides_(std::move(sides)),
+      zones_(parts.size()),
       layout_(parts.size(), nullptr),
       stamp_(parts.size()) {
   for (const auto& p : parts)
@@ -139,9 +175,18 @@ template <int D>
 const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
   ++gathers_;
   for (const std::size_t k : involved_) {
-    layout_[k] = parts[k]->contact_layout();
+    layout_[k] = parts[k]->contact_layout();  // collective when rebuilt: every rank, in order
     if (!layout_[k])
       throw std::logic_error("part '" + parts[k]->name() + "' in a contact is not spread");
+  }
+  // The whole views first (surfaces, and the particle parts that are the smaller side of a
+  // particle contact), then the contact zones, which read the surfaces' whole views.
+  std::vector<std::size_t> zoned;
+  for (const std::size_t k : involved_) {
+    if (zoned_view(parts, k)) {
+      zoned.push_back(k);
+      continue;
+    }
     auto& whole = static_cast<WholePart<D>&>(*whole_[k]);
     // A particle view keeps the fields that no rank's own entities have changed since the last
     // gather (the same layout on every rank): one sum over the ranks of how many ranks changed
@@ -160,6 +205,15 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
     }
     whole.assemble(comm_, *parts[k], *layout_[k], kept);
     stamp_[k].take(*parts[k], *layout_[k]);
+  }
+  for (const std::size_t k : zoned) {
+    auto& whole = static_cast<WholePart<D>&>(*whole_[k]);
+    const Real r_max = whole_largest_radius(comm_, *parts[k]->contact_points(), *layout_[k]);
+    whole.assemble_zone(comm_, *parts[k], *layout_[k], zone_of(parts, k, r_max), r_max);
+    stamp_[k].take(*parts[k], *layout_[k]);
+    ++zone_views_;
+    zone_particles_ += whole.view_count();
+    zone_whole_ += layout_[k]->whole_count;
   }
   return whole_;
 }

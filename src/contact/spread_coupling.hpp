@@ -7,12 +7,14 @@
 // forces) has one rank's bits on any rank count. Each part takes back the forces of the entities
 // it holds, and the particles their contact state (the initial-penetration offsets).
 //
-// The cost is a replicated contact stage: every rank gathers the whole contact view of each part
-// in a contact (positions, velocities, masses, radii, spins, offsets, ids; a solid's nodes) at
-// every step (once: the step limits take the views of the forces, for_limits; the masses, ids,
-// radii and contact state only when some rank's have changed), and evaluates every pair. Right for
-// the scenes the tests run and for the paper's 2D scene at its demo level; what scales instead
-// (views of the contact zone alone, then each rank the pairs of its own entities) is
+// The cost is a replicated contact stage: every rank gathers the contact view of each part in a
+// contact (positions, velocities, masses, radii, spins, offsets, ids; a solid's nodes) at every
+// step (once: the step limits take the views of the forces, for_limits; the masses, ids, radii
+// and contact state only when some rank's have changed) and evaluates every pair. A particle
+// part whose every contact is with a surface or a smaller particle part is viewed in its contact
+// zone alone (spread_zone.cpp): the particles that can touch the other side, a subsequence of
+// the whole part in its order, which holds every pair in contact. What scales further (each
+// rank the pairs of its own entities, the forces on others' sent back per pair) is
 // docs/distributed.md's next step.
 #pragma once
 
@@ -21,6 +23,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contact/pairing.hpp"
@@ -75,8 +78,17 @@ class WholePart final : public parts::Part<D> {
   /// assemble), whose whole values stay.
   void assemble(const parallel::Comm& comm, const parts::Part<D>& part,
                 const parts::WholeLayout& layout, unsigned kept = 0);
+  /// The view of `part`'s particles in its contact zone alone (`in_zone`: per local entity,
+  /// this rank's own that are), in the whole part's order, with the whole part's count, lightest
+  /// mass and largest contact radius (largest_radius_m, found by the caller) (collective).
+  void assemble_zone(const parallel::Comm& comm, const parts::Part<D>& part,
+                     const parts::WholeLayout& layout, const std::vector<char>& in_zone,
+                     Real largest_radius_m);
+  /// Particles in the view (a zone's: fewer than the whole part's).
+  Index view_count() const { return static_cast<Index>(points_.position.size()); }
   /// The forces handed to this stand-in, given to `part` for the entities it holds, and its
-  /// particles' contact state written back.
+  /// particles' contact state written back (a particle outside a zone's view: no force, and
+  /// no face touched: offset -1, as the pairing leaves a particle that touches none).
   void hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const;
 
  private:
@@ -95,6 +107,12 @@ class WholePart final : public parts::Part<D> {
     std::vector<Real> mass;
   } nodes_;
   std::optional<parts::ContactSurface<D>> surface_;
+  // A contact zone's view: per local entity its place in the view (-1: not in it), and what
+  // the view reports of the whole part.
+  bool zone_ = false;
+  std::vector<Index> view_of_local_;
+  Index whole_count_ = 0;
+  Real whole_lightest_kg_ = 0, whole_largest_radius_m_ = 0;
   std::vector<Vec<D>> force_;
   std::vector<AxialVec<D>> torque_;
 };
@@ -104,8 +122,10 @@ class WholePart final : public parts::Part<D> {
 template <int D>
 class SpreadContacts {
  public:
+  /// `sides`: the two parts of each contact (points, other), by index into `parts`.
   SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
-                 std::vector<std::size_t> involved);
+                 std::vector<std::size_t> involved,
+                 std::vector<std::pair<std::size_t, std::size_t>> sides);
 
   /// The stand-ins at the parts' current state (collective).
   const PartList<D>& refresh(const PartList<D>& parts);
@@ -124,13 +144,47 @@ class SpreadContacts {
   std::int64_t gathers() const { return gathers_; }
   std::int64_t reused() const { return reused_; }
   std::int64_t static_kept() const { return static_kept_; }
+  /// Contact zones' views gathered, and the particles they held and their whole parts had, in
+  /// sum over those gathers.
+  std::int64_t zone_views() const { return zone_views_; }
+  std::int64_t zone_particles() const { return zone_particles_; }
+  std::int64_t zone_whole_particles() const { return zone_whole_; }
   /// Each part in a contact takes the forces of its entities from its stand-in.
   void hand_back(const PartList<D>& parts) const;
 
  private:
   const parallel::Comm& comm_;
   std::vector<std::size_t> involved_;
+  std::vector<std::pair<std::size_t, std::size_t>> sides_;
   PartList<D> whole_;
+  /// Per part in a contact: this rank's own entities in its contact zone (per local entity), or
+  /// nullopt when its view is whole (a surface, or a particle part that is the smaller side of
+  /// a particle contact).
+  /// Whether part k's view is its contact zone's: a particle part that is, in every contact
+  /// it is in, against a surface or the larger side of a particle contact (by the whole
+  /// counts; equal counts: the later part), so that the other side's bodies are few.
+  bool zoned_view(const PartList<D>& parts, std::size_t k) const;
+  /// Part k's own entities in its contact zone, per local entity (collective); r_max: its
+  /// largest contact radius. The zone is found for a quarter more than each contact's reach and
+  /// kept while no layout or surface has changed and every pair within reach now was within
+  /// that then (each side has moved by less than the margin since): the view then keeps its
+  /// particles, and the pairings their candidate lists (candidates.hpp).
+  const std::vector<char>& zone_of(const PartList<D>& parts, std::size_t k, Real r_max);
+  struct Zone {
+    bool valid = false;
+    std::vector<char> in;  // per local entity
+    std::vector<Index> whole_of_local, owned;
+    std::vector<Vec<D>> x;  // this rank's own positions (per local entity)
+    struct Other {
+      std::uint64_t revision = 0;
+      std::vector<Index> whole_of_local, owned;  // a particle part's layout
+      std::vector<Vec<D>> x;                     // its own positions, or the whole surface's nodes
+      Real reach = 0;                            // the reach the zone was found for
+    };
+    std::vector<Other> others;  // per contact of the part, in order
+  };
+  std::vector<Zone> zones_;
+  static constexpr Real kZoneMargin = 0.25;
   std::vector<const parts::WholeLayout*> layout_;  // per part in a contact, of the last refresh
   /// What the step limits read of a part's local entities, as the last refresh saw it.
   struct Stamp {
@@ -148,6 +202,7 @@ class SpreadContacts {
   };
   std::vector<Stamp> stamp_;
   std::int64_t gathers_ = 0, reused_ = 0, static_kept_ = 0;
+  std::int64_t zone_views_ = 0, zone_particles_ = 0, zone_whole_ = 0;
 };
 
 }  // namespace crater::contact

@@ -97,7 +97,18 @@ struct ContactPoints {
   // Each particle's id, which stays with it when others are removed (multi-rate stepping
   // follows its particles across a removal with it).
   const std::vector<std::int64_t>* id = nullptr;
+  // A view of some of the part's particles (contacts on ranks: the contact zone,
+  // contact/spread_coupling.hpp): the whole part's count (-1: the view is the whole part), its
+  // lightest mass and largest contact radius, which the contacts' step limits and searches take.
+  Index whole_count = -1;
+  Real whole_lightest_kg = 0, whole_largest_radius_m = 0;
 };
+
+/// The particles of the part a view shows (all of them but for a contact zone's view).
+template <int D>
+Index whole_point_count(const ContactPoints<D>& p) {
+  return p.whole_count >= 0 ? p.whole_count : static_cast<Index>(p.position->size());
+}
 
 /// Nodes of a surface face: 2 (a segment, 2D) or 4 (a quadrilateral, 3D).
 template <int D>

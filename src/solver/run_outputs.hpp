@@ -270,6 +270,22 @@ struct SummaryInputs {
   Real energy_error;
 };
 
+// The contacts' views on ranks: gathered, reused by the step limits, the whole particle views
+// gathered without their unchanged masses, ids and radii, and the contact zones' views with the
+// share of their parts' particles they held.
+inline void write_contact_views(io::JsonWriter& j, const contact::ViewCounts& views) {
+  j.key("contact_views").begin_object();
+  j.field("gathers", static_cast<double>(views.gathers));
+  j.field("reused_for_limits", static_cast<double>(views.reused_for_limits));
+  j.field("static_fields_kept", static_cast<double>(views.static_kept));
+  j.field("zone_views", static_cast<double>(views.zone_views));
+  j.field("zone_share", views.zone_whole_particles > 0
+                            ? static_cast<double>(views.zone_particles) /
+                                  static_cast<double>(views.zone_whole_particles)
+                            : 0.0);
+  j.end_object();
+}
+
 template <int D>
 void write_summary(const io::Config& c, const SummaryInputs& in,
                    const std::vector<std::unique_ptr<Part<D>>>& parts, const std::string& status,
@@ -359,15 +375,8 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
     }
     j.end_object();
   }
-  if (const auto views = coupling ? coupling->view_counts() : std::nullopt) {
-    // The contacts' whole views on ranks: gathered, reused by the step limits, and particle
-    // views gathered without their unchanged masses, ids and radii.
-    j.key("contact_views").begin_object();
-    j.field("gathers", static_cast<double>(views->gathers));
-    j.field("reused_for_limits", static_cast<double>(views->reused_for_limits));
-    j.field("static_fields_kept", static_cast<double>(views->static_kept));
-    j.end_object();
-  }
+  if (const auto views = coupling ? coupling->view_counts() : std::nullopt)
+    write_contact_views(j, *views);
   // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.
   j.field("loop_time_s", r.loop_s);
   // This process's steps over its own wall time (a resumed run counts from where it resumed).

@@ -1,0 +1,260 @@
+// The contact zones' views of contacts on ranks (spread_coupling.hpp, docs/distributed.md
+// "Contacts on ranks"): a particle part's view holds only the particles that can touch the other
+// side's bodies this step, in the whole part's order. Every pair in contact is then in the views,
+// visited in the order of one rank, so the forces, diagnostics and history keep one rank's bits;
+// what the step limits read of the whole part (its count, lightest mass, largest radius) travels
+// beside the view.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <optional>
+
+#include "contact/contact_zone.hpp"
+#include "contact/face_search.hpp"
+#include "contact/spread_coupling.hpp"
+
+namespace crater::contact {
+
+namespace {
+
+constexpr Real kInf = std::numeric_limits<Real>::infinity();
+
+// A value's bytes appended to a record, or read from one.
+template <class T>
+void put(std::vector<std::byte>& out, const T& v) {
+  const auto* b = reinterpret_cast<const std::byte*>(&v);
+  out.insert(out.end(), b, b + sizeof(T));
+}
+template <class T>
+void get(const std::byte*& in, T& v) {
+  std::memcpy(static_cast<void*>(&v), in, sizeof(T));
+  in += sizeof(T);
+}
+
+}  // namespace
+
+template <int D>
+void WholePart<D>::assemble_zone(const parallel::Comm& comm, const parts::Part<D>& part,
+                                 const parts::WholeLayout& layout, const std::vector<char>& in_zone,
+                                 Real largest_radius_m) {
+  const auto local = part.contact_points();
+  if (!local) throw std::logic_error("part '" + part.name() + "' has no contact points");
+  is_points_ = true;
+  zone_ = true;
+  Points& p = points_;
+  p.spins = local->angular_velocity != nullptr;
+  p.offsets = local->surface_offset && local->surface_overlap;
+  p.ids = local->id != nullptr;
+  // What the step limits read of the whole part: each extreme is exact in any order.
+  Real m_min = kInf;
+  for (const Index i : layout.owned)
+    m_min = std::min(m_min, (*local->mass)[at(i)]);
+  whole_lightest_kg_ = comm.min(m_min);
+  whole_largest_radius_m_ = largest_radius_m;
+  whole_count_ = layout.whole_count;
+  // One record per particle of this rank's zone: its place in the whole part, then its fields.
+  std::vector<std::byte> mine;
+  for (const Index i : layout.owned) {
+    if (!in_zone[at(i)]) continue;
+    put(mine, static_cast<std::int64_t>(layout.whole_of_local[at(i)]));
+    put(mine, (*local->position)[at(i)]);
+    put(mine, (*local->velocity)[at(i)]);
+    put(mine, (*local->mass)[at(i)]);
+    put(mine, (*local->radius)[at(i)]);
+    if (p.spins) put(mine, (*local->angular_velocity)[at(i)]);
+    if (p.offsets) {
+      put(mine, (*local->surface_offset)[at(i)]);
+      put(mine, (*local->surface_overlap)[at(i)]);
+    }
+    if (p.ids) put(mine, (*local->id)[at(i)]);
+  }
+  const std::size_t record = sizeof(std::int64_t) + 2 * sizeof(Vec<D>) + 2 * sizeof(Real) +
+                             (p.spins ? sizeof(AxialVec<D>) : 0) +
+                             (p.offsets ? 2 * sizeof(Real) : 0) +
+                             (p.ids ? sizeof(std::int64_t) : 0);
+  const std::vector<std::byte> all = comm.all_gather(mine);
+  if (all.size() % record != 0)
+    throw std::logic_error("contact zone of part '" + part.name() + "': a torn record");
+  const std::size_t n = all.size() / record;
+  // The view in the whole part's order.
+  std::vector<std::int64_t> whole(n);
+  for (std::size_t r = 0; r < n; ++r)
+    std::memcpy(&whole[r], all.data() + r * record, sizeof(std::int64_t));
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return whole[a] < whole[b]; });
+  p.position.resize(n);
+  p.velocity.resize(n);
+  p.mass.resize(n);
+  p.radius.resize(n);
+  p.angular_velocity.resize(p.spins ? n : 0);
+  p.surface_offset.resize(p.offsets ? n : 0);
+  p.surface_overlap.resize(p.offsets ? n : 0);
+  p.id.resize(p.ids ? n : 0);
+  std::vector<std::int64_t> sorted(n);
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::byte* in = all.data() + order[q] * record;
+    get(in, sorted[q]);
+    get(in, p.position[q]);
+    get(in, p.velocity[q]);
+    get(in, p.mass[q]);
+    get(in, p.radius[q]);
+    if (p.spins) get(in, p.angular_velocity[q]);
+    if (p.offsets) {
+      get(in, p.surface_offset[q]);
+      get(in, p.surface_overlap[q]);
+    }
+    if (p.ids) get(in, p.id[q]);
+  }
+  // Each local entity's place in the view (a ghost: its owner's), or -1.
+  std::vector<Index> view_of_whole(at(layout.whole_count), -1);
+  for (std::size_t q = 0; q < n; ++q)
+    view_of_whole[at(sorted[q])] = static_cast<Index>(q);
+  view_of_local_.resize(layout.whole_of_local.size());
+  for (std::size_t i = 0; i < view_of_local_.size(); ++i)
+    view_of_local_[i] = view_of_whole[at(layout.whole_of_local[i])];
+}
+
+template <int D>
+bool SpreadContacts<D>::zoned_view(const PartList<D>& parts, std::size_t k) const {
+  if (!parts[k]->contact_points()) return false;
+  bool any = false;
+  for (const auto& [a, b] : sides_) {
+    if (a != k && b != k) continue;
+    const std::size_t q = a == k ? b : a;
+    any = true;
+    if (!parts[q]->contact_points()) continue;  // against a surface
+    const Index mine = layout_[k]->whole_count, theirs = layout_[q]->whole_count;
+    if (mine < theirs || (mine == theirs && k < q)) return false;
+  }
+  return any;
+}
+
+template <int D>
+const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, std::size_t k,
+                                                    Real r_max) {
+  const parts::WholeLayout& layout = *layout_[k];
+  const auto pts = parts[k]->contact_points();
+  Zone& z = zones_[k];
+  // Each contact of the part: the other side and the reach it needs now.
+  struct Need {
+    std::size_t part;
+    std::optional<parts::ContactSurface<D>> surface;
+    FaceCentres<D> centres;
+    Real reach;
+  };
+  std::vector<Need> need;
+  for (const auto& [a, b] : sides_) {
+    if (a != k && b != k) continue;
+    Need n{.part = a == k ? b : a, .surface = std::nullopt, .centres = {}, .reach = 0};
+    n.surface = whole_[n.part]->contact_surface();
+    if (n.surface) {
+      // A particle touching a face lies within its radius of the face, whose points lie
+      // within the face's half size of its centre (the candidates' test, face_search.cpp).
+      n.centres = face_centres(*n.surface);
+      n.reach = r_max + n.centres.half_size;
+    } else {
+      n.reach =
+          r_max + whole_largest_radius(comm_, *parts[n.part]->contact_points(), *layout_[n.part]);
+    }
+    need.push_back(std::move(n));
+  }
+  // How far any side has moved since the zone was found (+inf: renumbered, or not found).
+  auto moved = [](const std::vector<Vec<D>>& now, const std::vector<Vec<D>>& then,
+                  const std::vector<Index>& which) {
+    Real m = 0;
+    for (const Index i : which) {
+      const Real d = (now[at(i)] - then[at(i)]).norm();
+      m = std::isfinite(d) ? std::max(m, d) : kInf;
+    }
+    return m;
+  };
+  Real since = kInf;
+  if (z.valid && z.others.size() == need.size() && layout.whole_of_local == z.whole_of_local &&
+      layout.owned == z.owned) {
+    since = moved(*pts->position, z.x, layout.owned);
+    for (std::size_t c = 0; c < need.size() && std::isfinite(since); ++c) {
+      const typename Zone::Other& o = z.others[c];
+      if (need[c].surface) {
+        const auto& xn = *need[c].surface->node_position;
+        if (need[c].surface->revision != o.revision || xn.size() != o.x.size()) {
+          since = kInf;
+          break;
+        }
+        Real m = 0;
+        for (std::size_t i = 0; i < xn.size(); ++i) {
+          const Real d = (xn[i] - o.x[i]).norm();
+          m = std::isfinite(d) ? std::max(m, d) : kInf;
+        }
+        since = std::max(since, m);
+        continue;
+      }
+      const parts::WholeLayout& theirs = *layout_[need[c].part];
+      if (theirs.whole_of_local != o.whole_of_local || theirs.owned != o.owned) {
+        since = kInf;
+        break;
+      }
+      since = std::max(since,
+                       moved(*parts[need[c].part]->contact_points()->position, o.x, theirs.owned));
+    }
+  }
+  // The same decision on every rank: the largest displacement of every rank's, and each
+  // contact's reach, which every rank computed alike.
+  const Real g = comm_.max(since);
+  bool keep = std::isfinite(g);
+  for (std::size_t c = 0; keep && c < need.size(); ++c)
+    keep = (need[c].reach + 2 * g) * (1 + Real(1e-9)) <= z.others[c].reach;
+  if (keep) return z.in;
+
+  // Found afresh, for a quarter more than each reach.
+  z.valid = true;
+  z.in.assign(layout.whole_of_local.size(), 0);
+  z.whole_of_local = layout.whole_of_local;
+  z.owned = layout.owned;
+  z.x = *pts->position;
+  z.others.assign(need.size(), {});
+  auto mark = [&](const ZoneCells<D>& cells) {
+    for (const Index i : layout.owned)
+      if (!z.in[at(i)] && cells.near((*pts->position)[at(i)])) z.in[at(i)] = 1;
+  };
+  for (std::size_t c = 0; c < need.size(); ++c) {
+    typename Zone::Other& o = z.others[c];
+    o.reach = need[c].reach * (1 + kZoneMargin);
+    ZoneCells<D> cells(o.reach);
+    if (need[c].surface) {
+      o.revision = need[c].surface->revision;
+      o.x = *need[c].surface->node_position;
+      for (const Vec<D>& centre : need[c].centres.centre)
+        cells.occupy(centre);
+      cells.seal(nullptr);  // every rank holds the whole surface
+    } else {
+      // The other part's particles are spread over the ranks: the cells of every rank's own.
+      const auto other = parts[need[c].part]->contact_points();
+      const parts::WholeLayout& theirs = *layout_[need[c].part];
+      o.whole_of_local = theirs.whole_of_local;
+      o.owned = theirs.owned;
+      o.x = *other->position;
+      for (const Index i : theirs.owned)
+        cells.occupy((*other->position)[at(i)]);
+      cells.seal(&comm_);
+    }
+    mark(cells);
+  }
+  return z.in;
+}
+
+template void WholePart<2>::assemble_zone(const parallel::Comm&, const parts::Part<2>&,
+                                          const parts::WholeLayout&, const std::vector<char>&,
+                                          Real);
+template void WholePart<3>::assemble_zone(const parallel::Comm&, const parts::Part<3>&,
+                                          const parts::WholeLayout&, const std::vector<char>&,
+                                          Real);
+template bool SpreadContacts<2>::zoned_view(const PartList<2>&, std::size_t) const;
+template bool SpreadContacts<3>::zoned_view(const PartList<3>&, std::size_t) const;
+template const std::vector<char>& SpreadContacts<2>::zone_of(const PartList<2>&, std::size_t, Real);
+template const std::vector<char>& SpreadContacts<3>::zone_of(const PartList<3>&, std::size_t, Real);
+
+}  // namespace crater::contact
