@@ -163,11 +163,14 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
     need.push_back(std::move(n));
   }
   // How far any side has moved since the zone was found (+inf: renumbered, or not found).
+  // `which`: the entities to look at (null: every one).
   auto moved = [](const std::vector<Vec<D>>& now, const std::vector<Vec<D>>& then,
-                  const std::vector<Index>& which) {
+                  const std::vector<Index>* which) {
     Real m = 0;
-    for (const Index i : which) {
-      const Real d = (now[at(i)] - then[at(i)]).norm();
+    const std::size_t n = which ? which->size() : now.size();
+    for (std::size_t q = 0; q < n; ++q) {
+      const std::size_t i = which ? at((*which)[q]) : q;
+      const Real d = (now[i] - then[i]).norm();
       m = std::isfinite(d) ? std::max(m, d) : kInf;
     }
     return m;
@@ -175,7 +178,7 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
   Real since = kInf;
   if (z.valid && z.others.size() == need.size() && layout.whole_of_local == z.whole_of_local &&
       layout.owned == z.owned) {
-    since = moved(*pts->position, z.x, layout.owned);
+    since = moved(*pts->position, z.x, &layout.owned);
     for (std::size_t c = 0; c < need.size() && std::isfinite(since); ++c) {
       const typename Zone::Other& o = z.others[c];
       if (need[c].surface) {
@@ -184,12 +187,7 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
           since = kInf;
           break;
         }
-        Real m = 0;
-        for (std::size_t i = 0; i < xn.size(); ++i) {
-          const Real d = (xn[i] - o.x[i]).norm();
-          m = std::isfinite(d) ? std::max(m, d) : kInf;
-        }
-        since = std::max(since, m);
+        since = std::max(since, moved(xn, o.x, nullptr));
         continue;
       }
       const parts::WholeLayout& theirs = *layout_[need[c].part];
@@ -198,7 +196,7 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
         break;
       }
       since = std::max(since,
-                       moved(*parts[need[c].part]->contact_points()->position, o.x, theirs.owned));
+                       moved(*parts[need[c].part]->contact_points()->position, o.x, &theirs.owned));
     }
   }
   // The same decision on every rank: the largest displacement of every rank's, and each
