@@ -452,7 +452,7 @@ inline void DemPart<D>::rigid_wall_contacts(Index i, Real dt, const LawPair<Law>
     sum.torque += cf.torque_on_1 + rt.torque_on_1;
     wall_xi_[at] = cf.shear_history;
     if (rolling) wall_roll_[at] = rt.history;
-    if (!wall_load_.empty()) wall_load_[at] = wall_load(wall, cf, prep);  // measure_walls
+    if (!moving_.empty()) wall_load_[at] = wall_load(wall, cf, prep);  // measure_walls
     live |= 1u << w;
     count_contact(i, tally);
     sum.elastic += cf.elastic_energy + rt.elastic_energy;

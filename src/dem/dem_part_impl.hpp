@@ -257,8 +257,8 @@ class DemPart final : public parts::Part<D> {
   /// on ranks"; dem_ranks.cpp), once, before the first step, when every rank has built the whole
   /// part: each rank keeps the grains of its box of a recursive coordinate bisection and, from
   /// the next force stage on, holds copies (ghosts) of the other ranks' grains within reach of
-  /// its own. Results are then those of one rank, bit for bit. Throws InputError for a model
-  /// that does not run on several ranks yet (moving walls, settling around fixed bodies).
+  /// its own. Results are then those of one rank, bit for bit, moving walls included (their loads
+  /// are sums over the ranks, measure_walls).
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;

@@ -94,15 +94,10 @@ struct Reader {
 
 template <int D>
 void DemPart<D>::distribute(const parallel::Comm& comm) {
-  auto refuse = [&](const char* key, const char* what) {
-    throw InputError(where_, "parts[" + name_ + "]." + key,
-                     std::string(what) +
-                         " does not run on several MPI ranks yet (issue 29; "
-                         "docs/distributed.md): run it on one rank");
-  };
   if (comm_) throw std::logic_error("dem: distribute() twice");
-  if (!moving_.empty()) refuse("dem.wall_motion", "a moving wall");
-  if (!bodies_.empty()) refuse("packing", "settling around fixed bodies");
+  // A packing is settled by rank 0 alone, around the parts it is carved around, before the bed
+  // is spread (solver/assembly.cpp): a settling part is never spread.
+  if (!bodies_.empty()) throw std::logic_error("dem: a settling part spread over ranks");
   comm_ = &comm;
   // The part's books of grains removed are the root's: energies() and diagnostics() add every
   // rank's (every rank has just built, or restored, the whole part's).
@@ -220,6 +215,7 @@ void DemPart<D>::clear_wall_slots() {
   wall_xi_.assign(wall_slots, Vec<D>::Zero());
   if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
   wall_live_.assign(static_cast<std::size_t>(f_.size()), 0);
+  if (!moving_.empty()) wall_load_.assign(wall_slots, WallLoad{});
 }
 
 template <int D>

@@ -271,11 +271,7 @@ void DemPart<D>::compact_survivors() {
     if (*first >= count) *first = kept;
   if (comm_) fields::compact_exchange(outflow_.survivors(), ghost_, halo_send_, halo_recv_);
   resize_bond_scratch();
-  const std::size_t wall_slots = static_cast<std::size_t>(kept) * wall_planes_.size();
-  wall_xi_.assign(wall_slots, Vec<D>::Zero());
-  if (!wall_roll_.empty()) wall_roll_.assign(wall_slots, angular_zero<D>());
-  wall_live_.assign(static_cast<std::size_t>(kept), 0);
-  if (!wall_load_.empty()) wall_load_.assign(wall_slots, WallLoad{});
+  clear_wall_slots();
   skin_.compacted(outflow_.survivors());
   contact_layout_builds_ = -1;  // the whole bed has fewer grains
 }

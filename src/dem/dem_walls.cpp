@@ -104,6 +104,12 @@ Real prescribed_travel(const WallMotion& m, Real t0, Real t1) {
   return m.velocity_m_s * (from_start(b) - from_start(a));
 }
 
+// The moving walls' loads: per wall (at most one per face) its force, elastic force and
+// stiffness (measure_walls).
+constexpr std::size_t kMovingWalls = 6;
+constexpr std::size_t kWallSums = 3 * kMovingWalls;
+using WallSums = std::array<Real, kWallSums>;
+
 }  // namespace
 
 // The moving walls over the step [t, t + dt] (advance, before the grains drift), each by its
@@ -166,48 +172,43 @@ void DemPart<D>::set_wall_planes() {
   place_walls();
 }
 
-// The moving walls' loads of this force stage, each a sum over the grains in id-slot order
-// (fixed-order reduction: the same bits on any thread count), and the work they did on the
-// grains over the step, by the trapezoidal rule: W = -(F_old + F_new)/2 x (outward move),
-// booked as external work.
+// The moving walls' loads of this force stage, each a sum over the own grains that touch a
+// wall, with the same bits whichever rank holds which grain and on any thread count
+// (parallel::reproducible_sums: every rank gets the whole sums, and moves its walls alike), and
+// the work they did on the grains over the step, by the trapezoidal rule:
+// W = -(F_old + F_new)/2 x (outward move), booked as external work (the root's book on ranks:
+// energies() adds every rank's).
 template <int D>
 void DemPart<D>::measure_walls() {
   if (moving_.empty()) return;
-  struct Loads {
-    std::array<Real, 6> force{}, elastic{}, stiffness{};
-    Loads& operator+=(const Loads& o) {
-      for (std::size_t k = 0; k < force.size(); ++k) {
-        force[k] += o.force[k];
-        elastic[k] += o.elastic[k];
-        stiffness[k] += o.stiffness[k];
-      }
-      return *this;
-    }
-  };
+  if (moving_.size() > kMovingWalls) throw std::logic_error("dem: more moving walls than faces");
   const std::size_t walls = wall_planes_.size();
-  // Only the grains touching a wall add (the others' loads are zero: skipping them changes no
-  // bit, deterministic_sum_if).
-  const auto touching = [&](Index i) { return wall_live_[static_cast<std::size_t>(i)] != 0; };
-  const Loads s = parallel::deterministic_sum_if<Loads>(f_.size(), touching, [&](Index i) {
-    Loads l;
+  const auto touching = [&](Index i) {
+    return !ghost(i) && wall_live_[static_cast<std::size_t>(i)] != 0;
+  };
+  // Per grain: the force, elastic force and stiffness of its contact with each moving wall.
+  const auto loads = [&](Index i) {
+    WallSums l{};
     const std::uint32_t live = wall_live_[static_cast<std::size_t>(i)];
     for (std::size_t k = 0; k < moving_.size(); ++k) {
       const std::size_t slot = moving_[k].slot;
       if (!(live >> slot & 1u)) continue;
       const WallLoad& q = wall_load_[static_cast<std::size_t>(i) * walls + slot];
-      l.force[k] = q.force;
-      l.elastic[k] = q.elastic;
-      l.stiffness[k] = q.stiffness;
+      l[3 * k] = q.force;
+      l[3 * k + 1] = q.elastic;
+      l[3 * k + 2] = q.stiffness;
     }
     return l;
-  });
+  };
+  const auto s = parallel::reproducible_sums<kWallSums>(comm_, f_.size(), touching, loads);
+  const bool books = !comm_ || comm_->root();
   for (std::size_t k = 0; k < moving_.size(); ++k) {
     MovingWall& mw = moving_[k];
-    external_work_ -= 0.5 * (mw.force_n + s.force[k]) * mw.moved_out;
+    if (books) external_work_ -= 0.5 * (mw.force_n + s[3 * k]) * mw.moved_out;
     mw.moved_out = 0;
-    mw.force_n = s.force[k];
-    mw.elastic_n = s.elastic[k];
-    mw.stiffness_n_m = s.stiffness[k];
+    mw.force_n = s[3 * k];
+    mw.elastic_n = s[3 * k + 1];
+    mw.stiffness_n_m = s[3 * k + 2];
   }
 }
 

@@ -95,6 +95,14 @@ Real Comm::max(Real x) const {
   return x;
 }
 
+void Comm::max([[maybe_unused]] std::span<Real> x) const {
+#ifdef CRATER_HAVE_MPI
+  if (mpi_)
+    MPI_Allreduce(MPI_IN_PLACE, x.data(), to_int_count(x.size()), MPI_DOUBLE, MPI_MAX,
+                  MPI_COMM_WORLD);
+#endif
+}
+
 Real Comm::min(Real x) const {
 #ifdef CRATER_HAVE_MPI
   if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);

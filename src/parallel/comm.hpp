@@ -9,6 +9,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -40,6 +41,8 @@ class Comm {
   /// while the others would wait for it in a collective. Without MPI, std::exit(code).
   [[noreturn]] void abort(int code) const;
   Real max(Real x) const;
+  /// Element-wise maximum over the ranks, in place (exact).
+  void max(std::span<Real> x) const;
   Real min(Real x) const;
   std::int64_t sum(std::int64_t x) const;
 
@@ -127,6 +130,76 @@ inline Real reproducible_sum(const Comm& comm, std::span<const Real> terms) {
   comm.sum_exact(partials);
   s.set_partials(partials);
   return s.value();
+}
+
+/// The sums over every rank of K quantities, each term(i)[q] over the indices i in [0, n) of
+/// this rank that `adds(i)` admits: the same bits whichever rank holds which index, on any
+/// thread count, and without `comm` (one rank) as on any number of ranks. One ReproducibleSum
+/// per quantity, made with the bounds of the whole set: three collectives (the maxima, the
+/// count, the exact levels) whatever K. Every rank calls it, with or without indices.
+template <std::size_t K, class Adds, class Term>
+std::array<Real, K> reproducible_sums(const Comm* comm, Index n, Adds&& adds, Term&& term) {
+  std::array<Real, K> bound{};
+  std::int64_t count = 0;
+#pragma omp parallel if (n >= parallel_min())
+  {
+    std::array<Real, K> b{};
+    std::int64_t c = 0;
+#pragma omp for schedule(static) nowait
+    for (Index i = 0; i < n; ++i) {
+      if (!adds(i)) continue;
+      ++c;
+      const std::array<Real, K> x = term(i);
+      for (std::size_t q = 0; q < K; ++q)
+        if (std::isfinite(x[q])) b[q] = std::max(b[q], std::abs(x[q]));
+    }
+#pragma omp critical(crater_reproducible_sums)
+    {
+      count += c;
+      for (std::size_t q = 0; q < K; ++q)
+        bound[q] = std::max(bound[q], b[q]);
+    }
+  }
+  if (comm) {
+    comm->max(std::span<Real>(bound));
+    count = comm->sum(count);
+  }
+  std::array<ReproducibleSum, K> empty;
+  for (std::size_t q = 0; q < K; ++q)
+    empty[q] = ReproducibleSum(bound[q], count);
+  std::array<ReproducibleSum, K> total = empty;
+#pragma omp parallel if (n >= parallel_min())
+  {
+    std::array<ReproducibleSum, K> local = empty;  // with the same bounds
+#pragma omp for schedule(static) nowait
+    for (Index i = 0; i < n; ++i) {
+      if (!adds(i)) continue;
+      const std::array<Real, K> x = term(i);
+      for (std::size_t q = 0; q < K; ++q)
+        local[q].add(x[q]);
+    }
+#pragma omp critical(crater_reproducible_sums)
+    for (std::size_t q = 0; q < K; ++q)
+      total[q].merge(local[q]);
+  }
+  std::array<Real, K> out{};
+  if (comm) {
+    constexpr std::size_t kWords = ReproducibleSum::kLevels + 1;
+    std::vector<Real> partials(K * kWords);
+    for (std::size_t q = 0; q < K; ++q) {
+      const auto p = total[q].partials();
+      std::copy(p.begin(), p.end(), partials.begin() + static_cast<std::ptrdiff_t>(q * kWords));
+    }
+    comm->sum_exact(std::span<Real>(partials));
+    for (std::size_t q = 0; q < K; ++q) {
+      ReproducibleSum::Partials p{};
+      std::copy_n(partials.begin() + static_cast<std::ptrdiff_t>(q * kWords), kWords, p.begin());
+      total[q].set_partials(p);
+    }
+  }
+  for (std::size_t q = 0; q < K; ++q)
+    out[q] = total[q].value();
+  return out;
 }
 
 }  // namespace crater::parallel

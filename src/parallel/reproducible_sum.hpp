@@ -29,6 +29,9 @@ class ReproducibleSum {
  public:
   static constexpr int kLevels = 3;
 
+  /// A sum with no finite level: of zeros alone (made with bound 0).
+  ReproducibleSum() = default;
+
   /// An empty sum of at most `count` terms, each finite term at most `max_abs` in magnitude.
   ReproducibleSum(Real max_abs, std::int64_t count) {
     const int log_n =

@@ -23,6 +23,9 @@ springs, rolling resistance, rate-dependent friction) thrown onto a walled floor
 (2,684 steps): 901 bonds break, fragments roll, and grains change ranks (188 arrivals on a new
 rank on 2 ranks, 1,176 on 4) with their bonds; bit for bit on 2, 3, 4 ranks and 2 ranks of 2
 threads, its 2-rank checkpoint resumed on 3 ranks and on 1.
+The same bed between moving walls (the top one coming down at 0.5 m/s, the right one a servo at
+20 kPa): history.csv's wall columns and every file bit for bit on 2, 3, 4 ranks and 2 ranks of
+2 threads, its 2-rank checkpoint resumed on 3 ranks and on 1.
 tests/data/outflow_2d.toml (a gas disk, a cloud of grains and two bonded columns leaving a
 small box, domain.outflow = "remove": the gas and the columns leave whole, 76 of the cloud's 96
 grains, so the ranks end up holding none of a part's entities, bonded ones included): bit for
@@ -33,6 +36,7 @@ Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks
 threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
 runs every case on every count (test_ranks_full_slow.py).
 """
+import csv
 import json
 import shutil
 import subprocess
@@ -47,6 +51,10 @@ SCENE = SOURCE_DIR / "tests" / "data" / "dem_ranks_3d.toml"
 # Checkpoints by step count only (a wall-clock one would come when a run is slow).
 CHECKPOINTS = ["--set", "output.checkpoint_every_steps=500", "--set", "output.checkpoint_every_s=0"]
 CKPTS = ["step_000000001000.ckpt", "step_000000001224.ckpt"]
+# Moving walls: the top one from just above the bed down at 0.5 m/s, the right one a servo at
+# 20 kPa (their loads are sums over every rank's grains).
+WALLS = ('parts.bed.dem.wall_motion=[{face="top",position_m=0.06,velocity_m_s=-0.5},'
+         '{face="right",stress_pa=2.0e4,max_speed_m_s=0.5}]')
 
 
 @unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")
@@ -122,6 +130,22 @@ class CraterRunOnRanks(unittest.TestCase):
                           ckpts, "bonded", moved)
         assert_resumes_elsewhere(self, scene, ref, ckpts[0], opts, "bonded")
 
+    def test_moving_walls_on_ranks(self):
+        work = scratch("crater_ranks_walls")
+        ref = work / "plain"
+        opts = ["--set", WALLS, *CHECKPOINTS]
+        p = plain("run", SCENE, "--out", ref, "--force", "--quiet", "--threads", "1", *opts)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        rows = list(csv.DictReader(open(ref / "history.csv")))
+        # the top wall came down into the bursting grains, the servo wall carried them
+        self.assertAlmostEqual(float(rows[-1]["bed_wall_top_position_m"]), 0.06 - 0.5 * 0.004,
+                               delta=1e-9)
+        self.assertGreater(max(float(r["bed_wall_top_force_n"]) for r in rows), 0)
+        self.assertGreater(max(float(r["bed_wall_right_force_n"]) for r in rows), 0)
+        assert_ranks_give(self, ref, SCENE, opts, rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]),
+                          CKPTS, "moving walls")
+        assert_resumes_elsewhere(self, SCENE, ref, CKPTS[0], opts, "moving walls")
+
     def test_outflow_scene_on_ranks(self):
         work = scratch("crater_ranks_outflow")
         ref = work / "plain"
@@ -146,8 +170,6 @@ class CraterRunOnRanks(unittest.TestCase):
         work = scratch("crater_ranks_refused")
         cases = [
             (["paper-20cm", "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
-            ([SCENE, "--set", "parts.bed.dem.wall_motion=[{face=\"top\",velocity_m_s=-0.1}]"],
-             "key 'parts[bed].dem.wall_motion'"),
         ]
         for args, expected in cases:
             with self.subTest(args=args):

@@ -79,9 +79,19 @@ agitation_m_s = 6.0
   return s;
 }
 
+// Moving walls: the top wall starts a little above the bed and comes down at 0.5 m/s, the
+// right one holds 20 kPa by its servo; the bursting grains load both from the first
+// milliseconds.
 template <int D>
-std::unique_ptr<DemPart<D>> make_bed() {
-  const io::Config config = io::load_scenario_text(scenario(D), "dem-ranks.toml", {});
+std::vector<std::string> moving_walls() {
+  const std::string top = D == 3 ? "0.06" : "0.12";
+  return {"parts.bed.dem.wall_motion=[{face=\"top\",position_m=" + top +
+          ",velocity_m_s=-0.5},{face=\"right\",stress_pa=2.0e4,max_speed_m_s=0.5}]"};
+}
+
+template <int D>
+std::unique_ptr<DemPart<D>> make_bed(const std::vector<std::string>& overrides) {
+  const io::Config config = io::load_scenario_text(scenario(D), "dem-ranks.toml", overrides);
   return std::make_unique<DemPart<D>>(solver::dem_settings(config, config.parts.at(0)));
 }
 
@@ -145,13 +155,17 @@ Index mismatches(const std::vector<std::vector<Real>>& ref,
   return bad;
 }
 
+// `overrides`: scenario keys set on the bed (moving_walls). Its history columns (the moving
+// walls' positions, speeds and loads) are compared at every check too; returns the
+// reference's at each check.
 template <int D>
-void ranks_match_one_rank(int steps) {
+std::vector<std::vector<Real>> ranks_match_one_rank(
+    int steps, const std::vector<std::string>& overrides = {}) {
   const auto& comm = parallel::Comm::world();
   constexpr int kChecks = 10;
-  auto ref = make_bed<D>();
-  auto bed = make_bed<D>();
-  ASSERT_EQ(ref->count(), bed->count());
+  auto ref = make_bed<D>(overrides);
+  auto bed = make_bed<D>(overrides);
+  EXPECT_EQ(ref->count(), bed->count());
   const Index grains = ref->count();
   const Real dt = 0.5 * ref->stable_step().dt_s;
   bed->distribute(comm);
@@ -160,7 +174,7 @@ void ranks_match_one_rank(int steps) {
   const int threads = parallel::max_threads();
   parallel::set_threads(1);
   std::vector<std::vector<std::vector<Real>>> expected;
-  std::vector<std::vector<Real>> expected_energy;
+  std::vector<std::vector<Real>> expected_energy, expected_history;
   ref->compute_forces(0);
   for (int s = 1; s <= steps; ++s) {
     ref->advance((s - 1) * dt, dt);
@@ -169,6 +183,7 @@ void ranks_match_one_rank(int steps) {
     if (s % (steps / kChecks) == 0) {
       expected.push_back(by_id<D>(owned_state<D>(*ref)));
       expected_energy.push_back(energy_words(ref->energies()));
+      expected_history.push_back(ref->history_values());
     }
   }
   parallel::set_threads(threads);
@@ -177,7 +192,7 @@ void ranks_match_one_rank(int steps) {
   std::vector<std::uint8_t> here(static_cast<std::size_t>(grains), 0), now = here;
   bed->compute_forces(0);
   std::vector<Index> bad;
-  int bad_energy = 0;
+  int bad_energy = 0, bad_history = 0;
   for (int s = 1; s <= steps; ++s) {
     bed->advance((s - 1) * dt, dt);
     bed->compute_forces(s * dt);
@@ -200,10 +215,15 @@ void ranks_match_one_rank(int steps) {
       const auto energy = energy_words(bed->energies());  // collective
       bad_energy += std::memcmp(energy.data(), expected_energy[bad.size()].data(),
                                 energy.size() * sizeof(Real)) != 0;
+      const std::vector<Real> history = bed->history_values();
+      const std::vector<Real>& want = expected_history[bad.size()];
+      bad_history += history.size() != want.size() ||
+                     std::memcmp(history.data(), want.data(), want.size() * sizeof(Real)) != 0;
       bad.push_back(mismatches<D>(expected[bad.size()], all));
     }
   }
   EXPECT_EQ(bad_energy, 0) << "checks at which the energies or work books differ from one rank's";
+  EXPECT_EQ(bad_history, 0) << "checks at which the history columns differ from one rank's";
   for (std::size_t c = 0; c < bad.size(); ++c)
     EXPECT_EQ(bad[c], 0) << "grains that differ from one rank's run at check " << c + 1 << " of "
                          << kChecks << " (" << comm.size() << " ranks, " << grains << " grains)";
@@ -222,6 +242,7 @@ void ranks_match_one_rank(int steps) {
     EXPECT_LT(moves, 100 * grains) << "grains that changed rank: more than a stirred bed can";
     EXPECT_GT(held, 0) << "ghosts held over the run";
   }
+  return expected_history;
 }
 
 TEST(DemRanks, BedOnRanksMatchesOneRankBitForBit3D) {
@@ -231,19 +252,37 @@ TEST(DemRanks, BedOnRanksMatchesOneRankBitForBit2D) {
   ranks_match_one_rank<2>(5000);
 }
 
-TEST(DemRanks, ModelsNotYetOnRanksAreRefused) {
-  const io::Config config =
-      io::load_scenario_text(scenario(2), "dem-ranks.toml",
-                             {R"(parts.bed.dem.wall_motion=[{face="top",velocity_m_s=-0.1}])"});
-  DemPart<2> part(solver::dem_settings(config, config.parts.at(0)));
-  try {
-    part.distribute(parallel::Comm::world());
-    ADD_FAILURE() << "a bed with a moving wall was spread over ranks";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("parts[bed].dem.wall_motion"), std::string::npos)
-        << e.what();
-    EXPECT_NE(std::string(e.what()).find("does not run on several MPI ranks"), std::string::npos);
-  }
+// Moving walls (a wall at constant speed and a servo wall): their loads are sums over the
+// grains of every rank, which every rank needs to move its walls alike. Besides one rank's bits,
+// the test checks that the walls did something: the top came down, the servo wall came in,
+// and both carried grains.
+template <int D>
+void moving_walls_match_one_rank(int steps) {
+  const std::vector<std::vector<Real>> h = ranks_match_one_rank<D>(steps, moving_walls<D>());
+  const auto bed = make_bed<D>(moving_walls<D>());
+  const std::vector<std::string> cols = bed->history_columns();
+  ASSERT_EQ(cols.size(), 8u);  // top, then right: position, velocity, force, stress
+  EXPECT_EQ(cols[0], "bed_wall_top_position_m");
+  EXPECT_EQ(cols[7], "bed_wall_right_stress_pa");
+  ASSERT_FALSE(h.empty());
+  const Real dt = 0.5 * bed->stable_step().dt_s;
+  const Real top0 = D == 3 ? 0.06 : 0.12;
+  EXPECT_NEAR(h.back()[0], top0 - 0.5 * steps * dt, 1e-9) << "the top wall's position";
+  EXPECT_TRUE(std::any_of(h.begin(), h.end(), [](const auto& row) { return row[2] > 0; }))
+      << "the top wall met no grain at any check";
+  // The servo wall: below its target (the grains burst away from it) it comes in at its
+  // largest speed, and it carried them at some checks.
+  const Real right0 = D == 3 ? 0.054 : 0.144;
+  EXPECT_LT(h.back()[4], right0 - 0.1 * 0.5 * steps * dt) << "the servo wall did not come in";
+  EXPECT_TRUE(std::any_of(h.begin(), h.end(), [](const auto& row) { return row[6] > 0; }))
+      << "the servo wall met no grain at any check";
+}
+
+TEST(DemRanks, MovingWallsOnRanksMatchOneRankBitForBit2D) {
+  moving_walls_match_one_rank<2>(5000);
+}
+TEST(DemRanks, MovingWallsOnRanksMatchOneRankBitForBit3D) {
+  moving_walls_match_one_rank<3>(3000);
 }
 
 }  // namespace

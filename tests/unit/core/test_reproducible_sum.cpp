@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <random>
 #include <vector>
 
+#include "parallel/comm.hpp"
 #include "parallel/reproducible_sum.hpp"
 
 namespace {
@@ -156,6 +158,46 @@ TEST(ReproducibleSum, ParallelHelperIsTheSameOnOneAndTwoThreads) {
     const Real got = crater::parallel::reproducible_sum(
         static_cast<Index>(xs.size()), [&](Index i) { return xs[static_cast<std::size_t>(i)]; });
     EXPECT_EQ(bits(got), bits(expected)) << t << " threads";
+  }
+  omp_set_num_threads(threads);
+}
+
+// parallel::reproducible_sums (comm.hpp), without a communicator: each of its quantities is the
+// ReproducibleSum of the admitted terms, made with their bound and count (the same bits as
+// `serial` of them), on one and two threads and in any order of the indices; a quantity with
+// no nonzero term is +0. Its sums over ranks: tests/mpi/test_dem_ranks.cpp (moving walls).
+TEST(ReproducibleSum, SeveralQuantitiesOverAdmittedIndices) {
+  constexpr std::size_t kQ = 3;
+  const std::vector<Real> a = hard_terms(60000, 21), b = hard_terms(60000, 22);
+  const auto n = static_cast<Index>(a.size());
+  auto admitted = [](Index i) { return i % 3 != 1; };
+  std::vector<Real> a_in, b_in;
+  for (Index i = 0; i < n; ++i)
+    if (admitted(i)) {
+      a_in.push_back(a[static_cast<std::size_t>(i)]);
+      b_in.push_back(b[static_cast<std::size_t>(i)]);
+    }
+  // serial() makes its sum with the bound and count of the terms it is given: the admitted ones.
+  const Real want_a = serial(a_in), want_b = serial(b_in);
+  std::vector<Index> order(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+    order[static_cast<std::size_t>(i)] = i;
+  const int threads = omp_get_max_threads();
+  std::mt19937_64 rng(4);
+  for (int t : {1, 2}) {
+    omp_set_num_threads(t);
+    for (int trial = 0; trial < 2; ++trial) {
+      const auto got = crater::parallel::reproducible_sums<kQ>(
+          nullptr, n, [&](Index k) { return admitted(order[static_cast<std::size_t>(k)]); },
+          [&](Index k) {
+            const auto i = static_cast<std::size_t>(order[static_cast<std::size_t>(k)]);
+            return std::array<Real, kQ>{a[i], b[i], 0.0};
+          });
+      EXPECT_EQ(bits(got[0]), bits(want_a)) << t << " threads, trial " << trial;
+      EXPECT_EQ(bits(got[1]), bits(want_b)) << t << " threads, trial " << trial;
+      EXPECT_EQ(bits(got[2]), bits(0.0));
+      std::shuffle(order.begin(), order.end(), rng);
+    }
   }
   omp_set_num_threads(threads);
 }

@@ -20,8 +20,9 @@ scatter and draws the figure: a calibration study's statistics, two thirds of th
   state of disks, sin(phi) about 0.25-0.35 (Estrada et al. 2011, PRE 84 011306, contact
   dynamics, simple shear; as recalled) with the scatter of a 400-grain sample;
 - the dense sample dilates: psi > 5 deg near the peak and eps_v < 0 at the end.
-Measured (2026-11-26): peak 33.6 / 33.4 / 30.2 deg, residual 15.4 / 16.5 / 16.8 deg, psi 24.5 /
-24.2 / 22.4 deg for seeds 1 / 2 / 3. Wall time: about 1 minute per seed on one core (550,000
+Measured (2026-12-01, the walls' loads as reproducible sums): peak 33.1 / 32.1 / 29.3 deg,
+residual 16.7 / 15.8 / 18.4 deg, psi 22.8 / 24.5 / 20.8 deg for seeds 1 / 2 / 3 (2026-11-26:
+33.6 / 33.4 / 30.2, 15.4 / 16.5 / 16.8, 24.5 / 24.2 / 22.4); servo while shearing +1.7 to +2.0 %. Wall time: about 1 minute per seed on one core (550,000
 steps of 400 grains).
 """
 import sys

@@ -12,8 +12,9 @@ the nominal rate (contact angle 5.71 deg x 2 and x 3: mu 0.202 at 0.1 /s, 0.308 
 
 Asserted:
 - the mean over the three packings of the measured rise is within 10 % of the mean of the
-  predicted rise (the issue's tolerance). Measured (2026-11-26): 2.87 against 3.04 deg, ratio
-  0.946 (per packing 1.13 / 1.03 / 0.77). The comparison is a difference of differences of a
+  predicted rise (the issue's tolerance). Measured (2026-12-01, the walls' loads as
+  reproducible sums): 3.04 against 3.12 deg, ratio 0.974 (per packing 1.19 / 1.05 / 0.80;
+  2026-11-26: 2.87 against 3.04, 0.946). The comparison is a difference of differences of a
   400-grain sample's angle, and the law-off runs at another mu follow other trajectories: over
   twelve packings (rate_study.py 1 ... 12) the per-packing ratio spans 0.59-1.86, the mean
   rises are 2.87 against 3.11 deg (0.922), and the standard error of the paired difference is

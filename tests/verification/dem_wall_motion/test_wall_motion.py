@@ -9,13 +9,14 @@
 - A servo wall holds its stress on a settled bed: 102 sand grains (the paper's sand, radii
   4-10 mm) settled in a 0.2 m wide box, the top wall servo-controlled to 20 kPa (gain 0.5, at
   most 5 cm/s), frictionless walls. Over the last 40 % of 60 ms the mean stress is within 0.5 %
-  of the target and every row within 3 % (measured: -0.003 %; rows -0.5 % to +1.1 %); the
+  of the target and every row within 3 % (measured: -0.002 %; rows -0.5 % to +1.1 %); the
   bottom wall (velocity 0: a fixed wall that reports its load) carries the top's force plus
   the grains' weight, to 5 % of the weight (frictionless side walls carry none of it;
   measured 1.0 %).
-- The same run is bit-identical on 1 and 2 threads (the walls' loads are fixed-order sums),
-  and a run restarted from a checkpoint taken while the servo works ends bit-identical to the
-  uninterrupted one (the walls' planes, speeds and loads are in the checkpoint).
+- The same run is bit-identical on 1 and 2 threads (the walls' loads are reproducible sums:
+  the same bits in any order), and a run restarted from a checkpoint taken while the servo
+  works ends bit-identical to the uninterrupted one (the walls' planes, speeds and loads are in
+  the checkpoint).
 - Input errors (exit 2, naming the key): a face that is not one of the part's walls; both
   velocity_m_s and stress_pa, or neither; two entries of one face whose windows overlap.
 - Zero wall friction gave NaN contact energies (the sliding power divided by the step, zero
