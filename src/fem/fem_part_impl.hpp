@@ -94,6 +94,7 @@ class FemPart final : public parts::Part<D> {
   parts::Energies energies() const override;
 
   const std::vector<Vec<D>>& points() const override { return mesh_.position; }
+  std::vector<Vec<D>> points_numbered(const std::vector<Index>& numbers) const override;  // ranks
 
   parts::Geometry<D> geometry() const override;
   std::vector<fields::FieldView> point_fields() const override;

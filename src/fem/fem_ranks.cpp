@@ -14,6 +14,7 @@
 // rank count. The cuts are not made again: the mesh does not move through space as particles
 // do, and erosion thins the load only where the plate breaks.
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <span>
 #include <string>
@@ -282,6 +283,37 @@ std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const {
   return g;
 }
 
+// The nodes numbered `numbers` (as on one rank), from their owners, on every rank: each rank
+// sends the positions of those it owns (node_id_ ascends: the local numbering keeps the global
+// order), one small all-gather.
+template <int D>
+std::vector<Vec<D>> FemPart<D>::points_numbered(const std::vector<Index>& numbers) const {
+  if (!comm_) return parts::Part<D>::points_numbered(numbers);
+  struct Found {
+    std::int64_t slot;  // into `numbers`
+    std::array<Real, D> x;
+  };
+  std::vector<Found> mine;
+  for (std::size_t k = 0; k < numbers.size(); ++k) {
+    const auto it = std::lower_bound(node_id_.begin(), node_id_.end(), numbers[k]);
+    if (it == node_id_.end() || *it != numbers[k]) continue;
+    const auto i = static_cast<Index>(it - node_id_.begin());
+    if (ghost_node(i)) continue;
+    Found f{static_cast<std::int64_t>(k), {}};
+    for (int d = 0; d < D; ++d)
+      f.x[at(d)] = mesh_.position[at(i)][d];
+    mine.push_back(f);
+  }
+  const std::vector<Found> all = parallel::all_gather(*comm_, std::span<const Found>(mine));
+  if (all.size() != numbers.size())
+    throw std::logic_error("fem: a numbered node is owned by no rank, or by several");
+  std::vector<Vec<D>> out(numbers.size());
+  for (const Found& f : all)
+    for (int d = 0; d < D; ++d)
+      out[at(f.slot)][d] = f.x[at(d)];
+  return out;
+}
+
 // The elements each rank owns (fewest, most), the ghost nodes and elements it keeps (mean,
 // most), and the bytes of one step's exchange summed over the ranks.
 template <int D>
@@ -347,14 +379,15 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
   if (comm.root()) archive_values(w, *this, report, mass_scaled_first);
 }
 
-#define CRATER_FEM_RANKS(D)                                                             \
-  template const parts::WholeLayout* FemPart<D>::contact_layout() const;                \
-  template std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(   \
-      const std::vector<Vec<D>>&) const;                                                \
-  template void FemPart<D>::distribute(const parallel::Comm&);                          \
-  template void FemPart<D>::refresh_ghosts();                                           \
-  template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const; \
-  template std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const;             \
+#define CRATER_FEM_RANKS(D)                                                                  \
+  template const parts::WholeLayout* FemPart<D>::contact_layout() const;                     \
+  template std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(        \
+      const std::vector<Vec<D>>&) const;                                                     \
+  template void FemPart<D>::distribute(const parallel::Comm&);                               \
+  template void FemPart<D>::refresh_ghosts();                                                \
+  template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const;      \
+  template std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const;                  \
+  template std::vector<Vec<D>> FemPart<D>::points_numbered(const std::vector<Index>&) const; \
   template void FemPart<D>::save_gathered(parts::StateWriter&) const;
 CRATER_FEM_RANKS(2)
 CRATER_FEM_RANKS(3)

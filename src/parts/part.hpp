@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/index.hpp"
 #include "core/types.hpp"
 #include "fields/field_set.hpp"
 #include "parallel/comm.hpp"
@@ -166,6 +167,18 @@ class Part {
   /// The points' current positions (particles, or nodes) without building the cells: for a
   /// probe that reads a few entities per step. Valid until the part's next stage.
   virtual const std::vector<Vec<D>>& points() const { return *geometry().points; }
+  /// The current positions of the points numbered `numbers` as one rank numbers them (a mesh
+  /// part's nodes by number), in that order, on every rank: for a probe that follows a few
+  /// nodes every step. Collective on ranks (every rank passes the same numbers); the default
+  /// reads points() and serves a part that is not spread (a spread mesh part overrides it).
+  virtual std::vector<Vec<D>> points_numbered(const std::vector<Index>& numbers) const {
+    const std::vector<Vec<D>>& x = points();
+    std::vector<Vec<D>> out;
+    out.reserve(numbers.size());
+    for (const Index k : numbers)
+      out.push_back(x.at(at(k)));
+    return out;
+  }
   virtual std::vector<fields::FieldView> point_fields() const = 0;
   virtual std::vector<fields::FieldView> cell_fields() const { return {}; }
 

@@ -152,12 +152,27 @@ void LiningProbe<D>::find_crown_line(const io::Config& c, const Part<D>& soil, c
   line_min_.assign(line_node_.size(), 0);
 }
 
+// The gauges' nodes (those found) and the crown line's, where they are now: one read of each
+// part, collective on ranks (every rank calls it at the same point of the run).
 template <int D>
-Real LiningProbe<D>::radial(const Part<D>& lining, int g) const {
-  // The node alone, not the part's displacement field: this runs every step.
-  const Index i = node_[at(g)];
-  if (i < 0) return kNaN;
-  const Vec<D> u = lining.points()[at(i)] - x0_[at(g)];
+typename LiningProbe<D>::Now LiningProbe<D>::now(
+    const std::vector<std::unique_ptr<Part<D>>>& parts) const {
+  Now n;
+  std::vector<Index> found;
+  for (const Index i : node_)
+    if (i >= 0) found.push_back(i);
+  const std::vector<Vec<D>> x = parts[part_]->points_numbered(found);
+  std::size_t k = 0;
+  for (int g = 0; g < kGauges; ++g)
+    n.gauge[at(g)] = node_[at(g)] >= 0 ? std::optional<Vec<D>>(x[k++]) : std::nullopt;
+  if (!line_node_.empty()) n.line = parts[*soil_]->points_numbered(line_node_);
+  return n;
+}
+
+template <int D>
+Real LiningProbe<D>::radial(const Now& n, int g) const {
+  if (!n.gauge[at(g)]) return kNaN;
+  const Vec<D> u = *n.gauge[at(g)] - x0_[at(g)];
   Real r = 0;
   for (int d = 0; d < D; ++d)
     r += u[d] * outward_[at(g)][d];
@@ -179,29 +194,27 @@ std::vector<std::string> LiningProbe<D>::history_columns() const {
 template <int D>
 std::vector<Real> LiningProbe<D>::history_values(
     const std::vector<std::unique_ptr<Part<D>>>& parts) const {
+  const Now n = now(parts);
   std::vector<Real> out;
   for (int g = 0; g < kGauges; ++g)
-    out.push_back(radial(*parts[part_], g));
-  if (!line_node_.empty()) {
-    const auto& xs = parts[*soil_]->points();
+    out.push_back(radial(n, g));
+  if (!line_node_.empty())
     for (const std::size_t k : {std::size_t{0}, line_node_.size() - 1})
-      out.push_back(xs[at(line_node_[k])][D - 1] - line_x0_[k][D - 1]);
-  }
+      out.push_back(n.line[k][D - 1] - line_x0_[k][D - 1]);
   return out;
 }
 
 template <int D>
 void LiningProbe<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts) {
+  const Now n = now(parts);
   for (int g = 0; g < kGauges; ++g) {
-    const Real u = radial(*parts[part_], g);
+    const Real u = radial(n, g);
     if (!std::isfinite(u)) continue;
     max_[at(g)] = std::max(max_[at(g)], u);
     min_[at(g)] = std::min(min_[at(g)], u);
   }
-  if (line_node_.empty()) return;
-  const auto& xs = parts[*soil_]->points();
   for (std::size_t k = 0; k < line_node_.size(); ++k) {
-    const Real up = xs[at(line_node_[k])][D - 1] - line_x0_[k][D - 1];
+    const Real up = n.line[k][D - 1] - line_x0_[k][D - 1];
     line_max_[k] = std::max(line_max_[k], up);
     line_min_[k] = std::min(line_min_[k], up);
   }

@@ -45,6 +45,8 @@ class LiningProbe {
 
   std::vector<std::string> history_columns() const;
   std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  /// Every rank calls history_values and after_step (collective on ranks); the finder (at t = 0)
+  /// and metrics read the parts whole (before they are spread, and gathered on the root).
   /// After each step: the gauges' extremes.
   void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts);
   /// Into m, and crown_line.csv into dir (with lining_soil).
@@ -56,8 +58,16 @@ class LiningProbe {
 
  private:
   static constexpr int kGauges = 3;  // crown, springline, invert
-  // Gauge g's radial displacement now (NaN: no node).
-  Real radial(const Part<D>& lining, int g) const;
+  // The gauges' nodes (none where a gauge has no node) and the crown line's nodes, now. The
+  // nodes alone, not the parts' displacement fields: this runs every step. Collective on ranks
+  // (Part::points_numbered: the parts are spread, the numbers are one rank's).
+  struct Now {
+    std::array<std::optional<Vec<D>>, kGauges> gauge;
+    std::vector<Vec<D>> line;
+  };
+  Now now(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  // Gauge g's radial displacement in `n` (NaN: no node).
+  Real radial(const Now& n, int g) const;
   // The soil's nodes on the crown line, from the crown gauge's position at t = 0 (c0).
   void find_crown_line(const io::Config& c, const Part<D>& soil, const Vec<D>& c0, Real r_in);
 

@@ -549,10 +549,6 @@ void check_ranks(const io::Config& c) {
              "a part of method '" + std::string(io::method_name(p.method())) +
                  "' (only DEM, SPH and FEM parts are spread yet)");
   }
-  for (const io::ContactConfig& k : c.contacts)
-    if (!k.surface_groups[0].empty() || !k.surface_groups[1].empty())
-      refuse(k.where, "contacts.surface_groups", "a contact restricted to a mesh group");
-  if (c.probes.lining) refuse(file, "probes.lining", "the tunnel lining's probe");
   if (c.time.multi_rate) refuse(file, "time.multi_rate", "multi-rate stepping");
 }
 
