@@ -344,6 +344,9 @@ void SphPart<D>::relist(bool sort) {
     if (list_.size() == f_.size())
       for (Index i = 0; i < f_.size(); ++i)
         cost[at(i)] += static_cast<Real>(list_.of(i).size());
+    // The walls' densities this rank averaged under the last lists go to every rank before
+    // the particles move: a wall particle may be complete elsewhere under the new ones.
+    if (!wall_complete_.empty()) wall_.rho = shared_wall_density();
     spread_.rebuild(f_, x_, id_, halo_reach(radius), cost);
   }
   if (sort) resort(radius);
@@ -376,6 +379,7 @@ void SphPart<D>::build_lists() {
   if (!wall_x_.empty()) {
     neighbors::build_cross_list<D>(std::span<const Vec<D>>(wall_x_), xb, radius, wall_to_fluid_);
     neighbors::build_cross_list<D>(xb, std::span<const Vec<D>>(wall_x_), radius, fluid_to_wall_);
+    if (spread_.active()) mark_complete_walls(xb, radius);
   }
   if (has_walls_ && !cfg_.wall_no_slip) {
     ghosts_.select(xb, radius, cfg_.walls, domain_lo_, domain_hi_);
@@ -407,12 +411,12 @@ void SphPart<D>::save_state(parts::StateWriter& w) const {
     save_gathered(w);
     return;
   }
-  archive(w, *this, f_, skin_, reflections_, max_penetration_);
+  archive(w, *this, f_, skin_, reflections_, max_penetration_, wall_.rho);
 }
 
 template <int D>
 void SphPart<D>::load_state(parts::StateReader& r) {
-  archive(r, *this, f_, skin_, reflections_, max_penetration_);
+  archive(r, *this, f_, skin_, reflections_, max_penetration_, wall_.rho);
   if (skin_.radius() > 0) build_lists();
 }
 

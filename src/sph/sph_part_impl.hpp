@@ -193,9 +193,11 @@ class SphPart final : public parts::Part<D> {
   void resort(Real cell_m);  // the canonical order: cells of cell_m, ids breaking ties
   // The checkpoint layout; `whole`, `skin` and the wall counts are the part's own on one rank, the
   // gathered part's on ranks (save_gathered).
-  template <class Archive, class Self, class Fields, class Skin, class Count, class Depth>
+  // `wall_rho`: the wall particles' densities (wall_.rho; on ranks, shared_wall_density()'s).
+  template <class Archive, class Self, class Fields, class Skin, class Count, class Depth,
+            class WallRho>
   static void archive(Archive& a, Self& s, Fields& whole, Skin& skin, Count& reflections,
-                      Depth& penetration) {
+                      Depth& penetration, WallRho& wall_rho) {
     a.tag("sph");
     a.block(whole);
     a.value(s.h_max_);
@@ -207,6 +209,9 @@ class SphPart final : public parts::Part<D> {
     a.value(penetration);
     a.block(skin);
     a.block(s.outflow_);
+    // A wall particle without fluid in reach keeps the density of its last average, which the
+    // summation density reads (kernel_sum) before the next average.
+    if (!s.wall_x_.empty()) a.vector(wall_rho);
   }
 
   // sph_ranks.cpp.
@@ -214,6 +219,11 @@ class SphPart final : public parts::Part<D> {
     return wall_x_.empty() ? radius : 2 * radius;
   }
   void save_gathered(parts::StateWriter& w) const;
+  // The wall particles' densities, each from a rank that holds every fluid particle its list can
+  // hold (wall_complete_), on every rank. Collective.
+  std::vector<Real> shared_wall_density() const;
+  // Sets wall_complete_ for the lists just built from `xb` with reach `radius` (on ranks).
+  void mark_complete_walls(std::span<const Vec<D>> xb, Real radius);
 
   // sph_rates.cpp: the force stage. Its member templates and always_inline helpers are defined
   // and used there alone.
@@ -291,6 +301,11 @@ class SphPart final : public parts::Part<D> {
   // Fixed wall particles (not part of the FieldSet: they are not entities of the part).
   std::vector<Vec<D>> wall_x_, wall_mirror_;
   WallState<D> wall_;  // their pressure, density, sound speed and velocity (average_wall_state)
+  // On ranks, per wall particle: whether it lies within the lists' reach of the box of this
+  // rank's own particles at the last build, so that this rank holds (as its own or as ghosts)
+  // every fluid particle of its list as one rank has it, and averages it as one rank does
+  // (wall_state averages only these; the others keep their values). Empty on one rank.
+  std::vector<std::uint8_t> wall_complete_;
 
   Ghosts<D> ghosts_;               // mirror images behind free-slip walls
   std::vector<Real> ghost_reach_;  // build_lists: per image its parent's list reach

@@ -11,7 +11,10 @@
 // of every force stage and, with the summation density, again after it; the EOS is evaluated on
 // them. At each rebuild of the lists (a global decision) particles move to the rank whose box
 // now holds them and the ghosts are made anew.
+#include <cstdint>
+#include <cstring>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,10 +33,6 @@ void SphPart<D>::distribute(const parallel::Comm& comm) {
                          "docs/distributed.md): run it on one rank");
   };
   if (spread_.active()) throw std::logic_error("sph: distribute() twice");
-  if (summation() && cfg_.wall_no_slip && has_walls_)
-    // A wall particle's density, which the summation reads, is its last average: on ranks it
-    // may be a partial one from before the particles near it came to this rank.
-    refuse("sph.density", "the summation density beside no-slip walls (wall_slip = \"no\")");
   if (skin_.radius() > 0 && skin_.positions().size() == static_cast<std::size_t>(f_.size())) {
     spread_ = fields::Spread<D>();
     const std::vector<Vec<D>> kept =
@@ -102,7 +101,9 @@ void SphPart<D>::save_gathered(parts::StateWriter& w) const {
   const std::vector<Real> all_built = parallel::gather(comm, std::span<const Real>(built));
   const Index reflections = all_reflections();
   const Real penetration = global_max(max_penetration_);
-  if (!comm.root()) return;  // the root writes
+  std::vector<Real> wall_rho =
+      wall_complete_.empty() ? wall_.rho : shared_wall_density();  // collective
+  if (!comm.root()) return;                                        // the root writes
   fields::FieldSet<D> whole = f_;
   whole.resize(0);
   std::size_t from = 0;
@@ -115,7 +116,48 @@ void SphPart<D>::save_gathered(parts::StateWriter& w) const {
       parts::order_of_one_rank<D>(whole, std::span<const Real>(all_built), skin_.radius());
   whole.permute(order);
   const neighbors::VerletSkin<D> skin = skin_.with_positions(std::move(sorted));
-  archive(w, *this, whole, skin, reflections, penetration);
+  archive(w, *this, whole, skin, reflections, penetration, wall_rho);
+}
+
+// A wall particle within the lists' reach R of the box of this rank's own particles (at the
+// build) has every fluid particle of its list here: each lies within R of it, so within 2 R of
+// the box, the halo's reach with walls (halo_reach). xb: the positions of the build.
+template <int D>
+void SphPart<D>::mark_complete_walls(std::span<const Vec<D>> xb, Real radius) {
+  fields::Box<D> own;
+  for (Index i = 0; i < f_.size(); ++i)
+    if (!ghost(i)) own.add(xb[at(i)]);
+  wall_complete_.assign(wall_x_.size(), 0);
+  if (own.empty()) return;
+  const Real r2 = radius * radius;
+  parallel::for_each(static_cast<Index>(wall_x_.size()), [&](Index w) {
+    wall_complete_[at(w)] = own.distance2(wall_x_[at(w)]) <= r2 ? 1 : 0;
+  });
+}
+
+// Every rank sends the densities of its complete wall particles; a wall particle complete on
+// several ranks has the same bits on each (their lists and the fluid's state are one rank's), a
+// wall particle complete on none has had no fluid in reach since the last build anywhere, and
+// keeps the density every rank has. One all-gather at a rebuild (or a checkpoint).
+template <int D>
+std::vector<Real> SphPart<D>::shared_wall_density() const {
+  struct Entry {
+    std::int64_t w;
+    Real rho;
+  };
+  std::vector<Entry> mine;
+  for (std::size_t w = 0; w < wall_complete_.size(); ++w)
+    if (wall_complete_[w]) mine.push_back({static_cast<std::int64_t>(w), wall_.rho[w]});
+  const std::vector<Entry> all = parallel::all_gather(spread_.comm(), std::span<const Entry>(mine));
+  std::vector<Real> rho = wall_.rho;
+  std::vector<std::uint8_t> seen(rho.size(), 0);
+  for (const Entry& e : all) {
+    if (seen[at(e.w)] && std::memcmp(&rho[at(e.w)], &e.rho, sizeof(Real)) != 0)
+      throw std::logic_error("sph: a wall particle averaged differently on two ranks");
+    rho[at(e.w)] = e.rho;
+    seen[at(e.w)] = 1;
+  }
+  return rho;
 }
 
 // The contacts with other parts on ranks see the whole part in the order one rank holds it
@@ -138,7 +180,9 @@ const parts::WholeLayout* SphPart<D>::contact_layout() const {
   template Index SphPart<D>::count() const;                                             \
   template std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const; \
   template std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const;             \
-  template void SphPart<D>::save_gathered(parts::StateWriter&) const;
+  template void SphPart<D>::save_gathered(parts::StateWriter&) const;                   \
+  template void SphPart<D>::mark_complete_walls(std::span<const Vec<D>>, Real);         \
+  template std::vector<Real> SphPart<D>::shared_wall_density() const;
 CRATER_SPH_RANKS(2)
 CRATER_SPH_RANKS(3)
 #undef CRATER_SPH_RANKS

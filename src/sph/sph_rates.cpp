@@ -148,7 +148,7 @@ void SphPart<D>::wall_state() {
   if (wall_x_.empty()) return;
   average_wall_state<Kernel, D>(wall_x_, wall_mirror_, wall_to_fluid_,
                                 FluidArrays<D>{x_, h_, p_, rho_, c_, v_}, h0_, gravity_,
-                                cfg_.wall_no_slip, wall_);
+                                cfg_.wall_no_slip, wall_complete_, wall_);
 }
 
 // Particle i and its three kinds of neighbours as the pair terms see them. A wall particle

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -116,12 +117,16 @@ struct WallState {
 /// the same averages (Shepard); the velocity for the viscous terms is the averaged fluid
 /// velocity mirrored in the wall (eq. 22 for no slip). W at hbar = (h0 + h_f)/2; each wall
 /// particle sums over its list (to_fluid) in order.
+/// `only` (if not empty): the wall particles to average (1), the others keep their state (on
+/// ranks: those whose fluid neighbours are not all on this rank, SphPart::wall_complete_).
 template <class Kernel, int D>
 void average_wall_state(const std::vector<Vec<D>>& wall_x, const std::vector<Vec<D>>& mirror,
                         const neighbors::NeighborList& to_fluid, const FluidArrays<D>& f, Real h0,
-                        const Vec<D>& g, bool no_slip, WallState<D>& out) {
+                        const Vec<D>& g, bool no_slip, const std::vector<std::uint8_t>& only,
+                        WallState<D>& out) {
   parallel::for_each(static_cast<Index>(wall_x.size()), [&](Index w) {
     const auto k = at(w);
+    if (!only.empty() && !only[k]) return;
     Real sw = 0, sp = 0, srho = 0, sc = 0;
     Vec<D> sv = Vec<D>::Zero(), srw = Vec<D>::Zero();
     for (const Index j : to_fluid.of(w)) {

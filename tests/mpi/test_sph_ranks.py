@@ -9,6 +9,10 @@ frame's points and point data by particle id, read with VTK's reader, and the ch
 for byte: the root writes the whole part in the order one rank holds it):
 - tests/data/sph_ranks_2d.toml, a dam break of 800 particles: no-slip walls of dummy particles
   with the continuity density; then free-slip walls (mirror images) with the summation density;
+  then no-slip walls with the summation density, to 0.15 s (the wall particles' densities, which
+  the summation reads before they are averaged again, shared at each rebuild by the ranks that
+  hold all their fluid neighbours; without the sharing the runs on 2 and 3 ranks part from one
+  rank's by 0.09 s);
 - tests/data/sph_ranks_3d.toml, a TNT sphere of 912 particles expanding into vacuum at km/s:
   continuity, then summation density;
 - `make run`'s demo (scenarios/demo.toml), the 2D TNT charge of 1,264 particles, 97 steps;
@@ -48,6 +52,9 @@ CASES = {
                                  'parts.fluid.sph.density="summation"'], 1000,
                                 ["step_000000001000.ckpt", "step_000000002000.ckpt",
                                  "step_000000002458.ckpt"], [(2, 1), (3, 1)], 800),
+    "dam_no_slip_summation": (DATA / "sph_ranks_2d.toml",
+                              ["--set", 'parts.fluid.sph.density="summation"', "--set",
+                               "scenario.end_time_s=0.15"], 250, None, [(2, 1), (3, 1)], 800),
     "tnt_continuity": (DATA / "sph_ranks_3d.toml", [], 50,
                        ["step_000000000050.ckpt", "step_000000000086.ckpt"],
                        rank_counts([(2, 1), (3, 1), (4, 1), (2, 2)]), 912),
@@ -93,6 +100,11 @@ class SphOnRanks(unittest.TestCase):
 
     def test_dam_break_free_slip_walls_summation_density(self):
         self.run_case("dam_free_slip_summation")
+
+    def test_dam_break_no_slip_walls_summation_density(self):
+        # The wall particles' densities, which the summation reads before they are averaged
+        # again, from the ranks that hold all their fluid neighbours (since 2026-12-01).
+        self.run_case("dam_no_slip_summation", resume=True)
 
     def test_tnt_sphere_continuity(self):
         self.run_case("tnt_continuity", resume=True)
