@@ -35,6 +35,11 @@ int to_int_count(std::size_t n) {
                              " bytes exceeds MPI's int counts (2 GiB per rank pair)");
   return static_cast<int>(n);
 }
+
+// Element-wise `op` over the ranks of every entry of x, in place.
+void reduce_in_place(std::span<Real> x, MPI_Op op) {
+  MPI_Allreduce(MPI_IN_PLACE, x.data(), to_int_count(x.size()), MPI_DOUBLE, op, MPI_COMM_WORLD);
+}
 #endif
 
 }  // namespace
@@ -97,9 +102,7 @@ Real Comm::max(Real x) const {
 
 void Comm::max([[maybe_unused]] std::span<Real> x) const {
 #ifdef CRATER_HAVE_MPI
-  if (mpi_)
-    MPI_Allreduce(MPI_IN_PLACE, x.data(), to_int_count(x.size()), MPI_DOUBLE, MPI_MAX,
-                  MPI_COMM_WORLD);
+  if (mpi_) reduce_in_place(x, MPI_MAX);
 #endif
 }
 
@@ -129,9 +132,7 @@ Comm::ValueId Comm::min_with_id(ValueId x) const {
 
 void Comm::sum_exact([[maybe_unused]] std::span<Real> x) const {
 #ifdef CRATER_HAVE_MPI
-  if (mpi_)
-    MPI_Allreduce(MPI_IN_PLACE, x.data(), to_int_count(x.size()), MPI_DOUBLE, MPI_SUM,
-                  MPI_COMM_WORLD);
+  if (mpi_) reduce_in_place(x, MPI_SUM);
 #endif
 }
 
