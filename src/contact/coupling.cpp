@@ -26,12 +26,12 @@ template <int D>
 Coupling<D>::~Coupling() = default;
 
 template <int D>
-void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts) {
+void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts, bool zones) {
   if (comm.size() <= 1 || pairings_.empty()) return;
   std::vector<std::pair<std::size_t, std::size_t>> sides;
   for (const auto& p : pairings_)
     sides.emplace_back(p->points(), p->other());
-  spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_, std::move(sides));
+  spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_, std::move(sides), zones);
 }
 
 template <int D>
@@ -110,15 +110,49 @@ void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
 template <int D>
 void Coupling<D>::evaluate(const PartList<D>& parts, const std::vector<std::size_t>& which,
                            const std::vector<Real>& dt_s, std::vector<ContactForces<D>>& out) {
-  if (spread_) throw std::logic_error("contacts: multi-rate stepping does not run on ranks");
+  // On ranks over whole views of the parts (Coupling::spread without zones), whose particles
+  // take back the contact state the pairings leave.
+  const PartList<D>& on = spread_ ? spread_->refresh(parts) : parts;
   out.resize(pairings_.size());
+  std::vector<std::size_t> touched;
   for (std::size_t c : which) {
     out[c].force.resize(parts.size());
     out[c].torque.resize(parts.size());
-    for (std::size_t k : sides(c))
-      size_for(parts, k, out[c]);
-    pairings_[c]->apply(parts, dt_s[c], out[c]);
+    for (std::size_t k : sides(c)) {
+      size_for(on, k, out[c]);
+      if (std::find(touched.begin(), touched.end(), k) == touched.end()) touched.push_back(k);
+    }
+    pairings_[c]->apply(on, dt_s[c], out[c]);
   }
+  if (!spread_) return;
+  std::sort(touched.begin(), touched.end());
+  for (std::size_t k : touched)
+    spread_->hand_back_state(parts, k);
+}
+
+template <int D>
+const PartList<D>& Coupling<D>::seen(const PartList<D>& parts) const {
+  return spread_ ? spread_->views() : parts;
+}
+
+template <int D>
+void Coupling<D>::hand_to(const PartList<D>& parts, std::size_t k, const std::vector<Vec<D>>& force,
+                          const std::vector<AxialVec<D>>& torque, bool next) const {
+  if (!spread_) {
+    if (next)
+      parts[k]->set_next_contact_forces(force, torque);
+    else
+      parts[k]->add_contact_forces(force, torque);
+    return;
+  }
+  const parts::WholeLayout& layout = spread_->layout(k);
+  const std::vector<Vec<D>> f = parts::local_of_whole(layout, force);
+  const std::vector<AxialVec<D>> t =
+      torque.empty() ? std::vector<AxialVec<D>>{} : parts::local_of_whole(layout, torque);
+  if (next)
+    parts[k]->set_next_contact_forces(f, t);
+  else
+    parts[k]->add_contact_forces(f, t);
 }
 
 template <int D>

@@ -115,9 +115,10 @@ class Coupling {
 
   /// The parts were spread over the ranks of `comm` (Part::distribute): from now on every
   /// contact is evaluated on every rank over whole views of its parts (spread_coupling.hpp),
-  /// and apply(), stable_step() and limits() are collective. Multi-rate stepping (evaluate())
-  /// does not run on ranks.
-  void spread(const parallel::Comm& comm, const PartList<D>& parts);
+  /// and apply(), evaluate(), stable_step() and limits() are collective. `zones`: a particle
+  /// part may be viewed in its contact zone alone (not under multi-rate stepping, whose sums
+  /// follow every particle of the whole part).
+  void spread(const parallel::Comm& comm, const PartList<D>& parts, bool zones = true);
 
   /// Smallest stable step over the contacts, with the contact named in `reason`.
   parts::StableStep stable_step(const PartList<D>& parts) const;
@@ -136,9 +137,19 @@ class Coupling {
 
   /// Multi-rate stepping (solver/multi_rate.hpp): the forces of the contacts `which`
   /// (ascending) at the current state, contact c last evaluated dt_s[c] ago, each into its own
-  /// out[c] (per part, sized for its two parts only); nothing is handed to the parts.
+  /// out[c] (per part, sized for its two parts only); nothing is handed to the parts but the
+  /// particles' contact state. On ranks the forces are over the whole parts, in one rank's
+  /// order (collective).
   void evaluate(const PartList<D>& parts, const std::vector<std::size_t>& which,
                 const std::vector<Real>& dt_s, std::vector<ContactForces<D>>& out);
+  /// Multi-rate stepping: the parts as the last evaluate() saw them, whose contact points'
+  /// count and ids index its forces: `parts` on one rank, the whole stand-ins on ranks.
+  const PartList<D>& seen(const PartList<D>& parts) const;
+  /// Multi-rate stepping: part k's contact forces indexed as evaluate()'s, for its last half
+  /// kick (add_contact_forces) or, `next`, its next step's first (set_next_contact_forces);
+  /// on ranks each rank's part takes those of the entities it holds.
+  void hand_to(const PartList<D>& parts, std::size_t k, const std::vector<Vec<D>>& force,
+               const std::vector<AxialVec<D>>& torque, bool next) const;
 
   /// Per contact: pairs in contact, deepest overlap and total normal force at the last apply().
   std::vector<parts::Diagnostic> diagnostics() const;

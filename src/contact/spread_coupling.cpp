@@ -148,6 +148,12 @@ void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& lay
   const std::vector<AxialVec<D>> torque =
       torque_.empty() ? std::vector<AxialVec<D>>{} : parts::local_of_whole(layout, torque_);
   part.add_contact_forces(parts::local_of_whole(layout, force_), torque);
+  hand_back_state(part, layout);
+}
+
+template <int D>
+void WholePart<D>::hand_back_state(parts::Part<D>& part, const parts::WholeLayout& layout) const {
+  if (zone_) throw std::logic_error("contacts: a zone's view hands back its state with forces");
   if (!is_points_ || !points_.offsets) return;
   const auto local = part.contact_points();
   for (std::size_t i = 0; i < layout.whole_of_local.size(); ++i) {
@@ -160,10 +166,12 @@ void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& lay
 template <int D>
 SpreadContacts<D>::SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
                                   std::vector<std::size_t> involved,
-                                  std::vector<std::pair<std::size_t, std::size_t>> sides)
+                                  std::vector<std::pair<std::size_t, std::size_t>> sides,
+                                  bool zones)
     : comm_(comm),
       involved_(std::move(involved)),
       sides_(std::move(sides)),
+      zones_allowed_(zones),
       zones_(parts.size()),
       layout_(parts.size(), nullptr),
       stamp_(parts.size()) {
@@ -271,6 +279,11 @@ template <int D>
 void SpreadContacts<D>::hand_back(const PartList<D>& parts) const {
   for (const std::size_t k : involved_)
     static_cast<const WholePart<D>&>(*whole_[k]).hand_back(*parts[k], *layout_[k]);
+}
+
+template <int D>
+void SpreadContacts<D>::hand_back_state(const PartList<D>& parts, std::size_t k) const {
+  static_cast<const WholePart<D>&>(*whole_[k]).hand_back_state(*parts[k], *layout_[k]);
 }
 
 template class WholePart<2>;

@@ -90,6 +90,8 @@ class WholePart final : public parts::Part<D> {
   /// particles' contact state written back (a particle outside a zone's view: no force, and
   /// no face touched: offset -1, as the pairing leaves a particle that touches none).
   void hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const;
+  /// Only the particles' contact state written back (a whole view's; multi-rate stepping).
+  void hand_back_state(parts::Part<D>& part, const parts::WholeLayout& layout) const;
 
  private:
   std::string name_;
@@ -122,10 +124,11 @@ class WholePart final : public parts::Part<D> {
 template <int D>
 class SpreadContacts {
  public:
-  /// `sides`: the two parts of each contact (points, other), by index into `parts`.
+  /// `sides`: the two parts of each contact (points, other), by index into `parts`; `zones`:
+  /// whether a particle part may be viewed in its contact zone alone (zoned_view).
   SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
                  std::vector<std::size_t> involved,
-                 std::vector<std::pair<std::size_t, std::size_t>> sides);
+                 std::vector<std::pair<std::size_t, std::size_t>> sides, bool zones);
 
   /// The stand-ins at the parts' current state (collective).
   const PartList<D>& refresh(const PartList<D>& parts);
@@ -151,11 +154,17 @@ class SpreadContacts {
   std::int64_t zone_whole_particles() const { return zone_whole_; }
   /// Each part in a contact takes the forces of its entities from its stand-in.
   void hand_back(const PartList<D>& parts) const;
+  /// Part k takes its particles' contact state from its (whole) stand-in.
+  void hand_back_state(const PartList<D>& parts, std::size_t k) const;
+  /// The stand-ins of the last refresh, and part k's layout then.
+  const PartList<D>& views() const { return whole_; }
+  const parts::WholeLayout& layout(std::size_t k) const { return *layout_[k]; }
 
  private:
   const parallel::Comm& comm_;
   std::vector<std::size_t> involved_;
   std::vector<std::pair<std::size_t, std::size_t>> sides_;
+  bool zones_allowed_;
   PartList<D> whole_;
   /// Per part in a contact: this rank's own entities in its contact zone (per local entity), or
   /// nullopt when its view is whole (a surface, or a particle part that is the smaller side of

@@ -120,7 +120,7 @@ void WholePart<D>::assemble_zone(const parallel::Comm& comm, const parts::Part<D
 
 template <int D>
 bool SpreadContacts<D>::zoned_view(const PartList<D>& parts, std::size_t k) const {
-  if (!parts[k]->contact_points()) return false;
+  if (!zones_allowed_ || !parts[k]->contact_points()) return false;
   bool any = false;
   for (const auto& [a, b] : sides_) {
     if (a != k && b != k) continue;

@@ -21,8 +21,11 @@
 //     and G = F_end + O(H^2) for a smooth force, so that the kinetic energy's error stays of
 //     second order (a split that gave all of J - S H/2 to the last half kick without the
 //     full start force made it first order: 13 % energy error at ratio 8 in the grain test).
-// Particles a part removes at a step's end (outflow) are followed by their ids
-// (parts::ContactPoints::id) into the next step's sums.
+// A part's sums follow its particles by their ids (parts::ContactPoints::id) through what
+// changes their order within its step: the re-sort at a rebuild of its lists (in its force
+// stage at the step's end) and the removals (outflow) at the end of the step before. On MPI
+// ranks the sums are over the whole part in one rank's order (Coupling::seen, hand_to), the
+// same numbers on every rank, and each rank's part takes those of its own entities.
 // The ratios for the next cycle are decided at the end of this one, from the state whose
 // forces are known (after the force stage, the contacts and the checks, before the last half
 // kicks, so that the parts' limits are those one-rate stepping would see next): each
@@ -150,9 +153,9 @@ class MultiRate {
     ids_at_end_.assign(parts.size(), {});
     for (std::size_t p = 0; p < parts.size(); ++p) {
       if (!involved(coupling, p)) continue;
-      keep_ids(parts, p);
+      keep_ids(coupling.seen(parts), p);
       Sums full = end_forces(coupling, p);
-      parts[p]->set_next_contact_forces(full.force, full.torque);
+      coupling.hand_to(parts, p, full.force, full.torque, /*next=*/true);
       begin_step(coupling, p, ratio, std::move(full));
     }
   }
@@ -358,13 +361,15 @@ class MultiRate {
     ids_at_end_[p] = pts && pts->id ? *pts->id : std::vector<std::int64_t>{};
   }
 
-  // After a removal at its last step's end, part p's sums follow its particles by id.
-  void follow_removal(const PartList& parts, std::size_t p) {
+  // Part p's sums follow its particles by id (`seen`: as the contacts saw them last) when
+  // they were removed or re-sorted since its step began.
+  void follow_ids(const PartList& seen, std::size_t p) {
     Accumulated& acc = acc_[p];
-    const auto pts = parts[p]->contact_points();
-    if (acc.unit || !pts || !pts->id || pts->id->size() == acc.ids.size()) return;
+    const auto pts = seen[p]->contact_points();
+    if (acc.unit || !pts || !pts->id || *pts->id == acc.ids) return;
     const std::vector<std::int64_t>& now = *pts->id;
-    // By id: a removal may also re-sort those that stay (an SPH part's does).
+    // By id: a part re-sorts its particles at a rebuild of its lists (in its force stage, at its
+    // step's end), and a removal drops some and may re-sort those that stay.
     std::vector<std::pair<std::int64_t, std::size_t>> was(acc.ids.size());
     for (std::size_t k = 0; k < was.size(); ++k)
       was[k] = {acc.ids[k], k};
@@ -414,11 +419,11 @@ class MultiRate {
         }
     }
     if (due.empty()) return;
-    for (std::size_t q = 0; q < parts.size(); ++q)
-      follow_removal(parts, q);
     coupling.evaluate(parts, due, dt, forces_);
     for (std::size_t q = 0; q < parts.size(); ++q)
       if (lagged[q]) parts[q]->set_contact_lag(0);
+    for (std::size_t q = 0; q < parts.size(); ++q)
+      follow_ids(coupling.seen(parts), q);
     for (std::size_t c : due) {
       const auto [a, b] = coupling.sides(c);
       const std::int64_t mc = contact_ratio(cy.ratio, a, b);
@@ -437,18 +442,18 @@ class MultiRate {
   // Returns the full end forces.
   Sums hand_over(const PartList& parts, const contact::Coupling<D>& coupling, std::size_t p) {
     if (!involved(coupling, p)) return {};
-    keep_ids(parts, p);
+    keep_ids(coupling.seen(parts), p);
     Sums full = end_forces(coupling, p);
     Accumulated& acc = acc_[p];
     if (acc.unit) {
-      parts[p]->add_contact_forces(full.force, full.torque);
+      coupling.hand_to(parts, p, full.force, full.torque, /*next=*/false);
       return full;
     }
     Sums g = std::move(acc.weighted);
     add_scaled(g.force, acc.start.force, -1);
     add_scaled(g.torque, acc.start.torque, -1);
-    parts[p]->add_contact_forces(g.force, g.torque);
-    parts[p]->set_next_contact_forces(full.force, full.torque);
+    coupling.hand_to(parts, p, g.force, g.torque, /*next=*/false);
+    coupling.hand_to(parts, p, full.force, full.torque, /*next=*/true);
     return full;
   }
 

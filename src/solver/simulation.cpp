@@ -237,14 +237,14 @@ class Run {
     f(gathered ? *gathered : parts_);
   }
 
-  // Several MPI ranks: every part is spread over them (Part::distribute; the scenario was
-  // checked by check_ranks before the parts were built). Checkpoints are written by the root
-  // as one rank would (Part::save_state gathers): they resume on one rank.
+  // Several MPI ranks: every part is spread over them (Part::distribute). Checkpoints are written
+  // by the root as one rank would (Part::save_state gathers): they resume on one rank.
   void spread() {
     if (comm_.size() == 1) return;
     for (auto& p : parts_)
       p->distribute(comm_);
-    coupling_.spread(comm_, parts_);
+    // Multi-rate stepping keeps per-particle sums over a part's step: whole views only.
+    coupling_.spread(comm_, parts_, /*zones=*/!c_.time.multi_rate);
   }
 
   // The energies at t = 0 (the balance's reference, each part's for the energy guard), the
@@ -531,30 +531,8 @@ class Run {
   double output_s_ = 0;      // history rows, frames, progress, checkpoints
 };
 
-// On several MPI ranks, before anything is built: what does not run there yet (issue 29,
-// docs/distributed.md). Every rank finds the same, from the scenario alone.
-void check_ranks(const io::Config& c) {
-  const parallel::Comm& comm = parallel::Comm::world();
-  if (comm.size() == 1) return;
-  const SourceLocation file{c.file, 0, 0};
-  auto refuse = [&](const SourceLocation& where, const std::string& key, const std::string& what) {
-    throw InputError(where, key,
-                     fmt::format("{} does not run on several MPI ranks yet (started on {}; issue "
-                                 "29, docs/distributed.md): run it on one rank",
-                                 what, comm.size()));
-  };
-  for (const io::PartConfig& p : c.parts) {
-    if (!p.is(io::Method::Dem) && !p.is(io::Method::Sph) && !p.is(io::Method::Fem))
-      refuse(p.where, "parts[" + p.name + "].method",
-             "a part of method '" + std::string(io::method_name(p.method())) +
-                 "' (only DEM, SPH and FEM parts are spread yet)");
-  }
-  if (c.time.multi_rate) refuse(file, "time.multi_rate", "multi-rate stepping");
-}
-
 template <int D>
 RunResult run(const io::Config& c, const RunOptions& opt) {
-  check_ranks(c);
   return Run<D>(c, opt).go();
 }
 

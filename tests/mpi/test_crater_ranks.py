@@ -30,8 +30,8 @@ tests/data/outflow_2d.toml (a gas disk, a cloud of grains and two bonded columns
 small box, domain.outflow = "remove": the gas and the columns leave whole, 76 of the cloud's 96
 grains, so the ranks end up holding none of a part's entities, bonded ones included): bit for
 bit on 2, 3 and 4 ranks, resumed on 3 and on 1.
-Scenes with what does not run on ranks yet are refused with exit code 2 and a message naming
-the key.
+`crater check` under the launcher, and an error of rank 0 alone, end every rank with exit code
+2 and one message.
 Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks of 2
 threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
 runs every case on every count (test_ranks_full_slow.py).
@@ -166,19 +166,9 @@ class CraterRunOnRanks(unittest.TestCase):
                           "outflow")
         assert_resumes_elsewhere(self, scene, ref, ckpts[1], opts, "outflow")
 
-    def test_what_does_not_run_on_ranks_is_refused(self):
+    def test_errors_on_ranks(self):
         work = scratch("crater_ranks_refused")
-        cases = [
-            (["paper-20cm", "--set", "time.multi_rate=true"], "key 'time.multi_rate'"),
-        ]
-        for args, expected in cases:
-            with self.subTest(args=args):
-                p = mpirun(2, "run", *args, "--out", work / "out", "--force", "--quiet")
-                self.assertEqual(p.returncode, 2, p.stderr)
-                self.assertIn(expected, p.stderr)
-                self.assertIn("does not run on several MPI ranks yet", p.stderr)
-                # said once, by the root rank
-                self.assertEqual(p.stderr.count("does not run on several MPI ranks yet"), 1)
+        # Every model runs on ranks; `crater check` does not.
         p = mpirun(2, "check", SCENE)
         self.assertEqual(p.returncode, 2, p.stderr)
         self.assertIn("only `crater run` runs on several MPI ranks", p.stderr)
