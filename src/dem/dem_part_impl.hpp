@@ -261,6 +261,7 @@ class DemPart final : public parts::Part<D> {
   /// are sums over the ranks, measure_walls).
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
+  std::optional<parts::GatheredPoints<D>> own_piece() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
   /// The grains in this rank's arrays: its own and, on ranks, the ghosts.

@@ -448,6 +448,13 @@ std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const {
                                  [&](Index i) { return !ghost(i); });
 }
 
+template <int D>
+std::optional<parts::GatheredPoints<D>> DemPart<D>::own_piece() const {
+  if (!comm_) return std::nullopt;
+  return parts::piece_points<D>(std::span<const Vec<D>>(x_), point_fields(),
+                                [&](Index i) { return !ghost(i); });
+}
+
 // The grains each rank owns (fewest, most) and the ghosts it holds (mean, most), the bytes of one
 // refresh of the ghosts' motion summed over the ranks, how often the cuts were made again, and
 // how many grains moved to another rank (arrivals summed over the ranks).
@@ -567,6 +574,7 @@ const parts::WholeLayout* DemPart<D>::contact_layout() const {
   template Index DemPart<D>::count() const;                                                 \
   template std::optional<parts::Fault> DemPart<D>::check() const;                           \
   template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const;     \
+  template std::optional<parts::GatheredPoints<D>> DemPart<D>::own_piece() const;           \
   template std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const;
 CRATER_DEM_RANKS(2)
 CRATER_DEM_RANKS(3)

@@ -106,6 +106,7 @@ class FemPart final : public parts::Part<D> {
   // fem_ranks.cpp: the part on several ranks.
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
+  std::optional<parts::GatheredPoints<D>> own_piece() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
   std::optional<parts::ContactSurface<D>> whole_contact_surface(
@@ -309,6 +310,8 @@ class FemPart final : public parts::Part<D> {
   const parallel::Comm* comm_ = nullptr;
   std::vector<Index> node_id_, element_id_;  // local -> global number
   std::vector<std::uint8_t> ghost_node_, ghost_element_;
+  /// Every node's point fields as words, the ghost nodes' from their owners (own_piece).
+  std::vector<Real> node_words_from_owners(const std::vector<fields::FieldView>& views) const;
   std::vector<std::vector<Index>> send_nodes_;     // per rank: own nodes it holds, ascending
   std::vector<std::vector<Index>> receive_nodes_;  // per rank: its nodes held here, ascending
   Index whole_nodes_ = 0, whole_elements_ = 0;

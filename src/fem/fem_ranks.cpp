@@ -283,6 +283,123 @@ std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const {
   return g;
 }
 
+// A frame's piece on ranks: the own elements with their cell fields, and the nodes they use in
+// local order with their point fields, those another rank owns with its values (one exchange,
+// as refresh_ghosts': what the stages leave in a ghost node is not its value); the global
+// numbers node_id and element_id place the piece in the whole mesh.
+template <int D>
+std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const {
+  if (!comm_) return std::nullopt;
+  static const fields::FieldInfo kNodeId{"node_id", "", fields::kNone};
+  static const fields::FieldInfo kElementId{"element_id", "", fields::kNone};
+  const Index nn = mesh_.node_count();
+  std::vector<fields::FieldView> views = point_fields();
+  const std::vector<Real> words = node_words_from_owners(views);
+  std::size_t width = 0;
+  for (const auto& v : views)
+    width += static_cast<std::size_t>(v.components);
+  std::vector<Index> elements, rows;
+  std::vector<Index> row_of(at(nn), -1);
+  for (Index e = 0; e < mesh_.element_count(); ++e) {
+    if (ghost_element(e)) continue;
+    elements.push_back(e);
+    for (const Index n : mesh_.elements[at(e)])
+      row_of[at(n)] = 0;
+  }
+  for (Index n = 0; n < nn; ++n)
+    if (row_of[at(n)] == 0) {
+      row_of[at(n)] = static_cast<Index>(rows.size());
+      rows.push_back(n);
+    }
+  parts::GatheredPoints<D> g;
+  for (const Index n : rows)
+    g.points.push_back(mesh_.position[at(n)]);
+  // The point fields from the words, then the node numbers.
+  std::vector<fields::FieldView> from_words;
+  std::vector<std::vector<Real>> reals(views.size());
+  std::vector<std::vector<std::int64_t>> integers(views.size());
+  std::size_t offset = 0;
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const auto c = static_cast<std::size_t>(views[k].components);
+    if (views[k].is_integer)
+      integers[k].resize(at(nn) * c);
+    else
+      reals[k].resize(at(nn) * c);
+    for (Index n = 0; n < nn; ++n)
+      for (std::size_t j = 0; j < c; ++j) {
+        const Real w = words[at(n) * width + offset + j];
+        if (views[k].is_integer)
+          std::memcpy(&integers[k][at(n) * c + j], &w, sizeof w);
+        else
+          reals[k][at(n) * c + j] = w;
+      }
+    offset += c;
+    from_words.push_back(fields::FieldView{views[k].info, views[k].components, views[k].is_integer,
+                                           reals[k].data(), integers[k].data(), nn});
+  }
+  from_words.push_back(fields::FieldView{&kNodeId, 1, true, nullptr, node_id_.data(), nn});
+  g.point = parts::select_fields(from_words, rows);
+  std::vector<fields::FieldView> cells = cell_fields();
+  cells.push_back(
+      fields::FieldView{&kElementId, 1, true, nullptr, element_id_.data(), mesh_.element_count()});
+  g.cell = parts::select_fields(cells, elements);
+  for (const Index e : elements) {
+    for (const Index n : mesh_.elements[at(e)])
+      g.connectivity.push_back(row_of[at(n)]);
+    g.offsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
+  }
+  g.cell_types.assign(elements.size(), D == 2 ? std::uint8_t{9} : std::uint8_t{12});
+  return g;
+}
+
+// Every node's point fields as words (per node, the views' components in order; an integer by
+// its bits), the ghost nodes' from their owners (collective).
+template <int D>
+std::vector<Real> FemPart<D>::node_words_from_owners(
+    const std::vector<fields::FieldView>& views) const {
+  const Index nn = mesh_.node_count();
+  std::size_t width = 0;
+  for (const auto& v : views)
+    width += static_cast<std::size_t>(v.components);
+  std::vector<Real> words(at(nn) * width);
+  std::size_t offset = 0;
+  for (const auto& v : views) {
+    const auto c = static_cast<std::size_t>(v.components);
+    for (Index n = 0; n < nn; ++n)
+      for (std::size_t j = 0; j < c; ++j) {
+        Real& w = words[at(n) * width + offset + j];
+        if (v.is_integer)
+          std::memcpy(&w, &v.integer_data[at(n) * c + j], sizeof w);
+        else
+          w = v.real_data[at(n) * c + j];
+      }
+    offset += c;
+  }
+  const auto ranks = static_cast<std::size_t>(comm_->size());
+  const std::size_t bytes = width * sizeof(Real);
+  std::vector<std::vector<std::byte>> send(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    send[r].resize(send_nodes_[r].size() * bytes);
+    std::byte* out = send[r].data();
+    for (const Index i : send_nodes_[r]) {
+      std::memcpy(out, &words[at(i) * width], bytes);
+      out += bytes;
+    }
+  }
+  const std::vector<std::vector<std::byte>> got = comm_->all_to_all(send);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (got[r].size() != receive_nodes_[r].size() * bytes)
+      throw std::logic_error("fem: a frame's ghost nodes from rank " + std::to_string(r) +
+                             " do not match the nodes it owns here");
+    const std::byte* in = got[r].data();
+    for (const Index i : receive_nodes_[r]) {
+      std::memcpy(&words[at(i) * width], in, bytes);
+      in += bytes;
+    }
+  }
+  return words;
+}
+
 // The nodes numbered `numbers` (as on one rank), from their owners, on every rank: each rank
 // sends the positions of those it owns (node_id_ ascends: the local numbering keeps the global
 // order), one small all-gather.
@@ -386,6 +503,9 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
   template void FemPart<D>::distribute(const parallel::Comm&);                               \
   template void FemPart<D>::refresh_ghosts();                                                \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const;      \
+  template std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const;            \
+  template std::vector<Real> FemPart<D>::node_words_from_owners(                             \
+      const std::vector<fields::FieldView>&) const;                                          \
   template std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const;                  \
   template std::vector<Vec<D>> FemPart<D>::points_numbered(const std::vector<Index>&) const; \
   template void FemPart<D>::save_gathered(parts::StateWriter&) const;

@@ -146,4 +146,47 @@ GatheredPoints<D> gather_points(const parallel::Comm& comm, std::span<const std:
   return g;
 }
 
+/// The entries `rows` (local indices, in that order) of every view: a piece of a frame written by
+/// the rank that holds them (output.pieces = "ranks"; no communication).
+inline GatheredFields select_fields(const std::vector<fields::FieldView>& views,
+                                    const std::vector<Index>& rows) {
+  GatheredFields g;
+  g.count = static_cast<Index>(rows.size());
+  for (const auto& v : views) {
+    g.infos.push_back(*v.info);
+    g.components.push_back(v.components);
+    g.integer.push_back(v.is_integer ? 1 : 0);
+    const auto c = static_cast<std::size_t>(v.components);
+    std::vector<Real> reals(v.is_integer ? 0 : rows.size() * c);
+    std::vector<std::int64_t> integers(v.is_integer ? rows.size() * c : 0);
+    for (std::size_t q = 0; q < rows.size(); ++q)
+      for (std::size_t j = 0; j < c; ++j) {
+        const std::size_t from = static_cast<std::size_t>(rows[q]) * c + j;
+        if (v.is_integer)
+          integers[q * c + j] = v.integer_data[from];
+        else
+          reals[q * c + j] = v.real_data[from];
+      }
+    g.reals.push_back(std::move(reals));
+    g.integers.push_back(std::move(integers));
+  }
+  return g;
+}
+
+/// This rank's entities i with keep(i) (its own, not its ghosts), in local order, as its piece
+/// of a frame: their points and point fields (no communication).
+template <int D, class Keep>
+GatheredPoints<D> piece_points(std::span<const Vec<D>> x,
+                               const std::vector<fields::FieldView>& views, Keep&& keep) {
+  std::vector<Index> rows;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (keep(static_cast<Index>(i))) rows.push_back(static_cast<Index>(i));
+  GatheredPoints<D> g;
+  g.points.reserve(rows.size());
+  for (const Index i : rows)
+    g.points.push_back(x[static_cast<std::size_t>(i)]);
+  g.point = select_fields(views, rows);
+  return g;
+}
+
 }  // namespace crater::parts

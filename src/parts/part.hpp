@@ -197,6 +197,12 @@ class Part {
   /// root rank (collective; empty elsewhere). nullopt: the part is whole here, as geometry()
   /// and point_fields() give it.
   virtual std::optional<GatheredPoints<D>> gathered_points() const { return std::nullopt; }
+  /// A spread part's piece of a frame (output.pieces = "ranks"): the entities this rank owns,
+  /// in its order, with their point fields (and a mesh part's own elements with their cell
+  /// fields and the nodes they use, each piece carrying the global numbers `node_id` and
+  /// `element_id`). A particle part's needs no communication, a mesh part's is collective (the
+  /// values of its elements' nodes that other ranks own). nullopt: the part is whole here.
+  virtual std::optional<GatheredPoints<D>> own_piece() const { return std::nullopt; }
   /// A spread part's share among the ranks (collective): e.g. the fewest and most entities a
   /// rank owns, the ghosts a rank holds. Empty on one rank. They depend on the rank count, so
   /// they go to summary.json's "run" block, not to the part's diagnostics.

@@ -32,16 +32,22 @@ class Outputs {
   // `extra_columns` follow the energy columns (history_columns: contact forces, part totals).
   // gauges.csv ([[gauges]]) likewise: `gauges_header` for a new run (empty: no gauges), the
   // file's first bytes as the checkpoint saw them for a resumed one.
-  // On several ranks (Part::distribute) only the root rank writes: the others pass a null
-  // manifest and write nothing, but take part in gathering the frames (frame()).
-  Outputs(const io::Config& c, io::RunManifest* manifest,
-          const std::vector<std::unique_ptr<Part<D>>>& parts,
+  // On several ranks (`ranks`, Part::distribute) only the root rank writes: the others pass a
+  // null manifest and write nothing, but take part in gathering the frames (frame()), or, with
+  // output.pieces = "ranks", write their pieces of them into `dir`/pieces/ (collective: the
+  // root has made the run directory when the others go on).
+  Outputs(const io::Config& c, io::RunManifest* manifest, const fs::path& dir,
+          const parallel::Comm* ranks, const std::vector<std::unique_ptr<Part<D>>>& parts,
           const std::vector<std::string>& extra_columns, std::string history_prefix = {},
           const std::string& gauges_header = {}, std::string gauges_prefix = {})
-      : config_(c), writer_(manifest) {
+      : config_(c),
+        writer_(manifest),
+        dir_(dir),
+        ranks_(ranks && ranks->size() > 1 ? ranks : nullptr),
+        pieces_(ranks_ && c.output.pieces == io::FramePieces::Ranks && c.output.vtu) {
+    if (pieces_) ranks_->barrier();
     if (!writer_) return;
     io::RunManifest& m = *writer_;
-    dir_ = m.dir();
     history_.emplace(open_history(m));
     if (!gauges_header.empty()) {
       m.record("gauges.csv");
@@ -105,25 +111,55 @@ class Outputs {
   void frame(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, const std::string& tag) {
     if (!config_.output.vtu) return;
     for (std::size_t k = 0; k < parts.size(); ++k) {
+      if (pieces_) {
+        write_pieces(*parts[k], k, t, tag);
+        continue;
+      }
       // A part spread over ranks is gathered by every rank, and written by the root.
       const std::optional<parts::GatheredPoints<D>> gathered = parts[k]->gathered_points();
       if (!writer_) continue;
       const std::string file = fmt::format("{}_{}.vtu", parts[k]->name(), tag);
       writer_->record(file);
-      if (gathered && !gathered->cell_types.empty()) {
-        Geometry<D> cells;
-        cells.points = &gathered->points;
-        cells.connectivity = gathered->connectivity;
-        cells.offsets = gathered->offsets;
-        cells.cell_types = gathered->cell_types;
-        write_points(gathered->points, gathered->point.views(), dir_ / file, t, &cells,
-                     gathered->cell.views());
-      } else if (gathered) {
-        write_points(gathered->points, gathered->point.views(), dir_ / file, t);
-      } else
+      if (gathered)
+        write_gathered(*gathered, dir_ / file, t);
+      else
         write_part(*parts[k], dir_ / file, t);
       if (tag != "failure") pvd_[k].add(t, file);
     }
+  }
+
+  // output.pieces = "ranks": this rank's piece of part k's frame, pieces/<part>_<tag>_<rank>.vtu,
+  // and the root's PVTU over every rank's, <part>_<tag>.pvtu, in the PVD.
+  void write_pieces(const Part<D>& part, std::size_t k, Real t, const std::string& tag) {
+    const std::optional<parts::GatheredPoints<D>> piece = part.own_piece();  // collective (FEM)
+    if (!piece) throw std::logic_error("part '" + part.name() + "' is not spread: no piece");
+    const std::string stem = fmt::format("{}_{}", part.name(), tag);
+    auto piece_name = [&](int r) { return fmt::format("pieces/{}_{:04d}.vtu", stem, r); };
+    std::error_code ec;
+    fs::create_directories(dir_ / "pieces", ec);  // every rank; one of them makes it
+    if (!fs::is_directory(dir_ / "pieces"))
+      throw std::runtime_error("cannot create " + (dir_ / "pieces").string() + ": " + ec.message());
+    write_gathered(*piece, dir_ / piece_name(ranks_->rank()), t);
+    if (!writer_) return;
+    writer_->record("pieces/");
+    std::vector<std::string> names;
+    for (int r = 0; r < ranks_->size(); ++r)
+      names.push_back(piece_name(r));
+    const std::string file = stem + ".pvtu";
+    writer_->record(file);
+    io::write_pvtu(dir_ / file, vtu_arrays(piece->point.views()), vtu_arrays(piece->cell.views()),
+                   names);
+    if (tag != "failure") pvd_[k].add(t, file);
+  }
+
+  void write_gathered(const parts::GatheredPoints<D>& g, const fs::path& path, Real t) {
+    if (g.cell_types.empty()) return write_points(g.points, g.point.views(), path, t);
+    Geometry<D> cells;
+    cells.points = &g.points;
+    cells.connectivity = g.connectivity;
+    cells.offsets = g.offsets;
+    cells.cell_types = g.cell_types;
+    write_points(g.points, g.point.views(), path, t, &cells, g.cell.views());
   }
 
   void write_part(const Part<D>& p, const fs::path& path, Real t) {
@@ -143,16 +179,17 @@ class Outputs {
       mesh.offsets = &cells->offsets;
       mesh.cell_types = &cells->cell_types;
     }
-    auto arrays = [](const std::vector<fields::FieldView>& views) {
-      std::vector<io::VtuArray> out;
-      for (const auto& v : views)
-        out.push_back(io::VtuArray{v.info->name, v.components, v.real_data, v.integer_data,
-                                   v.components == D && D == 2});
-      return out;
-    };
-    io::write_vtu(path, t, mesh, arrays(pf), arrays(cf),
+    io::write_vtu(path, t, mesh, vtu_arrays(pf), vtu_arrays(cf),
                   config_.output.vtu_encoding == io::VtuEncoding::Base64 ? io::VtuFormat::Base64
                                                                          : io::VtuFormat::Appended);
+  }
+
+  static std::vector<io::VtuArray> vtu_arrays(const std::vector<fields::FieldView>& views) {
+    std::vector<io::VtuArray> out;
+    for (const auto& v : views)
+      out.push_back(io::VtuArray{v.info->name, v.components, v.real_data, v.integer_data,
+                                 v.components == D && D == 2});
+    return out;
   }
 
   void history(Index step, Real t, Real dt, const Energies& e, Real total, Real error,
@@ -189,6 +226,8 @@ class Outputs {
   const io::Config& config_;
   io::RunManifest* writer_;  // null: another rank writes
   fs::path dir_;
+  const parallel::Comm* ranks_;  // several ranks; null on one
+  bool pieces_;                  // output.pieces = "ranks" on several ranks
   std::optional<io::AppendFile> history_;
   std::size_t history_bytes_ = 0;
   std::optional<io::AppendFile> gauges_;

@@ -29,22 +29,48 @@ bool same_directory(const fs::path& a, const fs::path& b) {
   return !ec && same;
 }
 
+namespace {
+
+// `file` of the run in `from` linked (or copied) into the manifest's directory.
+bool carry_file(const fs::path& from, io::RunManifest& manifest, const std::string& file) {
+  std::error_code ec;
+  const fs::path src = from / file, dst = manifest.dir() / file;
+  fs::remove(dst, ec);
+  fs::create_hard_link(src, dst, ec);
+  if (ec) fs::copy_file(src, dst, fs::copy_options::overwrite_existing, ec);
+  if (ec) {
+    spdlog::warn("frame {} of the checkpoint's run is not carried over: {}", src.string(),
+                 ec.message());
+    return false;
+  }
+  return true;
+}
+
+// The pieces of a frame written by ranks (<part>_<tag>.pvtu: pieces/<part>_<tag>_<rank>.vtu).
+bool carry_pieces(const fs::path& from, io::RunManifest& manifest, const std::string& pvtu) {
+  const std::string stem = fs::path(pvtu).stem().string() + "_";
+  std::error_code ec;
+  fs::create_directories(manifest.dir() / "pieces", ec);
+  manifest.record("pieces/");
+  bool all = true;
+  for (const auto& entry : fs::directory_iterator(from / "pieces", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(stem, 0) == 0 && entry.path().extension() == ".vtu")
+      all = carry_file(from, manifest, "pieces/" + name) && all;
+  }
+  return all && !ec;
+}
+
+}  // namespace
+
 void carry_frames(const fs::path& from, io::RunManifest& manifest,
                   std::vector<std::vector<std::pair<Real, std::string>>>& pvd) {
   for (auto& entries : pvd) {
     std::vector<std::pair<Real, std::string>> kept;
     for (auto& [t, file] : entries) {
-      std::error_code ec;
-      const fs::path src = from / file, dst = manifest.dir() / file;
       manifest.record(file);
-      fs::remove(dst, ec);
-      fs::create_hard_link(src, dst, ec);
-      if (ec) fs::copy_file(src, dst, fs::copy_options::overwrite_existing, ec);
-      if (ec) {
-        spdlog::warn("frame {} of the checkpoint's run is not carried over: {}", src.string(),
-                     ec.message());
-        continue;
-      }
+      if (!carry_file(from, manifest, file)) continue;
+      if (fs::path(file).extension() == ".pvtu" && !carry_pieces(from, manifest, file)) continue;
       kept.emplace_back(t, std::move(file));
     }
     entries = std::move(kept);

@@ -193,7 +193,7 @@ class Run {
       throw InputError({}, "--resume", "rank 0 could not continue the run directory");
     if (failed) std::rethrow_exception(failed);
     const bool fresh_history = history.empty();
-    out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), parts_,
+    out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), opt_.out_dir, &comm_, parts_,
                                         history_columns(parts_, coupling_, probes_),
                                         std::move(history), gauges_header(), std::move(gauge_rows));
     if (fresh_history) out_->flush();
@@ -220,7 +220,7 @@ class Run {
       manifest_->record(io::kCommandName);
       io::write_run_command(opt_.out_dir, opt_.command);
     }
-    out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), parts_,
+    out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), opt_.out_dir, &comm_, parts_,
                                         history_columns(parts_, coupling_, probes_), std::string(),
                                         gauges_header());
   }

@@ -123,6 +123,7 @@ class SphPart final : public parts::Part<D> {
   // sph_ranks.cpp: the part on several ranks.
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
+  std::optional<parts::GatheredPoints<D>> own_piece() const override;
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
 

@@ -26,12 +26,6 @@ namespace crater::sph::detail {
 
 template <int D>
 void SphPart<D>::distribute(const parallel::Comm& comm) {
-  auto refuse = [&](const std::string& key, const std::string& what) {
-    throw InputError(where_, "parts[" + name_ + "]." + key,
-                     what +
-                         " does not run on several MPI ranks yet (issue 29; "
-                         "docs/distributed.md): run it on one rank");
-  };
   if (spread_.active()) throw std::logic_error("sph: distribute() twice");
   if (skin_.radius() > 0 && skin_.positions().size() == static_cast<std::size_t>(f_.size())) {
     spread_ = fields::Spread<D>();
@@ -62,6 +56,13 @@ std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const {
   return parts::gather_points<D>(spread_.comm(), std::span<const std::int64_t>(id_),
                                  std::span<const Vec<D>>(x_), point_fields(),
                                  [&](Index i) { return !ghost(i); });
+}
+
+template <int D>
+std::optional<parts::GatheredPoints<D>> SphPart<D>::own_piece() const {
+  if (!spread_.active()) return std::nullopt;
+  return parts::piece_points<D>(std::span<const Vec<D>>(x_), point_fields(),
+                                [&](Index i) { return !ghost(i); });
 }
 
 // The particles each rank owns (fewest, most) and the ghosts it holds (mean, most), the bytes of
@@ -179,6 +180,7 @@ const parts::WholeLayout* SphPart<D>::contact_layout() const {
   template void SphPart<D>::distribute(const parallel::Comm&);                          \
   template Index SphPart<D>::count() const;                                             \
   template std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const; \
+  template std::optional<parts::GatheredPoints<D>> SphPart<D>::own_piece() const;       \
   template std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const;             \
   template void SphPart<D>::save_gathered(parts::StateWriter&) const;                   \
   template void SphPart<D>::mark_complete_walls(std::span<const Vec<D>>, Real);         \

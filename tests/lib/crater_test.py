@@ -163,6 +163,31 @@ def read_vtu_cells(path):
     return {cd.GetArrayName(i): vtk_to_numpy(cd.GetArray(i)) for i in range(cd.GetNumberOfArrays())}
 
 
+def read_pvtu(path):
+    """A .pvtu (one piece per MPI rank, output.pieces = "ranks") read with VTK's own parallel XML
+    reader, its pieces merged: (points Nx3, {name: point array}, {name: cell array}, cells),
+    cells a list of each cell's point indices."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader
+
+    reader = vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    if reader.GetErrorCode() != 0:
+        raise AssertionError(f"VTK could not read {path}")
+    grid = reader.GetOutput()
+    pts = vtk_to_numpy(grid.GetPoints().GetData()) if grid.GetPoints() else np.zeros((0, 3))
+    pd, cd = grid.GetPointData(), grid.GetCellData()
+    point = {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)) for i in range(pd.GetNumberOfArrays())}
+    cell = {cd.GetArrayName(i): vtk_to_numpy(cd.GetArray(i)) for i in range(cd.GetNumberOfArrays())}
+    cells = []
+    for c in range(grid.GetNumberOfCells()):
+        ids = grid.GetCell(c).GetPointIds()
+        cells.append([ids.GetId(k) for k in range(ids.GetNumberOfIds())])
+    return pts, point, cell, cells
+
+
 def read_pvd(path):
     """Reads a .pvd (ParaView collection) with VTK's own XML parser; returns [(time, file)].
     VTK 9.1 has no PVD reader class (it is ParaView's); vtkXMLUtilities parses VTK XML files."""

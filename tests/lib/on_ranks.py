@@ -133,7 +133,9 @@ def assert_resumes_elsewhere(test, scene, ref, checkpoint, sets, what):
 
 def assert_resumes(test, scene, run, checkpoint, ranks, sets, what, timeout=240):
     """The run in `run` resumed from its checkpoint `checkpoint` on `ranks` ranks (1: plain)
-    writes the files of the uninterrupted run again. `timeout`: of the resumed run [s]."""
+    writes the files of the uninterrupted run again (a frame's VTU by its data, a PVTU of frames
+    in pieces not at all: it names the pieces of the ranks that wrote it). `timeout`: of the
+    resumed run [s]."""
     again = run.parent / f"{run.name}_resumed_on_{ranks}"
     if again.exists():
         shutil.rmtree(again)
@@ -144,7 +146,7 @@ def assert_resumes(test, scene, run, checkpoint, ranks, sets, what, timeout=240)
     p = mpirun(ranks, *args, timeout=timeout) if ranks > 1 else plain(*args, timeout=timeout)
     test.assertEqual(p.returncode, 0, p.stderr)
     for n in files(run):
-        if n.endswith(".vtu") or n in ("summary.json", "crater-command.toml"):
+        if n.endswith((".vtu", ".pvtu")) or n in ("summary.json", "crater-command.toml"):
             continue
         test.assertEqual((again / n).read_bytes(), (run / n).read_bytes(), f"{n} ({what})")
     test.assertEqual(summary_without_run_block(again / "summary.json"),

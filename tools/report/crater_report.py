@@ -9,7 +9,8 @@ it with Debian's /usr/bin/python3, the interpreter python3-vtk9, python3-numpy a
 python3-matplotlib load in.
 
 DIR is a finished, failed or interrupted run directory: summary.json, <part>.pvd with its
-<part>_NNNNNN.vtu frames, history.csv, and when the run wrote them <part>_failure.vtu and
+<part>_NNNNNN.vtu frames (.pvtu over pieces/ when written in pieces on MPI ranks), history.csv,
+and when the run wrote them <part>_failure.vtu and
 surface_profile.csv. Written into OUT (default DIR/report/):
   snapshots_parts.png       all parts at the chosen output times, a colour per part;
   snapshots_velocity.png    ... coloured by speed;
@@ -167,6 +168,8 @@ def find_parts(run_dir, summary):
     for n in names:
         frames = read_pvd(run_dir / f"{n}.pvd")
         failure = run_dir / f"{n}_failure.vtu"
+        if not failure.is_file() and (run_dir / f"{n}_failure.pvtu").is_file():
+            failure = run_dir / f"{n}_failure.pvtu"  # written in pieces on ranks
         if frames or failure.is_file():
             parts.append(Part(n, methods.get(n, ""), frames, failure if failure.is_file() else None))
     if not parts:
@@ -281,7 +284,9 @@ def vtk_arrays(data):
 
 
 def read_grid(path):
-    reader = vtkXMLUnstructuredGridReader()
+    # A frame written in pieces on MPI ranks (output.pieces = "ranks") is a .pvtu over them.
+    reader = (vtkXMLPUnstructuredGridReader() if str(path).endswith(".pvtu")
+              else vtkXMLUnstructuredGridReader())
     reader.SetFileName(str(path))
     reader.Update()
     if reader.GetErrorCode() != 0:
@@ -1645,7 +1650,8 @@ def import_plotting():
     """numpy, VTK and matplotlib, into this module's globals; exit 1 naming the Debian packages
     if one is missing."""
     global np, plt, Normalize, ScalarMappable, PolyCollection, EllipseCollection, Patch, Circle
-    global vtkXMLUnstructuredGridReader, vtkCutter, vtkPlane, vtk_to_numpy
+    global vtkXMLUnstructuredGridReader, vtkXMLPUnstructuredGridReader, vtkCutter, vtkPlane
+    global vtk_to_numpy
     try:
         import numpy as np
         os.environ.setdefault("MPLBACKEND", "Agg")
@@ -1660,7 +1666,7 @@ def import_plotting():
         from vtkmodules.vtkCommonCore import vtkObject
         from vtkmodules.vtkCommonDataModel import vtkPlane
         from vtkmodules.vtkFiltersCore import vtkCutter
-        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+        from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
     except ImportError as e:
         print(f"crater report: error: {sys.executable} lacks a module ({e}); install the Debian "
               f"packages {DEBIAN_PACKAGES}", file=sys.stderr)

@@ -190,6 +190,33 @@ void write_vtu(const std::filesystem::path& path, Real time_s, const VtuMesh& me
   write_file_atomic(path, vb.finish(std::move(xml)));
 }
 
+void write_pvtu(const std::filesystem::path& path, const std::vector<VtuArray>& point_arrays,
+                const std::vector<VtuArray>& cell_arrays, const std::vector<std::string>& pieces) {
+  auto declare = [](std::string& xml, const std::vector<VtuArray>& arrays) {
+    for (const auto& a : arrays)
+      xml += fmt::format("      <PDataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
+                         a.integer ? "Int64" : "Float64", xml_escape(a.name),
+                         a.pad_to_3 ? 3 : a.components);
+  };
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n"
+      "  <PUnstructuredGrid GhostLevel=\"0\">\n"
+      "    <PPointData>\n";
+  declare(xml, point_arrays);
+  xml += "    </PPointData>\n    <PCellData>\n";
+  declare(xml, cell_arrays);
+  xml +=
+      "    </PCellData>\n    <PPoints>\n"
+      "      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+      "    </PPoints>\n";
+  for (const auto& piece : pieces)
+    xml += fmt::format("    <Piece Source=\"{}\"/>\n", xml_escape(piece));
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_file_atomic(path, xml);
+}
+
 void PvdCollection::add(Real time_s, const std::string& relative_file) {
   entries_.emplace_back(time_s, relative_file);
   std::string xml =

@@ -40,6 +40,12 @@ void write_vtu(const std::filesystem::path& path, Real time_s, const VtuMesh& me
                const std::vector<VtuArray>& point_arrays, const std::vector<VtuArray>& cell_arrays,
                VtuFormat format);
 
+/// Writes one ParaView parallel file (.pvtu) atomically over `pieces` (.vtu paths relative to
+/// it, one per MPI rank, each written by write_vtu with arrays of the names, kinds and
+/// components of `point_arrays` and `cell_arrays`; their data are not read here).
+void write_pvtu(const std::filesystem::path& path, const std::vector<VtuArray>& point_arrays,
+                const std::vector<VtuArray>& cell_arrays, const std::vector<std::string>& pieces);
+
 /// A ParaView collection: one entry per output time, rewritten (atomically) after each frame.
 class PvdCollection {
  public:

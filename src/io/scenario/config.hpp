@@ -47,12 +47,16 @@ struct TimeConfig {
 };
 
 enum class VtuEncoding { Appended, Base64 };
+/// How a frame of a part spread over MPI ranks is written: one VTU gathered by rank 0, or one
+/// piece per rank under a PVTU (output.pieces).
+enum class FramePieces { Gathered, Ranks };
 
 struct OutputConfig {
   Real interval_s{};
   Index history_every{};
   bool vtu{};
   VtuEncoding vtu_encoding{};
+  FramePieces pieces{};
   Index checkpoint_every_steps{};  // 0: not by step count
   Real checkpoint_every_s{};       // wall-clock seconds; 0: not by time
   Index checkpoint_keep{};         // newest checkpoints kept in <out>/checkpoints

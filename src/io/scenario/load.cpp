@@ -193,6 +193,7 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   check_frame_count(c);
   c.output.vtu_encoding =
       str(ot, "vtu_encoding") == "base64" ? VtuEncoding::Base64 : VtuEncoding::Appended;
+  c.output.pieces = str(ot, "pieces") == "ranks" ? FramePieces::Ranks : FramePieces::Gathered;
   if (c.output.interval_s > c.end_time_s)
     c.warnings.push_back(fmt::format(
         "output.interval_s = {} s exceeds scenario.end_time_s = {} s: only the first and "

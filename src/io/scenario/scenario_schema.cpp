@@ -89,6 +89,14 @@ TableSchema make_output() {
                           "VTU data layout: raw appended binary (smallest, fastest) or inline "
                           "base64."),
                    "\"appended\""),
+      with_default(choice("pieces", {"gathered", "ranks"},
+                          "On several MPI ranks: \"gathered\", one VTU per part and frame written "
+                          "by rank 0 with every entity in id order (the file one rank writes); "
+                          "\"ranks\", each rank writes its own entities as a piece "
+                          "(pieces/<part>_<frame>_<rank>.vtu) and rank 0 a PVTU over them "
+                          "(<part>_<frame>.pvtu, in the PVD), so that no rank holds a whole "
+                          "part. On one rank: one VTU either way."),
+                   "\"gathered\""),
       with_default(at_least(whole("checkpoint_every_steps",
                                   "Write a checkpoint (<out>/checkpoints/) every this "
                                   "many steps; 0: not by step count. A run resumes "
