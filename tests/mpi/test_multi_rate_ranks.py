@@ -8,8 +8,9 @@ kept over the whole part in one rank's order (every rank the same numbers), and 
 taking those of its own entities.
 
 - The two cases of tests/verification/multi_rate: five grains onto a free plate (the grains
-  8 plate steps at a time) and an SPH gas blob onto a free plate (2 at a time);
-- paper-20cm at the demo level to 0.5 ms: the charge at up to 8 plate steps while its products
+  8 plate steps at a time) and an SPH gas blob onto a free plate (2 at a time; in the slow set
+  only);
+- paper-20cm at the demo level to 0.3 ms: the charge at up to 8 plate steps while its products
   and the grains leave through the faces (the sums follow the particles through removals and
   re-sorts by id).
 Each is run without a launcher on one thread (the reference), then on 2 ranks (3, 4 and 2 ranks
@@ -63,13 +64,14 @@ class MultiRateOnRanks(unittest.TestCase):
         self.check("grains", self.scene("grains", grains_on_plate()), [*MULTI, *checkpoints(300)],
                    "grains")
 
+    @unittest.skipUnless(FULL, "the slow set (test_ranks_full_slow.py)")
     def test_gas_blob_on_a_plate(self):
         opts = [*MULTI, "--set", "time.multi_rate_max_ratio=2", *checkpoints(600)]
         self.check("blob", self.scene("blob", blob_on_plate()), opts, "blob")
 
     def test_paper_scene_with_removals(self):
-        opts = [*MULTI, "--set", "scenario.end_time_s=5e-4", "--set", "output.interval_s=2.5e-4",
-                *checkpoints(400)]
+        opts = [*MULTI, "--set", "scenario.end_time_s=3e-4", "--set", "output.interval_s=1.5e-4",
+                *checkpoints(250)]
         summary = self.check("paper", "paper-20cm", opts, "charge")
         left = {p["name"]: p["diagnostics"].get("left_domain_count", 0) for p in summary["parts"]}
         self.assertGreater(left["charge"], 0, left)  # removals in the coarse part's steps

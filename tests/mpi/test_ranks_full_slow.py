@@ -17,7 +17,8 @@ from on_ranks import MPIRUN
 
 HERE = Path(__file__).resolve().parent
 FILES = ["test_sph_ranks.py", "test_fem_ranks.py", "test_contacts_ranks.py",
-         "test_crater_ranks.py", "test_tunnel_ranks.py", "test_multi_rate_ranks.py"]
+         "test_crater_ranks.py", "test_tunnel_ranks.py", "test_multi_rate_ranks.py",
+         "test_pieces_ranks.py"]
 
 
 @unittest.skipIf(not MPIRUN, "crater was built without MPI (CRATER_MPIRUN unset)")
