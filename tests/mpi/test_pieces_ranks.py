@@ -18,7 +18,8 @@ reference's frame bit for bit:
 history.csv is the reference's byte for byte, the PVD the reference's with .pvtu for .vtu, and
 every PVTU names one piece per rank. The 2-rank run resumed on 3 ranks writes its files again
 (checkpoints byte for byte), and restarted into another directory it takes the earlier frames
-with their pieces. `crater report` reads the frames of a run in pieces. On one rank the key
+with their pieces. A run that stops (exit 3) writes its failure frame in pieces too. `crater
+report` reads the frames of a run in pieces. On one rank the key
 changes nothing.
 """
 import sys
@@ -131,6 +132,19 @@ class PiecesOnRanks(unittest.TestCase):
 
     def test_3d_scene(self):
         self.check("3d", SOURCE_DIR / "tests" / "data" / "contacts_ranks_3d.toml", (2,))
+
+    def test_failure_frame_in_pieces(self):
+        # A run that stops (exit 3: the demo's first step is below time.min_dt_s) writes its
+        # last state as <part>_failure.pvtu over every rank's piece.
+        out = scratch("pieces_ranks_failure") / "ranks2"
+        p = mpirun(2, "run", "demo", "--out", out, "--force", "--quiet", "--set",
+                   "time.min_dt_s=1", *PIECES)
+        self.assertEqual(p.returncode, 3, p.stderr)
+        first, _, _, _ = read_pvtu(out / "charge_000000.pvtu")
+        pts, arrays, _, _ = read_pvtu(out / "charge_failure.pvtu")
+        self.assertEqual(sorted(arrays["id"]), list(range(len(first))))
+        self.assertEqual(sorted(f.name for f in (out / "pieces").glob("charge_failure_*.vtu")),
+                         ["charge_failure_0000.vtu", "charge_failure_0001.vtu"])
 
 
 def ref_connectivity(path):
