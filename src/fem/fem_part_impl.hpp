@@ -310,6 +310,9 @@ class FemPart final : public parts::Part<D> {
   const parallel::Comm* comm_ = nullptr;
   std::vector<Index> node_id_, element_id_;  // local -> global number
   std::vector<std::uint8_t> ghost_node_, ghost_element_;
+  /// The owners' values of every ghost node, `bytes` each (collective; fem_ranks.cpp).
+  template <class Pack, class Unpack>
+  void exchange_ghost_nodes(std::size_t bytes, Pack&& pack, Unpack&& unpack) const;
   /// Every node's point fields as words, the ghost nodes' from their owners (own_piece).
   std::vector<Real> node_words_from_owners(const std::vector<fields::FieldView>& views) const;
   std::vector<std::vector<Index>> send_nodes_;     // per rank: own nodes it holds, ascending

@@ -230,33 +230,47 @@ std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
   return s;
 }
 
+// The owners' values of every ghost node (collective): `bytes` per node, pack(i, out) of an own
+// node i that another rank holds, unpack(i, in) of a ghost node i.
 template <int D>
-void FemPart<D>::refresh_ghosts() {
+template <class Pack, class Unpack>
+void FemPart<D>::exchange_ghost_nodes(std::size_t bytes, Pack&& pack, Unpack&& unpack) const {
   const auto ranks = static_cast<std::size_t>(comm_->size());
-  constexpr std::size_t kBytes = 2 * sizeof(Vec<D>);
   std::vector<std::vector<std::byte>> send(ranks);
   for (std::size_t r = 0; r < ranks; ++r) {
-    send[r].resize(send_nodes_[r].size() * kBytes);
+    send[r].resize(send_nodes_[r].size() * bytes);
     std::byte* out = send[r].data();
     for (const Index i : send_nodes_[r]) {
-      std::memcpy(out, mesh_.position[at(i)].data(), sizeof(Vec<D>));
-      std::memcpy(out + sizeof(Vec<D>), mesh_.velocity[at(i)].data(), sizeof(Vec<D>));
-      out += kBytes;
+      pack(i, out);
+      out += bytes;
     }
   }
   const std::vector<std::vector<std::byte>> got = comm_->all_to_all(send);
   for (std::size_t r = 0; r < ranks; ++r) {
-    if (got[r].size() != receive_nodes_[r].size() * kBytes)
+    if (got[r].size() != receive_nodes_[r].size() * bytes)
       throw std::logic_error("fem: ghost nodes from rank " + std::to_string(r) +
                              " do not match the nodes it owns here");
     const std::byte* in = got[r].data();
     for (const Index i : receive_nodes_[r]) {
-      std::memcpy(static_cast<void*>(mesh_.position[at(i)].data()), in, sizeof(Vec<D>));
-      std::memcpy(static_cast<void*>(mesh_.velocity[at(i)].data()), in + sizeof(Vec<D>),
-                  sizeof(Vec<D>));
-      in += kBytes;
+      unpack(i, in);
+      in += bytes;
     }
   }
+}
+
+template <int D>
+void FemPart<D>::refresh_ghosts() {
+  constexpr std::size_t kVec = sizeof(Vec<D>);
+  exchange_ghost_nodes(
+      2 * kVec,
+      [&](Index i, std::byte* out) {
+        std::memcpy(out, mesh_.position[at(i)].data(), kVec);
+        std::memcpy(out + kVec, mesh_.velocity[at(i)].data(), kVec);
+      },
+      [&](Index i, const std::byte* in) {
+        std::memcpy(static_cast<void*>(mesh_.position[at(i)].data()), in, kVec);
+        std::memcpy(static_cast<void*>(mesh_.velocity[at(i)].data()), in + kVec, kVec);
+      });
 }
 
 // A frame on ranks: the own nodes' positions and point fields, the own elements' cell fields,
@@ -375,28 +389,10 @@ std::vector<Real> FemPart<D>::node_words_from_owners(
       }
     offset += c;
   }
-  const auto ranks = static_cast<std::size_t>(comm_->size());
   const std::size_t bytes = width * sizeof(Real);
-  std::vector<std::vector<std::byte>> send(ranks);
-  for (std::size_t r = 0; r < ranks; ++r) {
-    send[r].resize(send_nodes_[r].size() * bytes);
-    std::byte* out = send[r].data();
-    for (const Index i : send_nodes_[r]) {
-      std::memcpy(out, &words[at(i) * width], bytes);
-      out += bytes;
-    }
-  }
-  const std::vector<std::vector<std::byte>> got = comm_->all_to_all(send);
-  for (std::size_t r = 0; r < ranks; ++r) {
-    if (got[r].size() != receive_nodes_[r].size() * bytes)
-      throw std::logic_error("fem: a frame's ghost nodes from rank " + std::to_string(r) +
-                             " do not match the nodes it owns here");
-    const std::byte* in = got[r].data();
-    for (const Index i : receive_nodes_[r]) {
-      std::memcpy(&words[at(i) * width], in, bytes);
-      in += bytes;
-    }
-  }
+  exchange_ghost_nodes(
+      bytes, [&](Index i, std::byte* out) { std::memcpy(out, &words[at(i) * width], bytes); },
+      [&](Index i, const std::byte* in) { std::memcpy(&words[at(i) * width], in, bytes); });
   return words;
 }
 

@@ -128,20 +128,44 @@ def assert_restart_identical(scenario, full, checkpoint, sets=()):
         raise AssertionError(f"from {Path(checkpoint).name}: summary.json differs")
 
 
-def read_vtu(path):
-    """Reads a .vtu with VTK's own XML reader; returns (points Nx3, {name: array}, n_cells)."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+def read_grid(path):
+    """A .vtu, or a .pvtu with its pieces merged (output.pieces = "ranks"), read with VTK's own
+    XML reader: the vtkUnstructuredGrid."""
+    from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
 
-    reader = vtkXMLUnstructuredGridReader()
+    parallel = str(path).endswith(".pvtu")
+    reader = vtkXMLPUnstructuredGridReader() if parallel else vtkXMLUnstructuredGridReader()
     reader.SetFileName(str(path))
     reader.Update()
     if reader.GetErrorCode() != 0:
         raise AssertionError(f"VTK could not read {path}")
-    grid = reader.GetOutput()
+    return reader.GetOutput()
+
+
+def grid_arrays(data):
+    """A vtkPointData or vtkCellData as {name: numpy array}."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    return {data.GetArrayName(i): vtk_to_numpy(data.GetArray(i))
+            for i in range(data.GetNumberOfArrays())}
+
+
+def grid_cells(grid):
+    """Each cell's point indices, a list per cell."""
+    cells = []
+    for c in range(grid.GetNumberOfCells()):
+        ids = grid.GetCell(c).GetPointIds()
+        cells.append([ids.GetId(k) for k in range(ids.GetNumberOfIds())])
+    return cells
+
+
+def read_vtu(path):
+    """Reads a .vtu with VTK's own XML reader; returns (points Nx3, {name: array}, n_cells)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    grid = read_grid(path)
     pts = vtk_to_numpy(grid.GetPoints().GetData()) if grid.GetPoints() else None
-    pd = grid.GetPointData()
-    arrays = {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)) for i in range(pd.GetNumberOfArrays())}
+    arrays = grid_arrays(grid.GetPointData())
     fd = grid.GetFieldData()
     time = None
     if fd.GetArray("TimeValue") is not None:
@@ -151,16 +175,7 @@ def read_vtu(path):
 
 def read_vtu_cells(path):
     """Cell data of a .vtu read with VTK's own XML reader: {name: array}."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(path))
-    reader.Update()
-    if reader.GetErrorCode() != 0:
-        raise AssertionError(f"VTK could not read {path}")
-    cd = reader.GetOutput().GetCellData()
-    return {cd.GetArrayName(i): vtk_to_numpy(cd.GetArray(i)) for i in range(cd.GetNumberOfArrays())}
+    return grid_arrays(read_grid(path).GetCellData())
 
 
 def read_pvtu(path):
@@ -169,23 +184,11 @@ def read_pvtu(path):
     cells a list of each cell's point indices."""
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader
 
-    reader = vtkXMLPUnstructuredGridReader()
-    reader.SetFileName(str(path))
-    reader.Update()
-    if reader.GetErrorCode() != 0:
-        raise AssertionError(f"VTK could not read {path}")
-    grid = reader.GetOutput()
+    grid = read_grid(path)
     pts = vtk_to_numpy(grid.GetPoints().GetData()) if grid.GetPoints() else np.zeros((0, 3))
-    pd, cd = grid.GetPointData(), grid.GetCellData()
-    point = {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)) for i in range(pd.GetNumberOfArrays())}
-    cell = {cd.GetArrayName(i): vtk_to_numpy(cd.GetArray(i)) for i in range(cd.GetNumberOfArrays())}
-    cells = []
-    for c in range(grid.GetNumberOfCells()):
-        ids = grid.GetCell(c).GetPointIds()
-        cells.append([ids.GetId(k) for k in range(ids.GetNumberOfIds())])
-    return pts, point, cell, cells
+    return (pts, grid_arrays(grid.GetPointData()), grid_arrays(grid.GetCellData()),
+            grid_cells(grid))
 
 
 def read_pvd(path):

@@ -27,7 +27,8 @@ import unittest
 
 import numpy as np
 
-from crater_test import SOURCE_DIR, read_pvd, read_pvtu, read_vtu, read_vtu_cells, scratch
+from crater_test import (SOURCE_DIR, grid_cells, read_grid, read_pvd, read_pvtu, read_vtu,
+                         read_vtu_cells, scratch)
 from on_ranks import FULL, MPIRUN, assert_resumes, checkpoints, files, mpirun, plain
 
 PIECES = ["--set", 'output.pieces="ranks"']
@@ -68,7 +69,7 @@ class PiecesOnRanks(unittest.TestCase):
         for name in ref_cells:
             self.assertTrue(bits_equal(ref_cells[name][element], got_cells[name]),
                             f"{pvtu.name} cell {name}")
-        ref_conn = ref_connectivity(ref_vtu)
+        ref_conn = grid_cells(read_grid(ref_vtu))
         for c, e in enumerate(element):
             self.assertEqual([node[p] for p in cells[c]], ref_conn[e], f"{pvtu.name} {e}")
 
@@ -145,21 +146,6 @@ class PiecesOnRanks(unittest.TestCase):
         self.assertEqual(sorted(arrays["id"]), list(range(len(first))))
         self.assertEqual(sorted(f.name for f in (out / "pieces").glob("charge_failure_*.vtu")),
                          ["charge_failure_0000.vtu", "charge_failure_0001.vtu"])
-
-
-def ref_connectivity(path):
-    """Each cell's point indices in a .vtu, read with VTK's reader."""
-    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
-
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(str(path))
-    reader.Update()
-    grid = reader.GetOutput()
-    out = []
-    for c in range(grid.GetNumberOfCells()):
-        ids = grid.GetCell(c).GetPointIds()
-        out.append([ids.GetId(k) for k in range(ids.GetNumberOfIds())])
-    return out
 
 
 if __name__ == "__main__":
