@@ -262,6 +262,7 @@ class DemPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
+  Real load_ratio() const override { return load_ratio_; }
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
   /// The grains in this rank's arrays: its own and, on ranks, the ghosts.
@@ -714,7 +715,8 @@ class DemPart final : public parts::Part<D> {
   mutable parts::WholeLayout contact_layout_;  // contact_layout()'s, on ranks
   mutable Index contact_layout_builds_ = -1;   // skin_.builds() it was made at (-1: none)
   Index rebalances_ = 0;                       // on ranks: how often the cuts were made again
-  Index arrivals_ = 0;                         // on ranks: grains received from another owner
+  Real load_ratio_ = 1;  // on ranks: heaviest rank over the mean (last rebuild)
+  Index arrivals_ = 0;   // on ranks: grains received from another owner
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::vector<Index>> halo_send_, halo_recv_;

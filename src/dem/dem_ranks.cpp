@@ -330,7 +330,7 @@ void DemPart<D>::redistribute(Real reach) {
   // grain counts part by more than fields::kRebalanceTolerance.
   const std::vector<Real> weight(static_cast<std::size_t>(f_.size()), 1.0);
   if (auto cuts = fields::rebalanced_cuts<D>(comm, std::span<const Vec<D>>(x_.data(), x_.size()),
-                                             std::span<const Real>(weight))) {
+                                             std::span<const Real>(weight), &load_ratio_)) {
     cuts_ = std::move(*cuts);
     ++rebalances_;
   }
@@ -474,6 +474,7 @@ std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const {
           {"ghosts_max", comm_->max(static_cast<Real>(ghosts))},
           {"ghost_refresh_bytes_per_step", all_ghosts * kRefreshBytes},
           {"rebalances", static_cast<Real>(rebalances_)},
+          {"load_ratio", load_ratio_},
           {"migrations", static_cast<Real>(comm_->sum(static_cast<std::int64_t>(arrivals_)))}};
 }
 

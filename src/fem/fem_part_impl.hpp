@@ -107,6 +107,7 @@ class FemPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
+  Real load_ratio() const override { return load_ratio_; }
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
   std::optional<parts::ContactSurface<D>> whole_contact_surface(
@@ -315,6 +316,7 @@ class FemPart final : public parts::Part<D> {
   void exchange_ghost_nodes(std::size_t bytes, Pack&& pack, Unpack&& unpack) const;
   /// Every node's point fields as words, the ghost nodes' from their owners (own_piece).
   std::vector<Real> node_words_from_owners(const std::vector<fields::FieldView>& views) const;
+  Real load_ratio_ = 1;  // on ranks: the most elements a rank owns over the mean, at the cut
   std::vector<std::vector<Index>> send_nodes_;     // per rank: own nodes it holds, ascending
   std::vector<std::vector<Index>> receive_nodes_;  // per rank: its nodes held here, ascending
   Index whole_nodes_ = 0, whole_elements_ = 0;

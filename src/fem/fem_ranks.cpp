@@ -62,6 +62,11 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   const std::vector<Real> weight(at(ne), 1);
   const std::vector<int> element_owner =
       parallel::rcb<D>(std::span<const Vec<D>>(centre), std::span<const Real>(weight), ranks).owner;
+  std::vector<Index> per_rank(static_cast<std::size_t>(ranks), 0);
+  for (const int r : element_owner)
+    ++per_rank[static_cast<std::size_t>(r)];
+  const Index most = ne > 0 ? *std::max_element(per_rank.begin(), per_rank.end()) : 0;
+  load_ratio_ = ne > 0 ? static_cast<Real>(most) * ranks / static_cast<Real>(ne) : Real(1);
   // A node's: that of its lowest-numbered element (the adjacency is in element order); a node of
   // no element is the root's.
   std::vector<int> node_owner(at(nn), 0);
@@ -445,7 +450,8 @@ std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const {
           {"ghost_nodes_mean", all_ghosts / ranks},
           {"ghost_nodes_max", comm.max(static_cast<Real>(ghosts))},
           {"ghost_elements_max", comm.max(static_cast<Real>(flagged(ghost_element_)))},
-          {"ghost_refresh_bytes_per_step", all_ghosts * 2 * sizeof(Vec<D>)}};
+          {"ghost_refresh_bytes_per_step", all_ghosts * 2 * sizeof(Vec<D>)},
+          {"load_ratio", load_ratio_}};
 }
 
 // A checkpoint on ranks: every vector gathered on the root from the entities' owners and

@@ -36,11 +36,13 @@ inline constexpr Real kRebalanceTolerance = 0.10;
 /// New cuts when the ranks' loads part: each rank's entities `x` with their weights `w` (its own
 /// entities only); when the heaviest rank's summed weight exceeds the mean by more than
 /// kRebalanceTolerance, the cuts of an RCB of every rank's entities (all-gathered in rank order),
-/// else nothing. Every rank decides alike from the same gathered sums. Collective.
+/// else nothing. Every rank decides alike from the same gathered sums. Collective. `load_ratio`,
+/// if given: the heaviest rank's summed weight over the mean (1 for none).
 template <int D>
 std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
                                                     std::span<const Vec<D>> x,
-                                                    std::span<const Real> w) {
+                                                    std::span<const Real> w,
+                                                    Real* load_ratio = nullptr) {
   Real mine = 0;
   for (const Real v : w)
     mine += v;
@@ -51,6 +53,7 @@ std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
     most = std::max(most, v);
   }
   const Real mean = sum / static_cast<Real>(load.size());
+  if (load_ratio) *load_ratio = mean > 0 ? most / mean : Real(1);
   if (!(most > (1 + kRebalanceTolerance) * mean)) return std::nullopt;
   std::vector<Real> coords(x.size() * D);
   for (std::size_t i = 0; i < x.size(); ++i)
@@ -104,6 +107,8 @@ class Spread {
   Index ghosts() const { return static_cast<Index>(std::count(ghost_.begin(), ghost_.end(), 1)); }
   /// How many times the cuts were made again (rebalanced_cuts).
   Index rebalances() const { return rebalances_; }
+  /// The heaviest rank's load over the mean at the last rebuild (rebalanced_cuts; 1 before).
+  Real load_ratio() const { return load_ratio_; }
   /// How many entities arrived at this rank from another owner at rebuilds (migrations).
   Index arrivals() const { return arrivals_; }
 
@@ -143,7 +148,7 @@ class Spread {
     set.compact(keep);
     if (auto cuts = rebalanced_cuts<D>(
             comm, std::span<const Vec<D>>(x.data(), static_cast<std::size_t>(set.size())),
-            own_weight)) {
+            own_weight, &load_ratio_)) {
       cuts_ = std::move(*cuts);
       ++rebalances_;
     }
@@ -274,6 +279,7 @@ class Spread {
   std::vector<std::uint8_t> ghost_;              // per local entity
   std::vector<std::vector<Index>> send_, recv_;  // per rank: what goes there, what comes from it
   Index rebalances_ = 0;
+  Real load_ratio_ = 1;
   Index arrivals_ = 0;
 };
 

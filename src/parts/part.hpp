@@ -207,6 +207,10 @@ class Part {
   /// rank owns, the ghosts a rank holds. Empty on one rank. They depend on the rank count, so
   /// they go to summary.json's "run" block, not to the part's diagnostics.
   virtual std::vector<Diagnostic> rank_figures() const { return {}; }
+  /// On ranks: the heaviest rank's load over the ranks' mean (by the weights its cuts are made
+  /// with) when the part last looked at its cuts: a particle part at its last list rebuild, a
+  /// mesh part at its cut. The same on every rank, no communication; 1 on one rank.
+  virtual Real load_ratio() const { return 1; }
 
   /// Checkpoints: everything the part needs to continue bit for bit after load_state() on a
   /// part freshly built from the same scenario (fields, accumulators, contact histories, and

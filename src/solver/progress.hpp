@@ -1,5 +1,6 @@
-// The progress line: a live line on a terminal (percent, simulated time, steps/s, ETA), plain
-// log lines every few seconds when stderr is not a terminal.
+// The progress line: a live line on a terminal (percent, simulated time, steps/s, ETA, and on
+// MPI ranks their load balance), plain log lines every few seconds when stderr is not a
+// terminal.
 #pragma once
 
 #include <fmt/format.h>
@@ -7,6 +8,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
+#include <string>
 
 #include "core/types.hpp"
 
@@ -16,8 +19,11 @@ class Progress {
  public:
   /// first_step, first_t_s: where this run starts (non-zero on a resumed run), so that steps/s
   /// and the ETA count only the work done by this process.
-  Progress(Real end_time_s, bool quiet, Index first_step, Real first_t_s)
-      : end_s_(end_time_s),
+  /// `note`, if set, is asked for a text to end each line with (the ranks' load balance).
+  Progress(Real end_time_s, bool quiet, Index first_step, Real first_t_s,
+           std::function<std::string()> note = {})
+      : note_(std::move(note)),
+        end_s_(end_time_s),
         first_step_(first_step),
         first_t_s_(first_t_s),
         quiet_(quiet),
@@ -50,9 +56,10 @@ class Progress {
     const double done_s = t_s - first_t_s_;
     const double eta = done_s > 0 ? wall * std::max(0.0, end_s_ - t_s) / done_s : 0.0;
     const std::string line =
-        fmt::format("{:5.1f} %  t = {:.4e} s  step {}  dt = {:.3e} s  {:.0f} steps/s  {}",
+        fmt::format("{:5.1f} %  t = {:.4e} s  step {}  dt = {:.3e} s  {:.0f} steps/s  {}{}",
                     100 * frac, t_s, step, dt_s, rate,
-                    done ? fmt::format("wall {:.1f} s", wall) : fmt::format("ETA {:.0f} s", eta));
+                    done ? fmt::format("wall {:.1f} s", wall) : fmt::format("ETA {:.0f} s", eta),
+                    note_ ? note_() : std::string());
     if (tty_)
       std::fprintf(stderr, "\r%s\033[K%s", line.c_str(), done ? "\n" : "");
     else
@@ -60,6 +67,7 @@ class Progress {
     std::fflush(stderr);
   }
 
+  std::function<std::string()> note_;
   Real end_s_;
   Index first_step_;
   Real first_t_s_;

@@ -99,7 +99,9 @@ class Run {
     // A summary from the start (status "running"), brought up to date at every checkpoint: a
     // run that is killed or runs out of disk still leaves one for `crater report` and --resume.
     summary("running", "");
-    Progress progress(c_.end_time_s, opt_.quiet || !comm_.root(), st_.steps, st_.t);
+    Progress progress(c_.end_time_s, opt_.quiet || !comm_.root(), st_.steps, st_.t,
+                      comm_.size() > 1 ? std::function<std::string()>([&] { return load_note(); })
+                                       : std::function<std::string()>());
     loop_start_s_ = elapsed();
     set_activity(Activity::TimeLoop);  // an allocation that fails from here on exits 3 (main.cpp)
     loop(progress);
@@ -223,6 +225,17 @@ class Run {
     out_ = std::make_unique<Outputs<D>>(c_, manifest_.get(), opt_.out_dir, &comm_, parts_,
                                         history_columns(parts_, coupling_, probes_), std::string(),
                                         gauges_header());
+  }
+
+  // On ranks, the progress line's load balance: the part whose heaviest rank is furthest above
+  // the mean (Part::load_ratio: at its last look at its cuts; no communication).
+  std::string load_note() const {
+    std::size_t worst = 0;
+    for (std::size_t k = 1; k < parts_.size(); ++k)
+      if (parts_[k]->load_ratio() > parts_[worst]->load_ratio()) worst = k;
+    if (parts_.empty()) return {};
+    return fmt::format("  {} ranks, load max/mean {:.2f} ({})", comm_.size(),
+                       parts_[worst]->load_ratio(), parts_[worst]->name());
   }
 
   // The ranks the parts are spread over, for the probes' collective maxima; null on one rank.

@@ -83,6 +83,7 @@ std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const {
       {"ghost_refresh_bytes_per_step",
        all_ghosts * static_cast<Real>(f_.packed_bytes(fields::kHalo)) * (summation() ? 2 : 1)},
       {"rebalances", static_cast<Real>(spread_.rebalances())},
+      {"load_ratio", spread_.load_ratio()},
       {"migrations", static_cast<Real>(comm.sum(static_cast<std::int64_t>(spread_.arrivals())))}};
 }
 

@@ -31,13 +31,15 @@ small box, domain.outflow = "remove": the gas and the columns leave whole, 76 of
 grains, so the ranks end up holding none of a part's entities, bonded ones included): bit for
 bit on 2, 3 and 4 ranks, resumed on 3 and on 1.
 `crater check` under the launcher, and an error of rank 0 alone, end every rank with exit code
-2 and one message.
+2 and one message. The progress line on ranks shows the load balance (the part whose heaviest
+rank is furthest above the mean, as summary.json's ranks_by_part has it).
 Under `make test` only the first case of the file runs on 4 ranks and on 2 ranks of 2
 threads, the others on 2 and 3 ranks of one thread (on_ranks.rank_counts); `make test-slow`
 runs every case on every count (test_ranks_full_slow.py).
 """
 import csv
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -165,6 +167,17 @@ class CraterRunOnRanks(unittest.TestCase):
         assert_ranks_give(self, ref, scene, opts, rank_counts([(2, 1), (3, 1), (4, 1)]), ckpts,
                           "outflow")
         assert_resumes_elsewhere(self, scene, ref, ckpts[1], opts, "outflow")
+
+    def test_progress_line_shows_the_load(self):
+        # The last progress line names the part whose heaviest rank is furthest above the mean.
+        out = scratch("crater_ranks_progress") / "out"
+        p = mpirun(2, "run", SCENE, "--out", out, "--force", "--set", "time.max_steps=50")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        m = re.search(r"2 ranks, load max/mean (\d+\.\d+) \(bed\)", p.stderr)
+        self.assertIsNotNone(m, p.stderr)
+        self.assertGreaterEqual(float(m.group(1)), 1.0)
+        figures = json.loads((out / "summary.json").read_text())["run"]["ranks_by_part"]
+        self.assertAlmostEqual(figures["bed"]["load_ratio"], float(m.group(1)), delta=0.005)
 
     def test_errors_on_ranks(self):
         work = scratch("crater_ranks_refused")
