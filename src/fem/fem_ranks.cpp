@@ -45,6 +45,16 @@ Index lowest_over_ranks(const parallel::Comm& comm, Index mine) {
   return best.value == 0 ? best.id : -1;
 }
 
+/// The most entities a rank owns over the mean, from every entity's owner (1 for none).
+Real most_over_mean(const std::vector<int>& owner, int ranks) {
+  if (owner.empty()) return 1;
+  std::vector<Index> per_rank(static_cast<std::size_t>(ranks), 0);
+  for (const int r : owner)
+    ++per_rank[static_cast<std::size_t>(r)];
+  const Index most = *std::max_element(per_rank.begin(), per_rank.end());
+  return static_cast<Real>(most) * ranks / static_cast<Real>(owner.size());
+}
+
 }  // namespace
 
 template <int D>
@@ -62,11 +72,7 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   const std::vector<Real> weight(at(ne), 1);
   const std::vector<int> element_owner =
       parallel::rcb<D>(std::span<const Vec<D>>(centre), std::span<const Real>(weight), ranks).owner;
-  std::vector<Index> per_rank(static_cast<std::size_t>(ranks), 0);
-  for (const int r : element_owner)
-    ++per_rank[static_cast<std::size_t>(r)];
-  const Index most = ne > 0 ? *std::max_element(per_rank.begin(), per_rank.end()) : 0;
-  load_ratio_ = ne > 0 ? static_cast<Real>(most) * ranks / static_cast<Real>(ne) : Real(1);
+  load_ratio_ = most_over_mean(element_owner, ranks);
   // A node's: that of its lowest-numbered element (the adjacency is in element order); a node of
   // no element is the root's.
   std::vector<int> node_owner(at(nn), 0);

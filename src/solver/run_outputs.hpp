@@ -152,8 +152,11 @@ class Outputs {
     if (tag != "failure") pvd_[k].add(t, file);
   }
 
+  // A particle part's points, or a mesh part's cells with their fields (a rank's piece may hold
+  // none of its elements: its cell arrays are still written, empty, as the PVTU declares them).
   void write_gathered(const parts::GatheredPoints<D>& g, const fs::path& path, Real t) {
-    if (g.cell_types.empty()) return write_points(g.points, g.point.views(), path, t);
+    if (g.cell_types.empty() && g.cell.infos.empty())
+      return write_points(g.points, g.point.views(), path, t);
     Geometry<D> cells;
     cells.points = &g.points;
     cells.connectivity = g.connectivity;
