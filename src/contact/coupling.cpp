@@ -138,21 +138,17 @@ const PartList<D>& Coupling<D>::seen(const PartList<D>& parts) const {
 template <int D>
 void Coupling<D>::hand_to(const PartList<D>& parts, std::size_t k, const std::vector<Vec<D>>& force,
                           const std::vector<AxialVec<D>>& torque, bool next) const {
-  if (!spread_) {
+  auto give = [&](const std::vector<Vec<D>>& f, const std::vector<AxialVec<D>>& t) {
     if (next)
-      parts[k]->set_next_contact_forces(force, torque);
+      parts[k]->set_next_contact_forces(f, t);
     else
-      parts[k]->add_contact_forces(force, torque);
-    return;
-  }
+      parts[k]->add_contact_forces(f, t);
+  };
+  if (!spread_) return give(force, torque);
+  // On ranks: the entries of the entities this rank holds.
   const parts::WholeLayout& layout = spread_->layout(k);
-  const std::vector<Vec<D>> f = parts::local_of_whole(layout, force);
-  const std::vector<AxialVec<D>> t =
-      torque.empty() ? std::vector<AxialVec<D>>{} : parts::local_of_whole(layout, torque);
-  if (next)
-    parts[k]->set_next_contact_forces(f, t);
-  else
-    parts[k]->add_contact_forces(f, t);
+  give(parts::local_of_whole(layout, force),
+       torque.empty() ? std::vector<AxialVec<D>>{} : parts::local_of_whole(layout, torque));
 }
 
 template <int D>

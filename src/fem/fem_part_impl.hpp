@@ -314,8 +314,6 @@ class FemPart final : public parts::Part<D> {
   /// The owners' values of every ghost node, `bytes` each (collective; fem_ranks.cpp).
   template <class Pack, class Unpack>
   void exchange_ghost_nodes(std::size_t bytes, Pack&& pack, Unpack&& unpack) const;
-  /// Every node's point fields as words, the ghost nodes' from their owners (own_piece).
-  std::vector<Real> node_words_from_owners(const std::vector<fields::FieldView>& views) const;
   Real load_ratio_ = 1;  // on ranks: the most elements a rank owns over the mean, at the cut
   std::vector<std::vector<Index>> send_nodes_;     // per rank: own nodes it holds, ascending
   std::vector<std::vector<Index>> receive_nodes_;  // per rank: its nodes held here, ascending

@@ -318,11 +318,47 @@ std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const {
   static const fields::FieldInfo kNodeId{"node_id", "", fields::kNone};
   static const fields::FieldInfo kElementId{"element_id", "", fields::kNone};
   const Index nn = mesh_.node_count();
+  // The point fields copied, their ghost nodes' values then from the owners (one exchange).
   std::vector<fields::FieldView> views = point_fields();
-  const std::vector<Real> words = node_words_from_owners(views);
-  std::size_t width = 0;
-  for (const auto& v : views)
-    width += static_cast<std::size_t>(v.components);
+  std::vector<std::vector<Real>> reals(views.size());
+  std::vector<std::vector<std::int64_t>> integers(views.size());
+  std::size_t bytes = 0;
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    auto& v = views[k];
+    const std::size_t n = at(nn) * static_cast<std::size_t>(v.components);
+    if (v.is_integer) {
+      integers[k].assign(v.integer_data, v.integer_data + n);
+      v.integer_data = integers[k].data();
+    } else {
+      reals[k].assign(v.real_data, v.real_data + n);
+      v.real_data = reals[k].data();
+    }
+    bytes += static_cast<std::size_t>(v.components) * sizeof(Real);
+  }
+  static_assert(sizeof(Real) == sizeof(std::int64_t));
+  // Node i's values of field k, as bytes.
+  auto entry = [&](std::size_t k, Index i) {
+    const std::size_t first = at(i) * static_cast<std::size_t>(views[k].components);
+    return views[k].is_integer ? reinterpret_cast<std::byte*>(integers[k].data() + first)
+                               : reinterpret_cast<std::byte*>(reals[k].data() + first);
+  };
+  exchange_ghost_nodes(
+      bytes,
+      [&](Index i, std::byte* out) {
+        for (std::size_t k = 0; k < views.size(); ++k) {
+          const std::size_t b = static_cast<std::size_t>(views[k].components) * sizeof(Real);
+          std::memcpy(out, entry(k, i), b);
+          out += b;
+        }
+      },
+      [&](Index i, const std::byte* in) {
+        for (std::size_t k = 0; k < views.size(); ++k) {
+          const std::size_t b = static_cast<std::size_t>(views[k].components) * sizeof(Real);
+          std::memcpy(entry(k, i), in, b);
+          in += b;
+        }
+      });
+  views.push_back(fields::FieldView{&kNodeId, 1, true, nullptr, node_id_.data(), nn});
   std::vector<Index> elements, rows;
   std::vector<Index> row_of(at(nn), -1);
   for (Index e = 0; e < mesh_.element_count(); ++e) {
@@ -339,31 +375,7 @@ std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const {
   parts::GatheredPoints<D> g;
   for (const Index n : rows)
     g.points.push_back(mesh_.position[at(n)]);
-  // The point fields from the words, then the node numbers.
-  std::vector<fields::FieldView> from_words;
-  std::vector<std::vector<Real>> reals(views.size());
-  std::vector<std::vector<std::int64_t>> integers(views.size());
-  std::size_t offset = 0;
-  for (std::size_t k = 0; k < views.size(); ++k) {
-    const auto c = static_cast<std::size_t>(views[k].components);
-    if (views[k].is_integer)
-      integers[k].resize(at(nn) * c);
-    else
-      reals[k].resize(at(nn) * c);
-    for (Index n = 0; n < nn; ++n)
-      for (std::size_t j = 0; j < c; ++j) {
-        const Real w = words[at(n) * width + offset + j];
-        if (views[k].is_integer)
-          std::memcpy(&integers[k][at(n) * c + j], &w, sizeof w);
-        else
-          reals[k][at(n) * c + j] = w;
-      }
-    offset += c;
-    from_words.push_back(fields::FieldView{views[k].info, views[k].components, views[k].is_integer,
-                                           reals[k].data(), integers[k].data(), nn});
-  }
-  from_words.push_back(fields::FieldView{&kNodeId, 1, true, nullptr, node_id_.data(), nn});
-  g.point = parts::select_fields(from_words, rows);
+  g.point = parts::select_fields(views, rows);
   std::vector<fields::FieldView> cells = cell_fields();
   cells.push_back(
       fields::FieldView{&kElementId, 1, true, nullptr, element_id_.data(), mesh_.element_count()});
@@ -375,36 +387,6 @@ std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const {
   }
   g.cell_types.assign(elements.size(), D == 2 ? std::uint8_t{9} : std::uint8_t{12});
   return g;
-}
-
-// Every node's point fields as words (per node, the views' components in order; an integer by
-// its bits), the ghost nodes' from their owners (collective).
-template <int D>
-std::vector<Real> FemPart<D>::node_words_from_owners(
-    const std::vector<fields::FieldView>& views) const {
-  const Index nn = mesh_.node_count();
-  std::size_t width = 0;
-  for (const auto& v : views)
-    width += static_cast<std::size_t>(v.components);
-  std::vector<Real> words(at(nn) * width);
-  std::size_t offset = 0;
-  for (const auto& v : views) {
-    const auto c = static_cast<std::size_t>(v.components);
-    for (Index n = 0; n < nn; ++n)
-      for (std::size_t j = 0; j < c; ++j) {
-        Real& w = words[at(n) * width + offset + j];
-        if (v.is_integer)
-          std::memcpy(&w, &v.integer_data[at(n) * c + j], sizeof w);
-        else
-          w = v.real_data[at(n) * c + j];
-      }
-    offset += c;
-  }
-  const std::size_t bytes = width * sizeof(Real);
-  exchange_ghost_nodes(
-      bytes, [&](Index i, std::byte* out) { std::memcpy(out, &words[at(i) * width], bytes); },
-      [&](Index i, const std::byte* in) { std::memcpy(&words[at(i) * width], in, bytes); });
-  return words;
 }
 
 // The nodes numbered `numbers` (as on one rank), from their owners, on every rank: each rank
@@ -512,8 +494,6 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
   template void FemPart<D>::refresh_ghosts();                                                \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const;      \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const;            \
-  template std::vector<Real> FemPart<D>::node_words_from_owners(                             \
-      const std::vector<fields::FieldView>&) const;                                          \
   template std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const;                  \
   template std::vector<Vec<D>> FemPart<D>::points_numbered(const std::vector<Index>&) const; \
   template void FemPart<D>::save_gathered(parts::StateWriter&) const;
