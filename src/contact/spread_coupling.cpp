@@ -127,11 +127,12 @@ void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& lay
   if (zone_) {
     const std::size_t n = view_of_local_.size();
     std::vector<Vec<D>> force(n, Vec<D>::Zero());
-    std::vector<AxialVec<D>> torque(torque_.empty() ? 0 : n, axial_zero<D>());
+    // Torques for rotating particles even when the view is empty (no torque buffer then).
+    std::vector<AxialVec<D>> torque(points_.spins ? n : 0, axial_zero<D>());
     for (std::size_t i = 0; i < n; ++i)
       if (const Index k = view_of_local_[i]; k >= 0) {
         force[i] = force_[at(k)];
-        if (!torque.empty()) torque[i] = torque_[at(k)];
+        if (!torque_.empty()) torque[i] = torque_[at(k)];
       }
     part.add_contact_forces(force, torque);
     if (!points_.offsets) return;
@@ -217,7 +218,8 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
   for (const std::size_t k : zoned) {
     auto& whole = static_cast<WholePart<D>&>(*whole_[k]);
     const Real r_max = whole_largest_radius(comm_, *parts[k]->contact_points(), *layout_[k]);
-    whole.assemble_zone(comm_, *parts[k], *layout_[k], zone_of(parts, k, r_max), r_max);
+    const std::vector<char>& in = touching_of(parts, k, zone_of(parts, k, r_max), r_max);
+    whole.assemble_zone(comm_, *parts[k], *layout_[k], in, r_max);
     stamp_[k].take(*parts[k], *layout_[k]);
     ++zone_views_;
     zone_particles_ += whole.view_count();

@@ -12,8 +12,9 @@
 // step (once: the step limits take the views of the forces, for_limits; the masses, ids, radii
 // and contact state only when some rank's have changed) and evaluates every pair. A particle
 // part whose every contact is with a surface or a smaller particle part is viewed in its contact
-// zone alone (spread_zone.cpp): the particles that can touch the other side, a subsequence of
-// the whole part in its order, which holds every pair in contact. What scales further (each
+// zone alone (spread_zone.cpp): the particles that can touch the other side, and of those only
+// the ones each rank's search over its own finds in contact travel; a subsequence of the whole
+// part in its order, which holds every pair in contact. What scales further (each
 // rank the pairs of its own entities, the forces on others' sent back per pair) is
 // docs/distributed.md's next step.
 #pragma once
@@ -26,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact/candidates.hpp"
 #include "contact/pairing.hpp"
 #include "parallel/comm.hpp"
 #include "parts/part.hpp"
@@ -179,6 +181,15 @@ class SpreadContacts {
   /// that then (each side has moved by less than the margin since): the view then keeps its
   /// particles, and the pairings their candidate lists (candidates.hpp).
   const std::vector<char>& zone_of(const PartList<D>& parts, std::size_t k, Real r_max);
+  /// Of part k's own particles in its zone (`in_zone`, per local entity), those a pairing of
+  /// its contacts may find in contact with the other side's whole view, per local entity: the
+  /// search of each contact run by this rank over its own particles alone (the other side is
+  /// whole on every rank), so that only those travel. A superset of the particles in contact
+  /// (a surface's faces unfiltered by a contact's group; a non-finite position counts), which
+  /// is all the view needs: it is a subsequence of the whole part in its order that holds every
+  /// pair in contact.
+  const std::vector<char>& touching_of(const PartList<D>& parts, std::size_t k,
+                                       const std::vector<char>& in_zone, Real r_max);
   struct Zone {
     bool valid = false;
     std::vector<char> in;  // per local entity
@@ -190,7 +201,9 @@ class SpreadContacts {
       std::vector<Vec<D>> x;                     // its own positions, or the whole surface's nodes
       Real reach = 0;                            // the reach the zone was found for
     };
-    std::vector<Other> others;  // per contact of the part, in order
+    std::vector<Other> others;               // per contact of the part, in order
+    std::vector<CrossCandidates<D>> search;  // touching_of's lists, per contact of the part
+    std::vector<char> touching;              // per local entity
   };
   std::vector<Zone> zones_;
   static constexpr Real kZoneMargin = 0.25;

@@ -13,6 +13,7 @@
 
 #include "contact/contact_zone.hpp"
 #include "contact/face_search.hpp"
+#include "contact/particle_particle.hpp"
 #include "contact/spread_coupling.hpp"
 
 namespace crater::contact {
@@ -214,6 +215,8 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
   z.owned = layout.owned;
   z.x = *pts->position;
   z.others.assign(need.size(), {});
+  z.search.clear();
+  z.search.resize(need.size());
   auto mark = [&](const ZoneCells<D>& cells) {
     for (const Index i : layout.owned)
       if (!z.in[at(i)] && cells.near((*pts->position)[at(i)])) z.in[at(i)] = 1;
@@ -244,6 +247,58 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
   return z.in;
 }
 
+template <int D>
+const std::vector<char>& SpreadContacts<D>::touching_of(const PartList<D>& parts, std::size_t k,
+                                                        const std::vector<char>& in_zone,
+                                                        Real r_max) {
+  const parts::WholeLayout& layout = *layout_[k];
+  const auto pts = parts[k]->contact_points();
+  Zone& z = zones_[k];
+  z.touching.assign(in_zone.size(), 0);
+  // This rank's own particles of the zone, as a view of their own (what the searches read: the
+  // positions, contact radii and ids, and the whole part's largest radius).
+  std::vector<Index> local;
+  for (const Index i : layout.owned)
+    if (in_zone[at(i)]) local.push_back(i);
+  std::vector<Vec<D>> x(local.size());
+  std::vector<Real> r(local.size());
+  std::vector<std::int64_t> id(pts->id ? local.size() : 0);
+  for (std::size_t q = 0; q < local.size(); ++q) {
+    const std::size_t i = at(local[q]);
+    x[q] = (*pts->position)[i];
+    r[q] = (*pts->radius)[i];
+    if (pts->id) id[q] = (*pts->id)[i];
+    // A non-finite position goes to the pairing, which meets it as on one rank.
+    if (!x[q].allFinite()) z.touching[i] = 1;
+  }
+  parts::ContactPoints<D> mine;
+  mine.position = &x;
+  mine.radius = &r;
+  if (pts->id) mine.id = &id;
+  mine.whole_count = layout.whole_count;
+  mine.whole_largest_radius_m = r_max;
+  std::size_t c = 0;  // the part's contacts, in the order of zone_of's
+  for (const auto& [a, b] : sides_) {
+    if (a != k && b != k) continue;
+    CrossCandidates<D>& kept = z.search[c++];
+    const std::size_t other = a == k ? b : a;
+    if (const auto surf = whole_[other]->contact_surface()) {
+      for (const FaceHit<D>& h : particle_face_hits(mine, *surf, &kept))
+        z.touching[at(local[at(h.body)])] = 1;
+      continue;
+    }
+    const auto theirs = whole_[other]->contact_points();  // whole: k's zone needs it so
+    if (a == k) {
+      for (const auto& pp : ParticleParticle<D>::pairs(mine, *theirs, &kept))
+        z.touching[at(local[at(pp.a)])] = 1;
+    } else {
+      for (const auto& pp : ParticleParticle<D>::pairs(*theirs, mine, &kept))
+        z.touching[at(local[at(pp.b)])] = 1;
+    }
+  }
+  return z.touching;
+}
+
 template void WholePart<2>::assemble_zone(const parallel::Comm&, const parts::Part<2>&,
                                           const parts::WholeLayout&, const std::vector<char>&,
                                           Real);
@@ -254,5 +309,9 @@ template bool SpreadContacts<2>::zoned_view(const PartList<2>&, std::size_t) con
 template bool SpreadContacts<3>::zoned_view(const PartList<3>&, std::size_t) const;
 template const std::vector<char>& SpreadContacts<2>::zone_of(const PartList<2>&, std::size_t, Real);
 template const std::vector<char>& SpreadContacts<3>::zone_of(const PartList<3>&, std::size_t, Real);
+template const std::vector<char>& SpreadContacts<2>::touching_of(const PartList<2>&, std::size_t,
+                                                                 const std::vector<char>&, Real);
+template const std::vector<char>& SpreadContacts<3>::touching_of(const PartList<3>&, std::size_t,
+                                                                 const std::vector<char>&, Real);
 
 }  // namespace crater::contact

@@ -61,9 +61,11 @@ def assert_spread(test, out, ranks, crossings=100):
     grains crossed the cuts (paper-20cm: thousands). The step limits take the views of the
     contact forces at most steps (2,658 of the first 3,000 in paper-20cm on 2 ranks): the
     contacts' views are gathered about once a step, not twice. The soil's view is its contact
-    zone's at every gather (the grains near the charge or the plate: 18 % of the bed in paper-20cm,
-    5 % in paper-3d), and the charge's whole view is gathered without its masses and ids at most
-    gathers, when no rank's have changed (3,857 of 4,217 in paper-20cm on 2 ranks)."""
+    zone's at every gather, and of the zone only the grains that a rank's own search finds
+    touching the charge or the plate travel (4.0 % of the bed in paper-20cm on 2 ranks to 1 ms,
+    where the zone's cells hold 18.4 %: a share above 10 % is the cells' alone), and the charge's
+    whole view is gathered without its masses and ids at most gathers, when no rank's have
+    changed (3,857 of 4,217 in paper-20cm on 2 ranks)."""
     summary = json.loads((out / "summary.json").read_text())
     run = summary["run"]
     test.assertEqual(run["ranks"], ranks)
@@ -71,7 +73,7 @@ def assert_spread(test, out, ranks, crossings=100):
     test.assertGreater(views["reused_for_limits"], 0.5 * summary["steps"], views)
     test.assertLess(views["gathers"], 1.5 * summary["steps"], views)
     test.assertEqual(views["zone_views"], views["gathers"], views)
-    test.assertLess(views["zone_share"], 0.3, views)
+    test.assertLess(views["zone_share"], 0.1, views)
     test.assertGreater(views["zone_share"], 0, views)
     test.assertGreater(views["static_fields_kept"], 0.8 * views["gathers"], views)
     figures = run["ranks_by_part"]
