@@ -5,6 +5,7 @@
 #include "core/axial_vec.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstring>
 #include <limits>
@@ -108,13 +109,41 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
   }
   const auto local = part.contact_surface();
   if (!local) throw std::logic_error("part '" + part.name() + "' offers contacts nothing");
-  x.add(*local->node_position);
-  x.add(*local->node_velocity);
-  x.add(*local->node_mass);
-  x.exchange(comm);
-  nodes_.position = x.take<Vec<D>>(0);
-  nodes_.velocity = x.take<Vec<D>>(1);
-  nodes_.mass = x.take<Real>(2);
+  // Only the nodes the whole surface reads travel (its faces' nodes; every node of their
+  // elements when the faces are listed again); the others keep what they last held, alike on
+  // every rank, and nothing reads them.
+  const std::vector<Index>* needed = part.whole_surface_nodes();  // collective
+  if (!needed) throw std::logic_error("part '" + part.name() + "' has no whole surface");
+  const std::size_t whole = at(layout.whole_count);
+  if (nodes_.position.size() != whole) {
+    nodes_.position.assign(whole, Vec<D>::Zero());
+    nodes_.velocity.assign(whole, Vec<D>::Zero());
+    nodes_.mass.assign(whole, 0);
+  }
+  struct NodeRecord {
+    std::int64_t node;
+    std::array<Real, D> position, velocity;
+    Real mass;
+  };
+  std::vector<NodeRecord> mine;
+  for (const Index i : layout.owned) {
+    const Index w = layout.whole_of_local[at(i)];
+    if (!std::binary_search(needed->begin(), needed->end(), w)) continue;
+    NodeRecord& r = mine.emplace_back();
+    r.node = w;
+    for (int d = 0; d < D; ++d) {
+      r.position[at(d)] = (*local->node_position)[at(i)][d];
+      r.velocity[at(d)] = (*local->node_velocity)[at(i)][d];
+    }
+    r.mass = (*local->node_mass)[at(i)];
+  }
+  for (const NodeRecord& r : parallel::all_gather(comm, std::span<const NodeRecord>(mine))) {
+    for (int d = 0; d < D; ++d) {
+      nodes_.position[at(r.node)][d] = r.position[at(d)];
+      nodes_.velocity[at(r.node)][d] = r.velocity[at(d)];
+    }
+    nodes_.mass[at(r.node)] = r.mass;
+  }
   surface_ = part.whole_contact_surface(nodes_.position);
   if (!surface_) throw std::logic_error("part '" + part.name() + "' has no whole surface");
   surface_->node_position = &nodes_.position;

@@ -112,6 +112,7 @@ class FemPart final : public parts::Part<D> {
   const parts::WholeLayout* contact_layout() const override;
   std::optional<parts::ContactSurface<D>> whole_contact_surface(
       const std::vector<Vec<D>>& whole_x) const override;
+  const std::vector<Index>* whole_surface_nodes() const override;
 
  private:
   static fields::FieldView scalar_view(const fields::FieldInfo& info, const std::vector<Real>& v) {
@@ -328,6 +329,8 @@ class FemPart final : public parts::Part<D> {
   mutable std::vector<Real> whole_face_stiffness_;
   mutable std::uint64_t whole_revision_ = 0;   // of whole_faces_ (0: none built yet)
   mutable std::uint64_t synced_revision_ = 0;  // surface_revision_ when last brought up to date
+  mutable bool whole_relist_ = false;          // erosion synced, the faces not yet listed again
+  mutable std::vector<Index> whole_surface_nodes_;  // whole_surface_nodes()
 
   // Output scratch.
   mutable std::vector<Vec<D>> displacement_;

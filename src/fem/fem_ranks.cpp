@@ -209,14 +209,15 @@ const parts::WholeLayout* FemPart<D>::contact_layout() const {
   return comm_ ? &node_layout_ : nullptr;
 }
 
-// The contact surface of the whole mesh on every rank, as one rank has it: the faces of the live
-// elements that no other live element shares, in the order surface_faces lists them, with the
-// stiffness of rebuild_surface. Brought up to date in the step an element erodes anywhere (its
-// owner's flag is sent to every rank), with the nodes' positions of that state.
+// The nodes the whole contact surface reads: its faces' nodes. In the step an element erodes
+// anywhere (its owner's flag is sent to every rank), the faces of the live elements that no other
+// live element shares are listed again as one rank lists them, and then the nodes of their
+// elements: the listing's positions may be stale here, as they decide only each face's
+// orientation, not which faces there are, and whole_contact_surface lists them again with the
+// positions of these nodes now.
 template <int D>
-std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
-    const std::vector<Vec<D>>& whole_x) const {
-  if (!comm_) return std::nullopt;
+const std::vector<Index>* FemPart<D>::whole_surface_nodes() const {
+  if (!comm_) return nullptr;
   const bool changed_here = surface_revision_ != synced_revision_;
   if (comm_->max(changed_here ? Real(1) : Real(0)) > 0 || whole_revision_ == 0) {
     std::vector<std::int64_t> eroded_own;
@@ -225,13 +226,40 @@ std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
     for (const std::int64_t e :
          parallel::all_gather(*comm_, std::span<const std::int64_t>(eroded_own)))
       whole_mesh_.eroded[at(e)] = 1;
+    synced_revision_ = surface_revision_;
+    whole_relist_ = true;
+    std::vector<char> used(at(whole_mesh_.node_count()), 0);
+    for (const Index e : surface_faces(whole_mesh_).element)
+      for (const Index n : whole_mesh_.elements[at(e)])
+        used[at(n)] = 1;
+    whole_surface_nodes_.clear();
+    for (std::size_t n = 0; n < used.size(); ++n)
+      if (used[n]) whole_surface_nodes_.push_back(static_cast<Index>(n));
+  }
+  return &whole_surface_nodes_;
+}
+
+// The contact surface of the whole mesh on every rank, as one rank has it: the faces that
+// whole_surface_nodes found, in the order surface_faces lists them, oriented by the positions of
+// their elements' nodes (`whole_x`, fresh at those nodes), with the stiffness of rebuild_surface.
+template <int D>
+std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
+    const std::vector<Vec<D>>& whole_x) const {
+  if (!comm_) return std::nullopt;
+  if (whole_relist_) {
     whole_mesh_.position = whole_x;
     const SurfaceFaces<D> sf = surface_faces(whole_mesh_);
     whole_faces_ = sf.nodes;
     whole_face_element_ = sf.element;
     whole_face_stiffness_ = face_stiffness(sf, whole_mesh_);
     ++whole_revision_;
-    synced_revision_ = surface_revision_;
+    whole_relist_ = false;
+    std::vector<Index> on_faces;
+    for (const auto& face : whole_faces_)
+      on_faces.insert(on_faces.end(), face.begin(), face.end());
+    std::sort(on_faces.begin(), on_faces.end());
+    on_faces.erase(std::unique(on_faces.begin(), on_faces.end()), on_faces.end());
+    whole_surface_nodes_ = std::move(on_faces);
   }
   parts::ContactSurface<D> s;
   s.faces = &whole_faces_;
@@ -488,6 +516,7 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
 
 #define CRATER_FEM_RANKS(D)                                                                  \
   template const parts::WholeLayout* FemPart<D>::contact_layout() const;                     \
+  template const std::vector<Index>* FemPart<D>::whole_surface_nodes() const;                \
   template std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(        \
       const std::vector<Vec<D>>&) const;                                                     \
   template void FemPart<D>::distribute(const parallel::Comm&);                               \
