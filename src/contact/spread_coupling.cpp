@@ -109,9 +109,9 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
   }
   const auto local = part.contact_surface();
   if (!local) throw std::logic_error("part '" + part.name() + "' offers contacts nothing");
-  // Only the nodes the whole surface reads travel (its faces' nodes; every node of their
-  // elements when the faces are listed again); the others keep what they last held, alike on
-  // every rank, and nothing reads them.
+  // Only the nodes the whole surface reads travel (its faces' nodes; every node when the faces
+  // are listed again); the others keep what they last held, alike on every rank, and nothing
+  // reads them.
   const std::vector<Index>* needed = part.whole_surface_nodes();  // collective
   if (!needed) throw std::logic_error("part '" + part.name() + "' has no whole surface");
   const std::size_t whole = at(layout.whole_count);

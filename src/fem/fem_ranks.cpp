@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <numeric>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -210,11 +211,8 @@ const parts::WholeLayout* FemPart<D>::contact_layout() const {
 }
 
 // The nodes the whole contact surface reads: its faces' nodes. In the step an element erodes
-// anywhere (its owner's flag is sent to every rank), the faces of the live elements that no other
-// live element shares are listed again as one rank lists them, and then the nodes of their
-// elements: the listing's positions may be stale here, as they decide only each face's
-// orientation, not which faces there are, and whole_contact_surface lists them again with the
-// positions of these nodes now.
+// anywhere (its owner's flag is sent to every rank) the faces are listed again, which reads the
+// positions of their elements' nodes: every node of the mesh then, as the listing is rare.
 template <int D>
 const std::vector<Index>* FemPart<D>::whole_surface_nodes() const {
   if (!comm_) return nullptr;
@@ -228,20 +226,15 @@ const std::vector<Index>* FemPart<D>::whole_surface_nodes() const {
       whole_mesh_.eroded[at(e)] = 1;
     synced_revision_ = surface_revision_;
     whole_relist_ = true;
-    std::vector<char> used(at(whole_mesh_.node_count()), 0);
-    for (const Index e : surface_faces(whole_mesh_).element)
-      for (const Index n : whole_mesh_.elements[at(e)])
-        used[at(n)] = 1;
-    whole_surface_nodes_.clear();
-    for (std::size_t n = 0; n < used.size(); ++n)
-      if (used[n]) whole_surface_nodes_.push_back(static_cast<Index>(n));
+    whole_surface_nodes_.resize(at(whole_mesh_.node_count()));
+    std::iota(whole_surface_nodes_.begin(), whole_surface_nodes_.end(), Index{0});
   }
   return &whole_surface_nodes_;
 }
 
 // The contact surface of the whole mesh on every rank, as one rank has it: the faces that
 // whole_surface_nodes found, in the order surface_faces lists them, oriented by the positions of
-// their elements' nodes (`whole_x`, fresh at those nodes), with the stiffness of rebuild_surface.
+// their elements' nodes (`whole_x`), with the stiffness of rebuild_surface.
 template <int D>
 std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
     const std::vector<Vec<D>>& whole_x) const {

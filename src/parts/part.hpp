@@ -255,9 +255,9 @@ class Part {
   }
   /// A spread solid part: the whole mesh's nodes that whole_contact_surface reads and the
   /// contacts then read, ascending, after bringing the elements' erosion up to date from their
-  /// owners: the surface's face nodes, or, when the surface is to be listed again, every node of
-  /// the live elements with a face on it. `whole_x` need hold only these. Collective; call it
-  /// before each whole_contact_surface. Null on one rank.
+  /// owners: the surface's face nodes, or, when the surface is to be listed again, every node.
+  /// `whole_x` need hold only these. Collective; call it before each whole_contact_surface.
+  /// Null on one rank.
   virtual const std::vector<Index>* whole_surface_nodes() const { return nullptr; }
 
   /// Multi-rate stepping (solver/multi_rate.hpp), for a part in the middle of its step when
