@@ -20,6 +20,9 @@ Coupling<D>::Coupling(const std::vector<ContactSettings>& contacts, const PartLi
         involved_.push_back(k);
   }
   std::sort(involved_.begin(), involved_.end());
+  all_.resize(pairings_.size());
+  for (std::size_t c = 0; c < all_.size(); ++c)
+    all_[c] = c;
 }
 
 template <int D>
@@ -29,9 +32,13 @@ template <int D>
 void Coupling<D>::spread(const parallel::Comm& comm, const PartList<D>& parts, bool zones) {
   if (comm.size() <= 1 || pairings_.empty()) return;
   std::vector<std::pair<std::size_t, std::size_t>> sides;
-  for (const auto& p : pairings_)
+  std::vector<std::array<const SurfaceFilter<D>*, 2>> filters;
+  for (const auto& p : pairings_) {
     sides.emplace_back(p->points(), p->other());
-  spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_, std::move(sides), zones);
+    filters.push_back({&p->filter(0), &p->filter(1)});
+  }
+  spread_ = std::make_unique<SpreadContacts<D>>(comm, parts, involved_, std::move(sides),
+                                                std::move(filters), zones);
 }
 
 template <int D>
@@ -59,8 +66,12 @@ std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
   // last evaluation (outflow), and one rank's limits see them without; those of the last
   // evaluation when nothing the limits read has changed since (SpreadContacts::for_limits).
   const PartList<D>& on = spread_ ? spread_->for_limits(parts) : parts;
+  if (spread_ && spread_->owner_computed() && limits_at_ == spread_->gathers()) return limits_;
   for (std::size_t c = 0; c < pairings_.size(); ++c)
     pairings_[c]->limit_step(on, out[c]);
+  // Views that differ from rank to rank (owner-computed): each rank's limits are those of its
+  // own bodies' springs, whole; the smallest over the ranks is one rank's.
+  if (spread_ && spread_->owner_computed()) spread_->agree(out);
   return out;
 }
 
@@ -102,9 +113,36 @@ void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
     size_for(on, k, out);
   for (auto& p : pairings_)
     p->apply(on, dt_s, out);
+  finish(on, all_);
   for (std::size_t k : involved_)
     on[k]->add_contact_forces(out.force[k], out.torque[k]);
   if (spread_) spread_->hand_back(parts);
+}
+
+template <int D>
+void Coupling<D>::finish(const PartList<D>& on, const std::vector<std::size_t>& which) {
+  // A contact whose views differ from rank to rank (a side's view marks its own particles)
+  // has each pair on the rank that counts it: its totals are over the ranks. The others have
+  // every pair on every rank.
+  std::vector<ContactSums<D>*> here, over_ranks;
+  for (const std::size_t c : which) {
+    bool spread = false;
+    for (const std::size_t k : sides(c))
+      if (const auto p = on[k]->contact_points(); p && p->own) spread = true;
+    (spread ? over_ranks : here).push_back(&pairings_[c]->sums());
+  }
+  finish_sums<D>(here, nullptr, nullptr);
+  if (!spread_ || !spread_->owner_computed()) return;
+  // The heads of the sums travel with the step limits of the state just evaluated, which the
+  // next step takes when nothing they read has changed since (limits()): one gather for both.
+  std::vector<Real> heads = sums_head<D>(over_ranks);
+  std::vector<PairLimits> lim(pairings_.size());
+  for (std::size_t c = 0; c < pairings_.size(); ++c)
+    pairings_[c]->limit_step(on, lim[c]);
+  spread_->agree(lim, &heads);
+  limits_ = std::move(lim);
+  limits_at_ = spread_->gathers();
+  finish_sums<D>(over_ranks, &spread_->comm(), &heads);
 }
 
 template <int D>
@@ -124,6 +162,7 @@ void Coupling<D>::evaluate(const PartList<D>& parts, const std::vector<std::size
     }
     pairings_[c]->apply(on, dt_s[c], out[c]);
   }
+  finish(on, which);
   if (!spread_) return;
   std::sort(touched.begin(), touched.end());
   for (std::size_t k : touched)

@@ -114,10 +114,10 @@ class Coupling {
   std::optional<ViewCounts> view_counts() const;
 
   /// The parts were spread over the ranks of `comm` (Part::distribute): from now on every
-  /// contact is evaluated on every rank over whole views of its parts (spread_coupling.hpp),
-  /// and apply(), evaluate(), stable_step() and limits() are collective. `zones`: a particle
-  /// part may be viewed in its contact zone alone (not under multi-rate stepping, whose sums
-  /// follow every particle of the whole part).
+  /// contact is evaluated on every rank over stand-ins of its parts, whole or owner-computed
+  /// (spread_coupling.hpp), and apply(), evaluate(), stable_step() and limits() are collective.
+  /// `zones`: a particle part may be viewed in its contact zone alone (not under multi-rate
+  /// stepping, whose sums follow every particle of the whole part).
   void spread(const parallel::Comm& comm, const PartList<D>& parts, bool zones = true);
 
   /// Smallest stable step over the contacts, with the contact named in `reason`.
@@ -155,7 +155,9 @@ class Coupling {
   std::vector<parts::Diagnostic> diagnostics() const;
 
   /// history.csv columns: per contact the total force on its second part (the surface, or the
-  /// grains) at the last apply(), force_<contact>_x, _y[, _z] [N] (N/m in 2D).
+  /// grains) at the last apply(), force_<contact>_x, _y[, _z] [N] (N/m in 2D). The totals over
+  /// the pairs are reproducible sums (pairing.hpp, ContactSums): the same bits for any pair
+  /// order, thread or rank count.
   std::vector<std::string> history_columns() const;
   std::vector<Real> history_values() const;
 
@@ -164,6 +166,14 @@ class Coupling {
   std::unique_ptr<SpreadContacts<D>> spread_;  // on ranks
   std::vector<std::size_t> involved_;          // parts in any contact, ascending
   ContactForces<D> forces_;                    // apply()'s per-part buffers, kept from step to step
+  std::vector<std::size_t> all_;               // every contact's index
+  // On ranks, owner-computed: the limits agreed at the last apply(), and the count of views
+  // gathered then (SpreadContacts::gathers; -1: none).
+  std::vector<PairLimits> limits_;
+  std::int64_t limits_at_ = -1;
+
+  /// The totals of the contacts `which` from their pairs (on ranks collective).
+  void finish(const PartList<D>& on, const std::vector<std::size_t>& which);
 
   /// Sizes out's zeroed forces (and torques, for rotating particles) for part k's bodies.
   void size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const;

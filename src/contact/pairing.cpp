@@ -3,10 +3,13 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <cmath>
+#include <span>
 #include <stdexcept>
 
 #include "contact/penalty.hpp"
 #include "parallel/parallel.hpp"
+#include "parallel/reproducible_sum.hpp"
 
 namespace crater::contact {
 
@@ -32,7 +35,7 @@ Pairing<D>::Pairing(const ContactSettings& settings, std::size_t points, std::si
 
 template <int D>
 void Pairing<D>::restart(std::size_t n_points, std::size_t n_other) {
-  last_ = ContactSums<D>{};
+  last_.clear();
   load_.points.reset(n_points);
   load_.other.reset(n_other);
 }
@@ -86,6 +89,78 @@ void Pairing<D>::add_history_values(std::vector<Real>& v) const {
 }
 
 template <int D>
+std::vector<Real> sums_head(const std::vector<ContactSums<D>*>& sums) {
+  constexpr std::size_t kT = D + 1, kHead = kT + 2;
+  std::vector<Real> head(sums.size() * kHead, 0);
+  for (std::size_t c = 0; c < sums.size(); ++c) {
+    Real* h = &head[c * kHead];
+    h[0] = static_cast<Real>(sums[c]->active);
+    h[1] = sums[c]->max_overlap_m;
+    for (const auto& t : sums[c]->terms)
+      for (std::size_t q = 0; q < kT; ++q)
+        if (std::isfinite(t[q])) h[2 + q] = std::max(h[2 + q], std::abs(t[q]));
+  }
+  return head;
+}
+
+template <int D>
+void finish_sums(const std::vector<ContactSums<D>*>& sums, const parallel::Comm* comm,
+                 const std::vector<Real>* heads) {
+  // The heads over the ranks (counts: exact sums; the rest: maxima), then each term's sum from
+  // its levels.
+  constexpr std::size_t kT = D + 1, kHead = kT + 2;
+  std::vector<Real> head = sums_head(sums);
+  const bool ranks = comm && comm->size() > 1 && !sums.empty();
+  if (ranks) {
+    if (!heads || heads->size() != head.size() * at(comm->size()))
+      throw std::logic_error("contact sums: every rank's head expected");
+    std::fill(head.begin(), head.end(), Real(0));
+    for (std::size_t r = 0; r * head.size() < heads->size(); ++r)
+      for (std::size_t c = 0; c < sums.size(); ++c) {
+        const Real* g = &(*heads)[r * head.size() + c * kHead];
+        Real* h = &head[c * kHead];
+        h[0] += g[0];
+        for (std::size_t q = 1; q < kHead; ++q)
+          h[q] = std::max(h[q], g[q]);
+      }
+  }
+  constexpr std::size_t kWords = parallel::ReproducibleSum::kLevels + 1;
+  std::vector<parallel::ReproducibleSum> total;
+  std::vector<Real> partials(sums.size() * kT * kWords);
+  for (std::size_t c = 0; c < sums.size(); ++c) {
+    const Real* h = &head[c * kHead];
+    const auto count = static_cast<std::int64_t>(h[0]);
+    for (std::size_t q = 0; q < kT; ++q) {
+      parallel::ReproducibleSum s(h[2 + q], count);
+      for (const auto& t : sums[c]->terms)
+        s.add(t[q]);
+      const auto p = s.partials();
+      std::copy(p.begin(), p.end(),
+                partials.begin() + static_cast<std::ptrdiff_t>((c * kT + q) * kWords));
+      total.push_back(s);
+    }
+  }
+  if (ranks) comm->sum_exact(std::span<Real>(partials));
+  for (std::size_t c = 0; c < sums.size(); ++c) {
+    ContactSums<D>& s = *sums[c];
+    s.active = static_cast<Index>(head[c * kHead]);
+    s.max_overlap_m = head[c * kHead + 1];
+    std::array<Real, kT> value{};
+    for (std::size_t q = 0; q < kT; ++q) {
+      parallel::ReproducibleSum& t = total[c * kT + q];
+      parallel::ReproducibleSum::Partials p{};
+      std::copy_n(partials.begin() + static_cast<std::ptrdiff_t>((c * kT + q) * kWords), kWords,
+                  p.begin());
+      t.set_partials(p);
+      value[q] = t.value();
+    }
+    s.normal_force_n = value[0];
+    for (int k = 0; k < D; ++k)
+      s.force_on_other[k] = value[static_cast<std::size_t>(k + 1)];
+  }
+}
+
+template <int D>
 Real lightest_face_node(const parts::ContactSurface<D>& surf) {
   Real m = std::numeric_limits<Real>::infinity();
   for (const auto& face : *surf.faces)
@@ -104,6 +179,12 @@ Real lightest_particle(const parts::ContactPoints<D>& pts) {
 
 template class Pairing<2>;
 template class Pairing<3>;
+template std::vector<Real> sums_head<2>(const std::vector<ContactSums<2>*>&);
+template std::vector<Real> sums_head<3>(const std::vector<ContactSums<3>*>&);
+template void finish_sums<2>(const std::vector<ContactSums<2>*>&, const parallel::Comm*,
+                             const std::vector<Real>*);
+template void finish_sums<3>(const std::vector<ContactSums<3>*>&, const parallel::Comm*,
+                             const std::vector<Real>*);
 template Real lightest_face_node<2>(const parts::ContactSurface<2>&);
 template Real lightest_face_node<3>(const parts::ContactSurface<3>&);
 template Real lightest_particle<2>(const parts::ContactPoints<2>&);

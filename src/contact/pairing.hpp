@@ -18,6 +18,7 @@
 #include "contact/surface_filter.hpp"
 #include "core/index.hpp"
 #include "core/types.hpp"
+#include "parallel/comm.hpp"
 #include "parts/part.hpp"
 
 namespace crater::contact {
@@ -61,22 +62,55 @@ struct ContactForces {
   std::vector<std::vector<AxialVec<D>>> torque;
 };
 
-/// What a contact reports of its last apply() (or one direction of it).
+/// What a contact reports of its last apply() (or one direction of it). The sums over the pairs
+/// are reproducible (parallel::ReproducibleSum): finish() adds the terms kept per pair, so that
+/// their bits do not depend on the pairs' order nor on how the ranks share them.
 template <int D>
 struct ContactSums {
   Index active = 0;                        // pairs in contact
   Real max_overlap_m = 0;                  // deepest overlap [m]
   Real normal_force_n = 0;                 // total normal force [N] (N/m in 2D)
   Vec<D> force_on_other = Vec<D>::Zero();  // total force on the contact's second part
+  /// Per pair counted: its normal force and its force on the second part, until finish().
+  std::vector<std::array<Real, D + 1>> terms;
 
   /// Counts one pair in contact: its overlap [m], normal force [N] and force on the second part.
   void add(Real overlap_m, Real normal_n, const Vec<D>& on_other) {
     ++active;
     max_overlap_m = std::max(max_overlap_m, overlap_m);
-    normal_force_n += normal_n;
-    force_on_other += on_other;
+    std::array<Real, D + 1>& t = terms.emplace_back();
+    t[0] = normal_n;
+    for (int k = 0; k < D; ++k)
+      t[static_cast<std::size_t>(k + 1)] = on_other[k];
+  }
+  /// Adds another direction's pairs.
+  void append(const ContactSums& other) {
+    active += other.active;
+    max_overlap_m = std::max(max_overlap_m, other.max_overlap_m);
+    terms.insert(terms.end(), other.terms.begin(), other.terms.end());
+  }
+  /// No pairs (the terms' storage kept).
+  void clear() {
+    active = 0;
+    max_overlap_m = 0;
+    normal_force_n = 0;
+    force_on_other = Vec<D>::Zero();
+    terms.clear();
   }
 };
+
+/// What the totals of `sums` need of every rank's pairs beside their levels (pairing.cpp): per
+/// contact its pairs, deepest overlap and each term's largest magnitude (the bounds of the
+/// reproducible sums), which the ranks gather.
+template <int D>
+std::vector<Real> sums_head(const std::vector<ContactSums<D>*>& sums);
+/// The totals of each of `sums` from its terms. On ranks (`comm`), each rank holds the pairs it
+/// counts of every contact, and the totals are over every rank's (collective: one reduction
+/// for all of them); `heads`: every rank's sums_head, rank after rank. One rank, or null
+/// `comm`: over its own (`heads` null).
+template <int D>
+void finish_sums(const std::vector<ContactSums<D>*>& sums, const parallel::Comm* comm,
+                 const std::vector<Real>* heads);
 
 /// The springs summed per body of one side [N/m], with the bodies that carry any. A contact
 /// touches a few hundred of a part's thousands of bodies, so a reset zeroes those alone and the
@@ -144,6 +178,11 @@ class Pairing {
   /// force_<name>_x, _y[, _z]: the total force on `other` at the last apply() [N] (N/m in 2D).
   void add_history_columns(std::vector<std::string>& cols) const;
   void add_history_values(std::vector<Real>& v) const;
+  /// The faces of side 0 (`points`) or 1 (`other`) this contact sees (surface_of).
+  const SurfaceFilter<D>& filter(int side) const { return filter_[at(side)]; }
+  /// The sums of the last apply(), whose totals finish_sums() gives (Coupling, after every
+  /// pairing has run).
+  ContactSums<D>& sums() { return last_; }
 
  protected:
   /// Zeroes the diagnostics and sizes the spring sums for n_points and n_other bodies; the

@@ -133,7 +133,10 @@ void ParticleParticle<D>::apply(const PartList<D>& parts, Real /*dt_s*/, Contact
   for (std::size_t q = 0; q < found.size(); ++q) {
     const Pair& pp = found[q];
     const PairForce& pf = push[q];
-    this->last_.add(pp.overlap, pf.normal, -pf.force);
+    // On ranks, the pair counts where its first side's particle is owned (its second's, when
+    // only that side's view marks its own).
+    if (a.own ? parts::counts_here(a, pp.a) : parts::counts_here(b, pp.b))
+      this->last_.add(pp.overlap, pf.normal, -pf.force);
     f_a[at(pp.a)] += pf.force;
     f_b[at(pp.b)] -= pf.force;
     if (!t_b.empty()) t_b[at(pp.b)] += moment_of<D>(pf.arm_b, Vec<D>(-pf.force));

@@ -156,7 +156,7 @@ void ParticleSurface<D>::apply(const PartList<D>& parts, Real dt_s, ContactForce
     const Hit& h = touched[q];
     const Index i = h.body;
     const Push<D>& f = push[q];
-    this->last_.add(h.overlap, f.normal, -f.force);
+    if (parts::counts_here(*pts, i)) this->last_.add(h.overlap, f.normal, -f.force);
     f_points[at(i)] += f.force;
     // The arm -r n from the centre to the contact point; only the tangential part of the
     // force has a moment about the centre.

@@ -36,6 +36,7 @@ std::optional<parts::ContactPoints<D>> WholePart<D>::contact_points() const {
   }
   if (p.ids) v.id = &p.id;
   if (zone_) {
+    v.own = &p.own;
     v.whole_count = whole_count_;
     v.whole_lightest_kg = whole_lightest_kg_;
     v.whole_largest_radius_m = whole_largest_radius_m_;
@@ -197,11 +198,14 @@ template <int D>
 SpreadContacts<D>::SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
                                   std::vector<std::size_t> involved,
                                   std::vector<std::pair<std::size_t, std::size_t>> sides,
+                                  std::vector<std::array<const SurfaceFilter<D>*, 2>> filters,
                                   bool zones)
     : comm_(comm),
       involved_(std::move(involved)),
       sides_(std::move(sides)),
+      filters_(std::move(filters)),
       zones_allowed_(zones),
+      owners_(parts.size()),
       zones_(parts.size()),
       layout_(parts.size(), nullptr),
       stamp_(parts.size()) {
@@ -220,8 +224,10 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
   // The whole views first (surfaces, and the particle parts that are the smaller side of a
   // particle contact), then the contact zones, which read the surfaces' whole views.
   std::vector<std::size_t> zoned;
+  owner_computed_ = false;
   for (const std::size_t k : involved_) {
     if (zoned_view(parts, k)) {
+      owner_computed_ = true;
       zoned.push_back(k);
       continue;
     }
@@ -247,8 +253,8 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
   for (const std::size_t k : zoned) {
     auto& whole = static_cast<WholePart<D>&>(*whole_[k]);
     const Real r_max = whole_largest_radius(comm_, *parts[k]->contact_points(), *layout_[k]);
-    const std::vector<char>& in = touching_of(parts, k, zone_of(parts, k, r_max), r_max);
-    whole.assemble_zone(comm_, *parts[k], *layout_[k], in, r_max);
+    touching_of(parts, k, zone_of(parts, k, r_max), r_max);
+    whole.assemble_zone(comm_, *parts[k], *layout_[k], zones_[k].to, r_max);
     stamp_[k].take(*parts[k], *layout_[k]);
     ++zone_views_;
     zone_particles_ += whole.view_count();

@@ -1,24 +1,27 @@
 // Contacts between parts spread over MPI ranks (issue 29, docs/distributed.md "Contacts on
-// ranks"): every rank evaluates every contact on whole stand-ins of its two parts, assembled from
-// the ranks' own entities in the order one rank holds them (Part::contact_layout; a solid's
-// surface is its whole mesh's, Part::whole_contact_surface). The pairings then run as on one
-// rank, over the same numbers in the same order, and every sum they take (a particle's force
-// from its faces, a node's from its particles, the step limits, the diagnostics and history
-// forces) has one rank's bits on any rank count. Each part takes back the forces of the entities
-// it holds, and the particles their contact state (the initial-penetration offsets).
+// ranks"): every contact runs on every rank on stand-ins of its two parts, assembled from the
+// ranks' own entities in the order one rank holds them (Part::contact_layout; a solid's surface
+// is its whole mesh's, Part::whole_contact_surface). The pairings then run as on one rank, and
+// each part takes back the forces of its own entities, and the particles their contact state
+// (the initial-penetration offsets).
 //
-// The cost is a replicated contact stage: every rank gathers the contact view of each part in a
-// contact (positions, velocities, masses, radii, spins, offsets, ids; a solid's nodes) at every
-// step (once: the step limits take the views of the forces, for_limits; the masses, ids, radii
-// and contact state only when some rank's have changed) and evaluates every pair. A particle
-// part whose every contact is with a surface or a smaller particle part is viewed in its contact
-// zone alone (spread_zone.cpp): the particles that can touch the other side, and of those only
-// the ones each rank's search over its own finds in contact travel; a subsequence of the whole
-// part in its order, which holds every pair in contact. What scales further (each
-// rank the pairs of its own entities, the forces on others' sent back per pair) is
-// docs/distributed.md's next step.
+// Two kinds of stand-in. A whole view (a surface; a particle part that is the smaller side of a
+// particle contact; every particle part under multi-rate stepping) is gathered whole on every
+// rank at every step (positions, velocities; masses, ids, radii and contact state only when
+// some rank's have changed; the step limits take the views of the forces, for_limits). A
+// particle part whose every contact is with a surface or a smaller particle part is viewed
+// owner-computed (spread_zone.cpp): each rank searches its own particles of the contact zone
+// against the other sides' whole views and sends each particle in contact to itself and to the
+// owners of the bodies it touches, so rank r's view holds its own particles in contact and the
+// others' that touch its own bodies, in the whole part's order. Every pair of an entity r owns
+// is then in r's views in one rank's order: its forces, offsets and spring sums have one rank's
+// bits on any rank count. The sums over pairs (diagnostics, history forces) count each pair on
+// the rank owning its particle of that view and are reproducible sums over the ranks, and the
+// step limits the smallest over the ranks (agree). What is left replicated (the whole views:
+// every rank evaluates the pairs between two of them) is docs/distributed.md's next step.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -29,6 +32,7 @@
 
 #include "contact/candidates.hpp"
 #include "contact/pairing.hpp"
+#include "contact/surface_filter.hpp"
 #include "parallel/comm.hpp"
 #include "parts/part.hpp"
 #include "parts/whole_layout.hpp"
@@ -80,14 +84,19 @@ class WholePart final : public parts::Part<D> {
   /// assemble), whose whole values stay.
   void assemble(const parallel::Comm& comm, const parts::Part<D>& part,
                 const parts::WholeLayout& layout, unsigned kept = 0);
-  /// The view of `part`'s particles in its contact zone alone (`in_zone`: per local entity,
-  /// this rank's own that are), in the whole part's order, with the whole part's count, lightest
-  /// mass and largest contact radius (largest_radius_m, found by the caller) (collective).
+  /// The view of `part`'s particles that touch this rank's own entities of the other sides
+  /// (owner-computed, collective): every rank sends each of its own particles to the ranks
+  /// `to` names ((local entity, rank) pairs, ascending, itself included for its own that touch
+  /// anything), and the view holds what it received, in the whole part's order, each marked
+  /// whether it is this rank's own; with the whole part's count, lightest mass and largest
+  /// contact radius (largest_radius_m, found by the caller).
   void assemble_zone(const parallel::Comm& comm, const parts::Part<D>& part,
-                     const parts::WholeLayout& layout, const std::vector<char>& in_zone,
+                     const parts::WholeLayout& layout, const std::vector<std::pair<Index, int>>& to,
                      Real largest_radius_m);
   /// Particles in the view (a zone's: fewer than the whole part's).
   Index view_count() const { return static_cast<Index>(points_.position.size()); }
+  /// The place in the whole part of the view's particle q.
+  Index whole_index(Index q) const { return zone_ ? view_whole_[at(q)] : q; }
   /// The forces handed to this stand-in, given to `part` for the entities it holds, and its
   /// particles' contact state written back (a particle outside a zone's view: no force, and
   /// no face touched: offset -1, as the pairing leaves a particle that touches none).
@@ -104,6 +113,7 @@ class WholePart final : public parts::Part<D> {
     std::vector<Real> mass, radius, surface_offset, surface_overlap;
     std::vector<AxialVec<D>> angular_velocity;
     std::vector<std::int64_t> id;
+    std::vector<char> own;  // a zone's view: this rank's own particle
     bool spins = false, offsets = false, ids = false;
   } points_;
   struct Nodes {
@@ -115,6 +125,7 @@ class WholePart final : public parts::Part<D> {
   // the view reports of the whole part.
   bool zone_ = false;
   std::vector<Index> view_of_local_;
+  std::vector<Index> view_whole_;  // per particle of the view, its place in the whole part
   Index whole_count_ = 0;
   Real whole_lightest_kg_ = 0, whole_largest_radius_m_ = 0;
   std::vector<Vec<D>> force_;
@@ -130,7 +141,8 @@ class SpreadContacts {
   /// whether a particle part may be viewed in its contact zone alone (zoned_view).
   SpreadContacts(const parallel::Comm& comm, const PartList<D>& parts,
                  std::vector<std::size_t> involved,
-                 std::vector<std::pair<std::size_t, std::size_t>> sides, bool zones);
+                 std::vector<std::pair<std::size_t, std::size_t>> sides,
+                 std::vector<std::array<const SurfaceFilter<D>*, 2>> filters, bool zones);
 
   /// The stand-ins at the parts' current state (collective).
   const PartList<D>& refresh(const PartList<D>& parts);
@@ -154,6 +166,16 @@ class SpreadContacts {
   std::int64_t zone_views() const { return zone_views_; }
   std::int64_t zone_particles() const { return zone_particles_; }
   std::int64_t zone_whole_particles() const { return zone_whole_; }
+  /// Whether some part's view at the last refresh was its own particles and the others' that
+  /// touch them (a contact zone's, which differs from rank to rank): then the contacts' sums
+  /// and step limits are over the ranks (Coupling::finish, agree()).
+  bool owner_computed() const { return owner_computed_; }
+  const parallel::Comm& comm() const { return comm_; }
+  /// Each contact's limits, the smallest over the ranks (collective): on equal steps the
+  /// smallest id, then the lowest rank, as StepSearch decides between bodies. `extra` (if
+  /// given, as many numbers on every rank) travels with them and comes back as every rank's,
+  /// rank after rank.
+  void agree(std::vector<PairLimits>& limits, std::vector<Real>* extra = nullptr) const;
   /// Each part in a contact takes the forces of its entities from its stand-in.
   void hand_back(const PartList<D>& parts) const;
   /// Part k takes its particles' contact state from its (whole) stand-in.
@@ -166,7 +188,9 @@ class SpreadContacts {
   const parallel::Comm& comm_;
   std::vector<std::size_t> involved_;
   std::vector<std::pair<std::size_t, std::size_t>> sides_;
+  std::vector<std::array<const SurfaceFilter<D>*, 2>> filters_;  // per contact, of each side
   bool zones_allowed_;
+  bool owner_computed_ = false;
   PartList<D> whole_;
   /// Per part in a contact: this rank's own entities in its contact zone (per local entity), or
   /// nullopt when its view is whole (a surface, or a particle part that is the smaller side of
@@ -181,15 +205,16 @@ class SpreadContacts {
   /// that then (each side has moved by less than the margin since): the view then keeps its
   /// particles, and the pairings their candidate lists (candidates.hpp).
   const std::vector<char>& zone_of(const PartList<D>& parts, std::size_t k, Real r_max);
-  /// Of part k's own particles in its zone (`in_zone`, per local entity), those a pairing of
-  /// its contacts may find in contact with the other side's whole view, per local entity: the
-  /// search of each contact run by this rank over its own particles alone (the other side is
-  /// whole on every rank), so that only those travel. A superset of the particles in contact
-  /// (a surface's faces unfiltered by a contact's group; a non-finite position counts), which
-  /// is all the view needs: it is a subsequence of the whole part in its order that holds every
-  /// pair in contact.
-  const std::vector<char>& touching_of(const PartList<D>& parts, std::size_t k,
-                                       const std::vector<char>& in_zone, Real r_max);
+  /// Of part k's own particles in its zone (`in_zone`, per local entity), the ranks each must
+  /// go to (Zone::to): the search of each contact, run by this rank over its own particles
+  /// against the other side's whole view, finds the pairs in contact, and a particle goes to
+  /// this rank and to the owners of the bodies it touches (a face's nodes, the other part's
+  /// particle). A non-finite position goes to this rank, whose pairing meets it as one rank's
+  /// would. Every rank's view then holds every pair of its own entities, in one rank's order.
+  void touching_of(const PartList<D>& parts, std::size_t k, const std::vector<char>& in_zone,
+                   Real r_max);
+  /// Each whole entity's owning rank of part k's layout at the last refresh.
+  const std::vector<int>& owners_of(std::size_t k);
   struct Zone {
     bool valid = false;
     std::vector<char> in;  // per local entity
@@ -203,8 +228,13 @@ class SpreadContacts {
     };
     std::vector<Other> others;               // per contact of the part, in order
     std::vector<CrossCandidates<D>> search;  // touching_of's lists, per contact of the part
-    std::vector<char> touching;              // per local entity
+    std::vector<std::pair<Index, int>> to;   // (local entity, rank) to send, ascending
   };
+  struct Owners {
+    std::vector<Index> slot_of_gathered, owned_by_rank;  // the layout they were found for
+    std::vector<int> rank;                               // per whole entity
+  };
+  std::vector<Owners> owners_;
   std::vector<Zone> zones_;
   static constexpr Real kZoneMargin = 0.25;
   std::vector<const parts::WholeLayout*> layout_;  // per part in a contact, of the last refresh

@@ -38,7 +38,8 @@ void get(const std::byte*& in, T& v) {
 
 template <int D>
 void WholePart<D>::assemble_zone(const parallel::Comm& comm, const parts::Part<D>& part,
-                                 const parts::WholeLayout& layout, const std::vector<char>& in_zone,
+                                 const parts::WholeLayout& layout,
+                                 const std::vector<std::pair<Index, int>>& to,
                                  Real largest_radius_m) {
   const auto local = part.contact_points();
   if (!local) throw std::logic_error("part '" + part.name() + "' has no contact points");
@@ -55,49 +56,58 @@ void WholePart<D>::assemble_zone(const parallel::Comm& comm, const parts::Part<D
   whole_lightest_kg_ = comm.min(m_min);
   whole_largest_radius_m_ = largest_radius_m;
   whole_count_ = layout.whole_count;
-  // One record per particle of this rank's zone: its place in the whole part, then its fields.
-  std::vector<std::byte> mine;
-  for (const Index i : layout.owned) {
-    if (!in_zone[at(i)]) continue;
-    put(mine, static_cast<std::int64_t>(layout.whole_of_local[at(i)]));
-    put(mine, (*local->position)[at(i)]);
-    put(mine, (*local->velocity)[at(i)]);
-    put(mine, (*local->mass)[at(i)]);
-    put(mine, (*local->radius)[at(i)]);
-    if (p.spins) put(mine, (*local->angular_velocity)[at(i)]);
+  // One record per particle and rank it goes to: its place in the whole part, then its fields.
+  std::vector<std::vector<std::byte>> send(at(comm.size()));
+  for (const auto& [i, rank] : to) {
+    std::vector<std::byte>& out = send[at(rank)];
+    put(out, static_cast<std::int64_t>(layout.whole_of_local[at(i)]));
+    put(out, (*local->position)[at(i)]);
+    put(out, (*local->velocity)[at(i)]);
+    put(out, (*local->mass)[at(i)]);
+    put(out, (*local->radius)[at(i)]);
+    if (p.spins) put(out, (*local->angular_velocity)[at(i)]);
     if (p.offsets) {
-      put(mine, (*local->surface_offset)[at(i)]);
-      put(mine, (*local->surface_overlap)[at(i)]);
+      put(out, (*local->surface_offset)[at(i)]);
+      put(out, (*local->surface_overlap)[at(i)]);
     }
-    if (p.ids) put(mine, (*local->id)[at(i)]);
+    if (p.ids) put(out, (*local->id)[at(i)]);
   }
   const std::size_t record = sizeof(std::int64_t) + 2 * sizeof(Vec<D>) + 2 * sizeof(Real) +
                              (p.spins ? sizeof(AxialVec<D>) : 0) +
                              (p.offsets ? 2 * sizeof(Real) : 0) +
                              (p.ids ? sizeof(std::int64_t) : 0);
-  const std::vector<std::byte> all = comm.all_gather(mine);
-  if (all.size() % record != 0)
-    throw std::logic_error("contact zone of part '" + part.name() + "': a torn record");
-  const std::size_t n = all.size() / record;
-  // The view in the whole part's order.
-  std::vector<std::int64_t> whole(n);
-  for (std::size_t r = 0; r < n; ++r)
-    std::memcpy(&whole[r], all.data() + r * record, sizeof(std::int64_t));
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return whole[a] < whole[b]; });
+  const std::vector<std::vector<std::byte>> got = comm.all_to_all(send);
+  // Every record received, with whether it is this rank's own, in the whole part's order (a
+  // particle comes once: from its owner).
+  struct From {
+    std::int64_t whole;
+    const std::byte* at;
+    bool own;
+  };
+  std::vector<From> all;
+  for (std::size_t r = 0; r < got.size(); ++r) {
+    if (got[r].size() % record != 0)
+      throw std::logic_error("contact zone of part '" + part.name() + "': a torn record");
+    for (std::size_t q = 0; q < got[r].size() / record; ++q) {
+      From f{0, got[r].data() + q * record, static_cast<int>(r) == comm.rank()};
+      std::memcpy(&f.whole, f.at, sizeof(std::int64_t));
+      all.push_back(f);
+    }
+  }
+  std::sort(all.begin(), all.end(), [](const From& x, const From& y) { return x.whole < y.whole; });
+  const std::size_t n = all.size();
   p.position.resize(n);
   p.velocity.resize(n);
   p.mass.resize(n);
   p.radius.resize(n);
+  p.own.resize(n);
   p.angular_velocity.resize(p.spins ? n : 0);
   p.surface_offset.resize(p.offsets ? n : 0);
   p.surface_overlap.resize(p.offsets ? n : 0);
   p.id.resize(p.ids ? n : 0);
   std::vector<std::int64_t> sorted(n);
   for (std::size_t q = 0; q < n; ++q) {
-    const std::byte* in = all.data() + order[q] * record;
+    const std::byte* in = all[q].at;
     get(in, sorted[q]);
     get(in, p.position[q]);
     get(in, p.velocity[q]);
@@ -109,11 +119,15 @@ void WholePart<D>::assemble_zone(const parallel::Comm& comm, const parts::Part<D
       get(in, p.surface_overlap[q]);
     }
     if (p.ids) get(in, p.id[q]);
+    p.own[q] = all[q].own ? 1 : 0;
   }
-  // Each local entity's place in the view (a ghost: its owner's), or -1.
+  // Each local entity's place in the view (a ghost's: its owner's particle, when it came), or -1.
   std::vector<Index> view_of_whole(at(layout.whole_count), -1);
-  for (std::size_t q = 0; q < n; ++q)
+  view_whole_.resize(n);
+  for (std::size_t q = 0; q < n; ++q) {
     view_of_whole[at(sorted[q])] = static_cast<Index>(q);
+    view_whole_[q] = static_cast<Index>(sorted[q]);
+  }
   view_of_local_.resize(layout.whole_of_local.size());
   for (std::size_t i = 0; i < view_of_local_.size(); ++i)
     view_of_local_[i] = view_of_whole[at(layout.whole_of_local[i])];
@@ -248,13 +262,30 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
 }
 
 template <int D>
-const std::vector<char>& SpreadContacts<D>::touching_of(const PartList<D>& parts, std::size_t k,
-                                                        const std::vector<char>& in_zone,
-                                                        Real r_max) {
+const std::vector<int>& SpreadContacts<D>::owners_of(std::size_t k) {
+  const parts::WholeLayout& layout = *layout_[k];
+  Owners& o = owners_[k];
+  if (o.rank.size() == at(layout.whole_count) && o.slot_of_gathered == layout.slot_of_gathered &&
+      o.owned_by_rank == layout.owned_by_rank)
+    return o.rank;
+  o.slot_of_gathered = layout.slot_of_gathered;
+  o.owned_by_rank = layout.owned_by_rank;
+  o.rank.assign(at(layout.whole_count), -1);
+  std::size_t g = 0;
+  for (std::size_t r = 0; r < layout.owned_by_rank.size(); ++r)
+    for (Index q = 0; q < layout.owned_by_rank[r]; ++q, ++g)
+      o.rank[at(layout.slot_of_gathered[g])] = static_cast<int>(r);
+  return o.rank;
+}
+
+template <int D>
+void SpreadContacts<D>::touching_of(const PartList<D>& parts, std::size_t k,
+                                    const std::vector<char>& in_zone, Real r_max) {
   const parts::WholeLayout& layout = *layout_[k];
   const auto pts = parts[k]->contact_points();
   Zone& z = zones_[k];
-  z.touching.assign(in_zone.size(), 0);
+  z.to.clear();
+  const int me = comm_.rank();
   // This rank's own particles of the zone, as a view of their own (what the searches read: the
   // positions, contact radii and ids, and the whole part's largest radius).
   std::vector<Index> local;
@@ -269,7 +300,7 @@ const std::vector<char>& SpreadContacts<D>::touching_of(const PartList<D>& parts
     r[q] = (*pts->radius)[i];
     if (pts->id) id[q] = (*pts->id)[i];
     // A non-finite position goes to the pairing, which meets it as on one rank.
-    if (!x[q].allFinite()) z.touching[i] = 1;
+    if (!x[q].allFinite()) z.to.emplace_back(local[q], me);
   }
   parts::ContactPoints<D> mine;
   mine.position = &x;
@@ -278,40 +309,103 @@ const std::vector<char>& SpreadContacts<D>::touching_of(const PartList<D>& parts
   mine.whole_count = layout.whole_count;
   mine.whole_largest_radius_m = r_max;
   std::size_t c = 0;  // the part's contacts, in the order of zone_of's
-  for (const auto& [a, b] : sides_) {
+  for (std::size_t contact = 0; contact < sides_.size(); ++contact) {
+    const auto [a, b] = sides_[contact];
     if (a != k && b != k) continue;
     CrossCandidates<D>& kept = z.search[c++];
     const std::size_t other = a == k ? b : a;
-    if (const auto surf = whole_[other]->contact_surface()) {
-      for (const FaceHit<D>& h : particle_face_hits(mine, *surf, &kept))
-        z.touching[at(local[at(h.body)])] = 1;
+    const std::vector<int>& owner = owners_of(other);
+    if (const auto whole = whole_[other]->contact_surface()) {
+      // The faces the contact sees, as its pairing searches them: each particle's face of
+      // largest overlap is the same, and so are the nodes its force goes to.
+      const parts::ContactSurface<D> surf = filters_[contact][a == k ? 1 : 0]->view(*whole);
+      for (const FaceHit<D>& h : particle_face_hits(mine, surf, &kept)) {
+        const Index i = local[at(h.body)];
+        z.to.emplace_back(i, me);
+        for (const Index node : (*surf.faces)[at(h.face)])
+          z.to.emplace_back(i, owner[at(node)]);
+      }
       continue;
     }
-    const auto theirs = whole_[other]->contact_points();  // whole: k's zone needs it so
+    // Whole: every particle of the other part.
+    const auto& view = static_cast<const WholePart<D>&>(*whole_[other]);
+    const auto theirs = view.contact_points();
     if (a == k) {
-      for (const auto& pp : ParticleParticle<D>::pairs(mine, *theirs, &kept))
-        z.touching[at(local[at(pp.a)])] = 1;
+      for (const auto& pp : ParticleParticle<D>::pairs(mine, *theirs, &kept)) {
+        z.to.emplace_back(local[at(pp.a)], me);
+        z.to.emplace_back(local[at(pp.a)], owner[at(view.whole_index(pp.b))]);
+      }
     } else {
-      for (const auto& pp : ParticleParticle<D>::pairs(*theirs, mine, &kept))
-        z.touching[at(local[at(pp.b)])] = 1;
+      for (const auto& pp : ParticleParticle<D>::pairs(*theirs, mine, &kept)) {
+        z.to.emplace_back(local[at(pp.b)], me);
+        z.to.emplace_back(local[at(pp.b)], owner[at(view.whole_index(pp.a))]);
+      }
     }
   }
-  return z.touching;
+  std::sort(z.to.begin(), z.to.end());
+  z.to.erase(std::unique(z.to.begin(), z.to.end()), z.to.end());
+}
+
+template <int D>
+void SpreadContacts<D>::agree(std::vector<PairLimits>& limits, std::vector<Real>* extra) const {
+  // Each rank's extra numbers, then its three searches per contact as (step, body, reason),
+  // all-gathered, then taken in rank order as one search takes bodies.
+  std::vector<std::byte> mine;
+  const std::size_t n_extra = extra ? extra->size() : 0;
+  for (std::size_t q = 0; q < n_extra; ++q)
+    put(mine, (*extra)[q]);
+  for (const PairLimits& l : limits)
+    for (const StepSearch* s : {&l.pair, &l.points, &l.other}) {
+      put(mine, s->best.dt_s);
+      put(mine, static_cast<std::int64_t>(s->best.entity_id));
+      put(mine, static_cast<std::int64_t>(s->best.reason.size()));
+      const auto* b = reinterpret_cast<const std::byte*>(s->best.reason.data());
+      mine.insert(mine.end(), b, b + s->best.reason.size());
+    }
+  const std::vector<std::byte> all = comm_.all_gather(mine);
+  for (PairLimits& l : limits)
+    for (StepSearch* s : {&l.pair, &l.points, &l.other})
+      *s = StepSearch{};
+  const std::byte* in = all.data();
+  const std::byte* end = all.data() + all.size();
+  if (extra) extra->clear();
+  while (in < end) {
+    for (std::size_t q = 0; q < n_extra; ++q) {
+      Real x = 0;
+      get(in, x);
+      extra->push_back(x);
+    }
+    for (PairLimits& l : limits)
+      for (StepSearch* s : {&l.pair, &l.points, &l.other}) {
+        Real dt = 0;
+        std::int64_t entity = -1, length = 0;
+        get(in, dt);
+        get(in, entity);
+        get(in, length);
+        const std::string reason(reinterpret_cast<const char*>(in), at(length));
+        in += length;
+        s->consider(dt, static_cast<Index>(entity), [&] { return reason; });
+      }
+  }
 }
 
 template void WholePart<2>::assemble_zone(const parallel::Comm&, const parts::Part<2>&,
-                                          const parts::WholeLayout&, const std::vector<char>&,
-                                          Real);
+                                          const parts::WholeLayout&,
+                                          const std::vector<std::pair<Index, int>>&, Real);
 template void WholePart<3>::assemble_zone(const parallel::Comm&, const parts::Part<3>&,
-                                          const parts::WholeLayout&, const std::vector<char>&,
-                                          Real);
+                                          const parts::WholeLayout&,
+                                          const std::vector<std::pair<Index, int>>&, Real);
 template bool SpreadContacts<2>::zoned_view(const PartList<2>&, std::size_t) const;
 template bool SpreadContacts<3>::zoned_view(const PartList<3>&, std::size_t) const;
 template const std::vector<char>& SpreadContacts<2>::zone_of(const PartList<2>&, std::size_t, Real);
 template const std::vector<char>& SpreadContacts<3>::zone_of(const PartList<3>&, std::size_t, Real);
-template const std::vector<char>& SpreadContacts<2>::touching_of(const PartList<2>&, std::size_t,
-                                                                 const std::vector<char>&, Real);
-template const std::vector<char>& SpreadContacts<3>::touching_of(const PartList<3>&, std::size_t,
-                                                                 const std::vector<char>&, Real);
+template void SpreadContacts<2>::touching_of(const PartList<2>&, std::size_t,
+                                             const std::vector<char>&, Real);
+template void SpreadContacts<3>::touching_of(const PartList<3>&, std::size_t,
+                                             const std::vector<char>&, Real);
+template const std::vector<int>& SpreadContacts<2>::owners_of(std::size_t);
+template const std::vector<int>& SpreadContacts<3>::owners_of(std::size_t);
+template void SpreadContacts<2>::agree(std::vector<PairLimits>&, std::vector<Real>*) const;
+template void SpreadContacts<3>::agree(std::vector<PairLimits>&, std::vector<Real>*) const;
 
 }  // namespace crater::contact

@@ -127,10 +127,7 @@ void SurfaceSurface<D>::apply(const PartList<D>& parts, Real /*dt_s*/, ContactFo
   for (const ContactSums<D>& sums :
        {node_surface(this->settings_, a, b, node_face_hits(*sa, *sb), -1),
         node_surface(this->settings_, b, a, node_face_hits(*sb, *sa), 1)}) {
-    this->last_.active += sums.active;
-    this->last_.max_overlap_m = std::max(this->last_.max_overlap_m, sums.max_overlap_m);
-    this->last_.normal_force_n += sums.normal_force_n;
-    this->last_.force_on_other += sums.force_on_other;
+    this->last_.append(sums);
   }
   this->load_.known = true;
 }

@@ -103,7 +103,18 @@ struct ContactPoints {
   // lightest mass and largest contact radius, which the contacts' step limits and searches take.
   Index whole_count = -1;
   Real whole_lightest_kg = 0, whole_largest_radius_m = 0;
+  // Contacts on ranks, a view that differs from rank to rank (owner-computed: each rank's own
+  // particles and the others' that touch its own): per particle of the view, whether it is this
+  // rank's own; a pair counts in the contact's sums on the rank that owns its particle of such a
+  // view. Null: every particle counts (one rank, or a view alike on every rank).
+  const std::vector<char>* own = nullptr;
 };
+
+/// Whether particle i of a view counts as this rank's (ContactPoints::own).
+template <int D>
+bool counts_here(const ContactPoints<D>& p, Index i) {
+  return !p.own || (*p.own)[static_cast<std::size_t>(i)] != 0;
+}
 
 /// The particles of the part a view shows (all of them but for a contact zone's view).
 template <int D>
