@@ -109,12 +109,12 @@ void finish_sums(const std::vector<ContactSums<D>*>& sums, const parallel::Comm*
   // The heads over the ranks (counts: exact sums; the rest: maxima), then each term's sum from
   // its levels.
   constexpr std::size_t kT = D + 1, kHead = kT + 2;
-  std::vector<Real> head = sums_head(sums);
   const bool ranks = comm && comm->size() > 1 && !sums.empty();
+  // One rank: its own head; on ranks, the heads every rank gathered (this rank's among them).
+  std::vector<Real> head = ranks ? std::vector<Real>(sums.size() * kHead, 0) : sums_head(sums);
   if (ranks) {
     if (!heads || heads->size() != head.size() * at(comm->size()))
       throw std::logic_error("contact sums: every rank's head expected");
-    std::fill(head.begin(), head.end(), Real(0));
     for (std::size_t r = 0; r * head.size() < heads->size(); ++r)
       for (std::size_t c = 0; c < sums.size(); ++c) {
         const Real* g = &(*heads)[r * head.size() + c * kHead];
