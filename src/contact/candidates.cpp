@@ -1,9 +1,11 @@
 // Candidate lists kept between steps; see candidates.hpp.
 #include "contact/candidates.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "core/index.hpp"
 #include "parallel/parallel.hpp"
 
 namespace crater::contact {
@@ -34,6 +36,72 @@ void CrossCandidates<D>::Side::keep(std::span<const Vec<D>> now, const Numbering
 }
 
 template <int D>
+bool CrossCandidates<D>::keep_rows(std::span<const Vec<D>> a, const Numbering& number_a, Real reach,
+                                   Real moved_b) {
+  if (!number_a.known || !a_.known || number_a.ids.size() != a.size() || a_.ids.empty())
+    return false;
+  const Index n = static_cast<Index>(a.size());
+  // Each point's row at the build, when its id was there and it has not moved past what the
+  // margin left by the second set's motion covers; -1: its row is searched again.
+  std::vector<Index> from(a.size(), -1);
+  parallel::for_each(n, [&](Index i) {
+    const auto k = static_cast<std::size_t>(i);
+    const std::int64_t id = number_a.ids[k];
+    const auto hit = std::lower_bound(row_of_id_.begin(), row_of_id_.end(),
+                                      std::pair<std::int64_t, Index>(id, -1));
+    if (hit == row_of_id_.end() || hit->first != id) return;
+    const Real d = (a[k] - a_.x[static_cast<std::size_t>(hit->second)]).norm();
+    if (std::isfinite(d) && (reach + d + moved_b) * (1 + Real(1e-9)) <= radius_)
+      from[k] = hit->second;
+  });
+  const std::vector<Index> again = parallel::select(n, [&](Index i) { return from[at(i)] < 0; });
+  // Past half the rows a new build costs less, and it starts the second set's margin afresh.
+  if (2 * again.size() > a.size()) return false;
+  std::vector<Vec<D>> x(again.size());
+  for (std::size_t q = 0; q < again.size(); ++q) {
+    x[q] = a[at(again[q])];
+    if (!x[q].allFinite()) return false;  // the new build reports it as the search does
+  }
+  neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(b_.x), radius_,
+                                 searched_);
+  // The new list: each row from the old list or from the search, in the first set's order.
+  std::vector<Index> searched_row(a.size(), -1);
+  for (std::size_t q = 0; q < again.size(); ++q)
+    searched_row[at(again[q])] = static_cast<Index>(q);
+  auto row = [&](Index i) {
+    const auto k = static_cast<std::size_t>(i);
+    return from[k] >= 0 ? list_.of(from[k]) : searched_.of(searched_row[k]);
+  };
+  spare_.offsets.resize(a.size() + 1);
+  spare_.offsets[0] = 0;
+  for (Index i = 0; i < n; ++i)
+    spare_.offsets[at(i) + 1] = spare_.offsets[at(i)] + static_cast<Index>(row(i).size());
+  spare_.indices.resize(at(spare_.offsets[a.size()]));
+  std::vector<Vec<D>> x_row(a.size());
+  parallel::for_each(n, [&](Index i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto r = row(i);
+    std::copy(r.begin(), r.end(), spare_.indices.begin() + spare_.offsets[k]);
+    x_row[k] = from[k] >= 0 ? a_.x[at(from[k])] : a[k];
+  });
+  std::swap(list_, spare_);
+  a_.x = std::move(x_row);
+  a_.ids.assign(number_a.ids.begin(), number_a.ids.end());
+  a_.revision = number_a.revision;
+  index_rows();
+  rows_searched_ += static_cast<Index>(again.size());
+  return true;
+}
+
+template <int D>
+void CrossCandidates<D>::index_rows() {
+  row_of_id_.resize(a_.ids.size());
+  for (std::size_t i = 0; i < a_.ids.size(); ++i)
+    row_of_id_[i] = {a_.ids[i], static_cast<Index>(i)};
+  std::sort(row_of_id_.begin(), row_of_id_.end());
+}
+
+template <int D>
 const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> a,
                                                         const Numbering& number_a,
                                                         std::span<const Vec<D>> b,
@@ -41,8 +109,11 @@ const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> 
   // A pair within `reach` now was within reach + (moved a) + (moved b) at the build; the
   // factor covers the rounding of that sum and of the search's own distances.
   if (radius_ > 0) {
-    const Real moved = a_.moved(a, number_a) + b_.moved(b, number_b);
-    if ((reach + moved) * (1 + Real(1e-9)) <= radius_) return list_;
+    const Real moved_b = b_.moved(b, number_b);
+    if (std::isfinite(moved_b)) {
+      if ((reach + a_.moved(a, number_a) + moved_b) * (1 + Real(1e-9)) <= radius_) return list_;
+      if (keep_rows(a, number_a, reach, moved_b)) return list_;
+    }
   }
   const Real radius = reach * (1 + kMarginFraction);
   radius_ = 0;  // none, should the build throw
@@ -50,6 +121,7 @@ const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> 
   radius_ = radius;
   a_.keep(a, number_a);
   b_.keep(b, number_b);
+  index_rows();
   ++builds_;
   return list_;
 }

@@ -2,18 +2,26 @@
 // from step to step. A list built for the radius reach + margin holds every pair within the
 // reach of later steps until the two sets together have moved by the margin (the Verlet list of
 // neighbors/verlet_skin.hpp, across two sets). It is rebuilt when that happens, when the
-// reach has grown past what the margin covers, or when either set is renumbered: a particle
-// removed or the set re-sorted (its ids differ), a surface eroded (its revision differs).
+// reach has grown past what the margin covers, or when the second set is renumbered (a surface
+// eroded: its revision differs; a particle removed or the set re-sorted: its ids differ).
+//
+// The first set's rows are kept by id. When that set is renumbered (a contact zone's view on
+// ranks holds other grains every step) or one of its points has moved by more than the margin
+// left, only the rows of the points new to the set or moved too far are searched again, against
+// the second set as it was at the build; the others keep their rows. A row holds every point
+// of the second set within the reach while its own point's displacement since its search and
+// the second set's since the build together stay within the margin.
 //
 // A kept list is a superset of the fresh one with each row ascending, as the fresh one's, so a
 // search that filters its candidates by the fresh list's own test finds the same hits whether
 // the list is kept or new (particle_face_hits applies the distance test itself; a particle
 // pair must overlap, which is stricter). Hence a restart, which starts without a list, repeats
-// the run bit for bit.
+// the run bit for bit, and so does any history of the first set's renumbering.
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/types.hpp"
@@ -54,8 +62,14 @@ class CrossCandidates {
 
   /// Lists built so far (for tests and the performance notes).
   Index builds() const { return builds_; }
+  /// Rows searched again while the rest of the list was kept (for tests and the notes).
+  Index rows_searched() const { return rows_searched_; }
 
  private:
+  /// The rows kept by id, or false when the list has to be built anew.
+  bool keep_rows(std::span<const Vec<D>> a, const Numbering& number_a, Real reach, Real moved_b);
+  void index_rows();  // row_of_id_ from a_.ids
+
   struct Side {
     std::vector<Vec<D>> x;  // positions at the build
     std::vector<std::int64_t> ids;
@@ -65,10 +79,14 @@ class CrossCandidates {
     Real moved(std::span<const Vec<D>> now, const Numbering& n) const;
     void keep(std::span<const Vec<D>> now, const Numbering& n);
   };
-  Side a_, b_;
+  Side a_, b_;       // a_.x: each row's point where its row was searched
   Real radius_ = 0;  // the radius of the build; 0: none
   neighbors::NeighborList list_;
   Index builds_ = 0;
+  Index rows_searched_ = 0;
+  // The rows' ids ascending, with their rows (when the first set has ids).
+  std::vector<std::pair<std::int64_t, Index>> row_of_id_;
+  neighbors::NeighborList spare_, searched_;  // scratch of keep_rows, kept for their capacity
 };
 
 /// |x - y|^2 as the neighbour search computes it (the same operations in the same order), so

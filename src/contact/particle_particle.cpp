@@ -50,22 +50,26 @@ std::vector<typename ParticleParticle<D>::Pair> ParticleParticle<D>::pairs(
   const std::span<const Vec<D>> xb(*b.position);
   neighbors::NeighborList fresh;
   if (!kept) neighbors::build_cross_list<D>(xa, xb, ra_max + rb_max, fresh);
+  // On ranks, a contact zone's view (b's, marked by its own particles) holds other particles
+  // from step to step, and a kept list keeps its rows by id (candidates.hpp): there the rows
+  // are b's, and the pairs are put back in a's order below.
+  const bool by_b = kept && b.own && !a.own;
   // A kept list's extra candidates do not overlap: the pairs are those of a fresh list.
   const neighbors::NeighborList& list =
-      kept ? kept->find(xa, numbering(a), xb, numbering(b), ra_max + rb_max) : fresh;
+      !kept  ? fresh
+      : by_b ? kept->find(xb, numbering(b), xa, numbering(a), ra_max + rb_max)
+             : kept->find(xa, numbering(a), xb, numbering(b), ra_max + rb_max);
   std::vector<Pair> all(list.indices.size());
   parallel::for_each(
-      na,
-      [&](Index i) {
-        const Vec<D>& xi = (*a.position)[at(i)];
-        const Real ri = (*a.radius)[at(i)];
-        const auto row = list.of(i);
-        const auto base = at(list.offsets[at(i)]);
+      by_b ? nb : na,
+      [&](Index row_of) {
+        const auto row = list.of(row_of);
+        const auto base = at(list.offsets[at(row_of)]);
         for (std::size_t q = 0; q < row.size(); ++q) {
-          const Index j = row[q];
-          const Vec<D> d = xi - (*b.position)[at(j)];
+          const Index i = by_b ? row[q] : row_of, j = by_b ? row_of : row[q];
+          const Vec<D> d = (*a.position)[at(i)] - (*b.position)[at(j)];
           const Real dist = d.norm();
-          const Real overlap = ri + (*b.radius)[at(j)] - dist;
+          const Real overlap = (*a.radius)[at(i)] + (*b.radius)[at(j)] - dist;
           if (overlap <= 0 || !(dist > 0)) continue;
           all[base + q] = {i, j, overlap, dist, d};
         }
@@ -76,6 +80,9 @@ std::vector<typename ParticleParticle<D>::Pair> ParticleParticle<D>::pairs(
   std::vector<Pair> found(touching.size());
   parallel::for_each(static_cast<Index>(touching.size()),
                      [&](Index q) { found[at(q)] = all[at(touching[at(q)])]; });
+  if (by_b)
+    std::sort(found.begin(), found.end(),
+              [](const Pair& x, const Pair& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   return found;
 }
 

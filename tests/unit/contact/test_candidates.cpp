@@ -92,7 +92,7 @@ TEST(CrossCandidates, KeptListHoldsEveryPairWithinTheReach3D) {
   kept_list_holds_every_pair<3>();
 }
 
-TEST(CrossCandidates, RebuiltWhenASetIsRenumberedOrTheReachGrows) {
+TEST(CrossCandidates, RebuiltWhenTheSecondSetIsRenumberedOrTheReachGrows) {
   std::mt19937_64 rng(7);
   std::vector<Vec<2>> a = random_points<2>(rng, 100, 1.0);
   std::vector<Vec<2>> b = random_points<2>(rng, 50, 1.0);
@@ -105,25 +105,87 @@ TEST(CrossCandidates, RebuiltWhenASetIsRenumberedOrTheReachGrows) {
   find(0, 0.1);
   find(0, 0.1);
   EXPECT_EQ(kept.builds(), 1) << "nothing moved: the list is kept";
-  // Two particles re-sorted: their positions swap with their ids, so no position "moved".
+  // Two particles re-sorted: their positions swap with their ids, so each keeps its row.
   std::swap(a[3], a[4]);
   std::swap(ids_a[3], ids_a[4]);
   expect_holds_every_pair<2>(find(0, 0.1), a, b, 0.1);
-  EXPECT_EQ(kept.builds(), 2) << "a renumbered set is rebuilt";
+  EXPECT_EQ(kept.builds(), 1) << "the first set's rows are kept by id";
+  EXPECT_EQ(kept.rows_searched(), 0);
   find(1, 0.1);
-  EXPECT_EQ(kept.builds(), 3) << "a new revision of the surface is rebuilt";
+  EXPECT_EQ(kept.builds(), 2) << "a new revision of the surface is rebuilt";
   a.pop_back();
   ids_a.pop_back();
   expect_holds_every_pair<2>(find(1, 0.1), a, b, 0.1);
-  EXPECT_EQ(kept.builds(), 4) << "a particle removed";
+  EXPECT_EQ(kept.builds(), 2) << "a particle removed: the others keep their rows";
+  // One particle jumps by more than the margin: its row alone is searched again.
+  a[10] += Vec<2>(0.2, 0.1);
+  expect_holds_every_pair<2>(find(1, 0.1), a, b, 0.1);
+  EXPECT_EQ(kept.builds(), 2);
+  EXPECT_EQ(kept.rows_searched(), 1);
   find(1, 0.12);
-  EXPECT_EQ(kept.builds(), 4) << "a reach grown within the margin (0.125) is covered";
+  EXPECT_EQ(kept.builds(), 2) << "a reach grown within the margin (0.125) is covered";
   expect_holds_every_pair<2>(find(1, 0.13), a, b, 0.13);
-  EXPECT_EQ(kept.builds(), 5) << "a reach past the margin is rebuilt";
+  EXPECT_EQ(kept.builds(), 3) << "a reach past the margin is rebuilt";
+  // The second set renumbered by its ids (a particle set on that side) is rebuilt.
+  std::vector<std::int64_t> ids_b = iota_ids(b.size());
+  auto find_ids = [&] {
+    return kept.find(a, {.ids = ids_a, .revision = 0, .known = true}, b,
+                     {.ids = ids_b, .revision = 0, .known = true}, 0.13);
+  };
+  find_ids();
+  EXPECT_EQ(kept.builds(), 4);
+  std::swap(b[0], b[1]);
+  std::swap(ids_b[0], ids_b[1]);
+  expect_holds_every_pair<2>(find_ids(), a, b, 0.13);
+  EXPECT_EQ(kept.builds(), 5);
   // Without ids nothing tells a re-sort apart: never kept.
   kept.find(a, {}, b, {.ids = {}, .revision = 1, .known = true}, 0.13);
   kept.find(a, {}, b, {.ids = {}, .revision = 1, .known = true}, 0.13);
   EXPECT_EQ(kept.builds(), 7);
+}
+
+// A contact zone's view on ranks: a different subset of a large set at every step (in the set's
+// order), against a second set that barely moves. The list holds every pair at every step, and
+// the rows of the points that stay are kept.
+template <int D>
+void view_keeps_its_rows() {
+  std::mt19937_64 rng(11);
+  constexpr Real kReach = 0.05;
+  std::vector<Vec<D>> all = random_points<D>(rng, 2000, 1.0);
+  std::vector<Vec<D>> b = random_points<D>(rng, 300, 1.0);
+  std::bernoulli_distribution leaves(0.05);
+  std::vector<char> in(all.size(), 1);
+  CrossCandidates<D> kept;
+  constexpr int kSteps = 100;
+  Index rows = 0;
+  for (int step = 0; step < kSteps; ++step) {
+    // About 5 % of the points leave the view and as many come back.
+    for (auto& v : in)
+      if (leaves(rng)) v = !v;
+    std::vector<Vec<D>> a;
+    std::vector<std::int64_t> ids;
+    for (std::size_t i = 0; i < all.size(); ++i)
+      if (in[i]) {
+        a.push_back(all[i]);
+        ids.push_back(static_cast<std::int64_t>(i));
+      }
+    rows += static_cast<Index>(a.size());
+    const auto& list = kept.find(a, {.ids = ids, .revision = 0, .known = true}, b,
+                                 {.ids = {}, .revision = 0, .known = true}, kReach);
+    expect_holds_every_pair<D>(list, a, b, kReach);
+    walk<D>(rng, all, 2e-4);
+    walk<D>(rng, b, 5e-5);
+  }
+  EXPECT_LT(kept.builds(), kSteps / 5) << "the view's changes keep the rows that stay";
+  EXPECT_GT(kept.rows_searched(), 0);
+  EXPECT_LT(kept.rows_searched(), rows / 5) << "only the rows of points new to the view";
+}
+
+TEST(CrossCandidates, AViewOfOtherPointsEveryStepKeepsItsRows2D) {
+  view_keeps_its_rows<2>();
+}
+TEST(CrossCandidates, AViewOfOtherPointsEveryStepKeepsItsRows3D) {
+  view_keeps_its_rows<3>();
 }
 
 // Grains on a plate's top surface (a row of segments, 2D) and particles against grains: with
@@ -167,7 +229,12 @@ TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
                                    .id = &id_grain};
   const parts::ContactPoints<D> ps{
       .position = &gas, .velocity = &v_gas, .mass = &m_gas, .radius = &r_gas, .id = &id_gas};
-  CrossCandidates<D> kept_faces, kept_pairs;
+  // The grains as a contact zone's view on ranks (its own particles marked): the kept list's
+  // rows are then the grains', and the pairs must still come in the charge's order.
+  const std::vector<char> own(grains.size(), 1);
+  parts::ContactPoints<D> pg_zone = pg;
+  pg_zone.own = &own;
+  CrossCandidates<D> kept_faces, kept_pairs, kept_zone;
   Index hits = 0, pairs = 0;
   for (int step = 0; step < 100; ++step) {
     const auto fresh = particle_face_hits<D>(pg, surf);
@@ -186,6 +253,14 @@ TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
       EXPECT_EQ(p_fresh[q].b, p_kept[q].b);
       EXPECT_EQ(p_fresh[q].overlap, p_kept[q].overlap);
     }
+    const auto p_zone = ParticleParticle<D>::pairs(ps, pg_zone, &kept_zone);
+    ASSERT_EQ(p_fresh.size(), p_zone.size()) << "step " << step;
+    for (std::size_t q = 0; q < p_fresh.size(); ++q) {
+      EXPECT_EQ(p_fresh[q].a, p_zone[q].a);
+      EXPECT_EQ(p_fresh[q].b, p_zone[q].b);
+      EXPECT_EQ(p_fresh[q].overlap, p_zone[q].overlap);
+      EXPECT_EQ(p_fresh[q].d, p_zone[q].d);
+    }
     hits += static_cast<Index>(fresh.size());
     pairs += static_cast<Index>(p_fresh.size());
     walk<D>(rng, grains, 3e-4);
@@ -196,6 +271,7 @@ TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
   EXPECT_GT(pairs, 1000);
   EXPECT_LT(kept_faces.builds(), 50);
   EXPECT_LT(kept_pairs.builds(), 50);
+  EXPECT_LT(kept_zone.builds(), 50);
 }
 
 }  // namespace
