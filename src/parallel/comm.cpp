@@ -1,5 +1,6 @@
 #include "parallel/comm.hpp"
 
+#include <chrono>
 #include <climits>
 #include <cstdlib>
 #include <string>
@@ -36,8 +37,19 @@ int to_int_count(std::size_t n) {
   return static_cast<int>(n);
 }
 
+// Wall time this process spent in MPI's calls (Comm::seconds_in_mpi): waiting for the other
+// ranks and moving the bytes. Only the thread that started MPI calls it (MPI_THREAD_FUNNELED).
+double g_in_mpi_s = 0;
+struct InMpi {
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  ~InMpi() {
+    g_in_mpi_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+};
+
 // Element-wise `op` over the ranks of every entry of x, in place.
 void reduce_in_place(std::span<Real> x, MPI_Op op) {
+  const InMpi timed;
   MPI_Allreduce(MPI_IN_PLACE, x.data(), to_int_count(x.size()), MPI_DOUBLE, op, MPI_COMM_WORLD);
 }
 #endif
@@ -46,6 +58,14 @@ void reduce_in_place(std::span<Real> x, MPI_Op op) {
 
 const Comm& Comm::world() {
   return world_mutable();
+}
+
+double Comm::seconds_in_mpi() const {
+#ifdef CRATER_HAVE_MPI
+  return g_in_mpi_s;
+#else
+  return 0;
+#endif
 }
 
 Session::Session([[maybe_unused]] int& argc, [[maybe_unused]] char**& argv) {
@@ -89,13 +109,19 @@ void Comm::abort(int code) const {
 
 void Comm::barrier() const {
 #ifdef CRATER_HAVE_MPI
-  if (mpi_) MPI_Barrier(MPI_COMM_WORLD);
+  if (mpi_) {
+    const InMpi timed;
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
 #endif
 }
 
 Real Comm::max(Real x) const {
 #ifdef CRATER_HAVE_MPI
-  if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  if (mpi_) {
+    const InMpi timed;
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  }
 #endif
   return x;
 }
@@ -108,14 +134,20 @@ void Comm::max([[maybe_unused]] std::span<Real> x) const {
 
 Real Comm::min(Real x) const {
 #ifdef CRATER_HAVE_MPI
-  if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  if (mpi_) {
+    const InMpi timed;
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  }
 #endif
   return x;
 }
 
 std::int64_t Comm::sum(std::int64_t x) const {
 #ifdef CRATER_HAVE_MPI
-  if (mpi_) MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  if (mpi_) {
+    const InMpi timed;
+    MPI_Allreduce(MPI_IN_PLACE, &x, 1, MPI_INT64_T, MPI_SUM, MPI_COMM_WORLD);
+  }
 #endif
   return x;
 }
@@ -148,6 +180,7 @@ std::vector<std::byte> collect(std::span<const std::byte> mine, std::vector<std:
     return {mine.begin(), mine.end()};
   }
 #ifdef CRATER_HAVE_MPI
+  const InMpi timed;
   int n = to_int_count(mine.size());
   std::vector<int> count(static_cast<std::size_t>(size)), offset(static_cast<std::size_t>(size));
   if (everyone)
@@ -198,6 +231,7 @@ std::vector<std::vector<std::byte>> Comm::all_to_all(
     throw std::logic_error("Comm::all_to_all: one buffer per rank expected");
   if (!mpi_ || size_ == 1) return send;
 #ifdef CRATER_HAVE_MPI
+  const InMpi timed;
   const auto p = static_cast<std::size_t>(size_);
   std::vector<int> send_count(p), send_offset(p), recv_count(p), recv_offset(p);
   std::vector<std::byte> send_all;

@@ -35,6 +35,9 @@ class Comm {
   bool root() const { return rank_ == 0; }
   /// Whether MPI was started in this process (a launcher started it, even with one rank).
   bool mpi() const { return mpi_; }
+  /// Wall time this process has spent in MPI's calls so far [s]: waiting for the other ranks
+  /// and moving bytes (summary.json's run.time_by_rank_s.mpi). 0 without MPI.
+  double seconds_in_mpi() const;
 
   void barrier() const;
   /// Ends every rank of the run with `code` (MPI_Abort): for a failure one rank found alone,

@@ -183,13 +183,13 @@ class MultiRate {
       auto ends = [&](std::size_t p) { return j % cy.ratio[p] == 0; };
       for (std::size_t p = 0; p < np; ++p)
         if (ends(p)) StageClock::time(clock.part(p), [&] { parts[p]->compute_forces(t_next); });
-      StageClock::time(clock.contacts_s, [&] { contacts(cy, j, parts, coupling); });
+      StageClock::time(clock.contacts, [&] { contacts(cy, j, parts, coupling); });
       // As one-rate stepping: the contact forces to the parts, every part checked, then the
       // last half kicks; the next cycle's ratios from the state in between.
       std::vector<Sums> full(np);
       for (std::size_t p = 0; p < np; ++p)
         if (ends(p))
-          StageClock::time(clock.contacts_s, [&] { full[p] = hand_over(parts, coupling, p); });
+          StageClock::time(clock.contacts, [&] { full[p] = hand_over(parts, coupling, p); });
       for (std::size_t p = 0; p < np; ++p)
         if (ends(p))
           StageClock::time(clock.part(p), [&] {
@@ -203,7 +203,7 @@ class MultiRate {
         if (!ends(p)) continue;
         StageClock::time(clock.part(p),
                          [&] { parts[p]->finish_step(cy.h * static_cast<Real>(cy.ratio[p])); });
-        StageClock::time(clock.contacts_s, [&] {
+        StageClock::time(clock.contacts, [&] {
           if (involved(coupling, p)) begin_step(coupling, p, after, std::move(full[p]));
         });
       }

@@ -328,6 +328,53 @@ inline void write_contact_views(io::JsonWriter& j, const contact::ViewCounts& vi
   j.end_object();
 }
 
+/// On ranks, every rank's loop time and its time in MPI's calls, then its time_by_part (each
+/// part, then the contacts) and the time in MPI's calls of each of those, rank after rank (one
+/// all-gather; collective); empty on one rank.
+inline std::vector<double> times_by_rank(const RunResult& r) {
+  const parallel::Comm& comm = parallel::Comm::world();
+  if (comm.size() < 2) return {};
+  const RunResult::TimeByPart& tp = r.time_by_part;
+  std::vector<double> mine{r.loop_s, r.loop_mpi_s};
+  for (std::size_t k = 0; k < tp.parts_s.size(); ++k) {
+    mine.push_back(tp.parts_s[k].second);
+    mine.push_back(k < tp.parts_mpi_s.size() ? tp.parts_mpi_s[k] : 0.0);
+  }
+  mine.push_back(tp.contacts_s);
+  mine.push_back(tp.contacts_mpi_s);
+  return parallel::all_gather(comm, std::span<const double>(mine));
+}
+
+/// run.time_by_rank_s: per rank, where its loop went (as time_by_part_s, which is rank 0's), and
+/// how much of it, and of each stage, in MPI's calls (`mpi`, `mpi_by_stage`: waiting for the
+/// other ranks and moving bytes), so that a rank waiting for another shows.
+inline void write_times_by_rank(io::JsonWriter& j, const RunResult& r,
+                                const std::vector<double>& by_rank) {
+  const std::vector<std::pair<std::string, double>>& parts = r.time_by_part.parts_s;
+  const std::size_t per = 2 * parts.size() + 4;
+  const std::size_t ranks = by_rank.size() / per;
+  auto column = [&](std::string_view name, std::size_t k) {
+    j.key(name).begin_array();
+    for (std::size_t q = 0; q < ranks; ++q)
+      j.value(by_rank[q * per + k]);
+    j.end_array();
+  };
+  j.key("time_by_rank_s").begin_object();
+  column("loop", 0);
+  column("mpi", 1);
+  j.key("parts").begin_object();
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    column(parts[k].first, 2 + 2 * k);
+  j.end_object();
+  column("contacts", per - 2);
+  j.key("mpi_by_stage").begin_object();
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    column(parts[k].first, 3 + 2 * k);
+  column("contacts", per - 1);
+  j.end_object();
+  j.end_object();
+}
+
 template <int D>
 void write_summary(const io::Config& c, const SummaryInputs& in,
                    const std::vector<std::unique_ptr<Part<D>>>& parts, const std::string& status,
@@ -338,6 +385,7 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
   std::vector<std::pair<std::string, std::vector<Diagnostic>>> shares;
   for (const auto& p : parts)
     if (auto f = p->rank_figures(); !f.empty()) shares.emplace_back(p->name(), std::move(f));
+  const std::vector<double> by_rank = times_by_rank(r);
   const Real dt_min = in.dt_min, dt_max = in.dt_max;
   const Energies &e0 = in.e0, &e = in.e;
   const Real energy_error = in.energy_error;
@@ -417,6 +465,7 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
     }
     j.end_object();
   }
+  if (!by_rank.empty()) write_times_by_rank(j, r, by_rank);
   if (const auto views = coupling ? coupling->view_counts() : std::nullopt)
     write_contact_views(j, *views);
   // The time loop alone (no setup, no final output): what the peers' "Loop time" counts.

@@ -103,6 +103,7 @@ class Run {
                       comm_.size() > 1 ? std::function<std::string()>([&] { return load_note(); })
                                        : std::function<std::string()>());
     loop_start_s_ = elapsed();
+    loop_start_mpi_s_ = comm_.seconds_in_mpi();
     set_activity(Activity::TimeLoop);  // an allocation that fails from here on exits 3 (main.cpp)
     loop(progress);
     if (c_.output.checkpoint_at_end) {
@@ -507,18 +508,22 @@ class Run {
     r_.time_s = st_.t;
     r_.wall_s = elapsed();
     r_.loop_s = r_.wall_s - loop_start_s_;
+    r_.loop_mpi_s = comm_.seconds_in_mpi() - loop_start_mpi_s_;
     RunResult::TimeByPart& tp = r_.time_by_part;
     tp.parts_s.clear();
-    double accounted = clock_.contacts_s + probes_s_ + output_s_;
+    tp.parts_mpi_s.clear();
+    double accounted = clock_.contacts.s + probes_s_ + output_s_;
     for (std::size_t k = 0; k < parts_.size(); ++k) {
-      const double s = k < clock_.part_s.size() ? clock_.part_s[k] : 0.0;
-      tp.parts_s.emplace_back(parts_[k]->name(), s);
-      accounted += s;
+      const StageClock::Tally t = k < clock_.parts.size() ? clock_.parts[k] : StageClock::Tally{};
+      tp.parts_s.emplace_back(parts_[k]->name(), t.s);
+      tp.parts_mpi_s.push_back(t.mpi_s);
+      accounted += t.s;
     }
     r_.steps_by_part.clear();
     for (std::size_t k = 0; k < st_.part_steps.size() && k < parts_.size(); ++k)
       r_.steps_by_part.emplace_back(parts_[k]->name(), st_.part_steps[k]);
-    tp.contacts_s = clock_.contacts_s;
+    tp.contacts_s = clock_.contacts.s;
+    tp.contacts_mpi_s = clock_.contacts.mpi_s;
     tp.probes_s = probes_s_;
     tp.output_s = output_s_;
     tp.other_s = std::max(0.0, r_.loop_s - accounted);
@@ -537,6 +542,7 @@ class Run {
   std::unique_ptr<Outputs<D>> out_;
   RunResult r_;
   double loop_start_s_ = 0;
+  double loop_start_mpi_s_ = 0;  // seconds_in_mpi() then
   double last_checkpoint_s_ = 0;
   MultiRate<D> multi_rate_;  // time.multi_rate: each part at its own step
   StageClock clock_;         // the parts' stages and the contacts, for run.time_by_part_s

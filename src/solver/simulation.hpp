@@ -46,16 +46,21 @@ struct RunResult {
   Index first_step = 0;  // where this process started: non-zero on a resumed run
   Real time_s = 0;
   double wall_s = 0;
-  double loop_s = 0;  // the time loop alone: wall_s without the setup and the final output
+  double loop_s = 0;      // the time loop alone: wall_s without the setup and the final output
+  double loop_mpi_s = 0;  // of loop_s, in MPI's calls (parallel::Comm::seconds_in_mpi)
   int threads = 1;
   int ranks = 1;  // MPI ranks the parts were spread over (Part::distribute)
   // Multi-rate stepping: the steps each part took (scenario order); empty otherwise.
   std::vector<std::pair<std::string, std::int64_t>> steps_by_part;
   // loop_s split by where it went: each part's stages (scenario order), the contacts between
   // parts, the probes, the outputs (history, frames, progress, checkpoints), the rest.
+  // Of each part's stages and of the contacts, the time in MPI's calls (parts_mpi_s in the order
+  // of parts_s): on ranks, the waits for the others show where the load parts.
   struct TimeByPart {
     std::vector<std::pair<std::string, double>> parts_s;
     double contacts_s = 0, probes_s = 0, output_s = 0, other_s = 0;
+    std::vector<double> parts_mpi_s;
+    double contacts_mpi_s = 0;
   } time_by_part;
 };
 

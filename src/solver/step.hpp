@@ -15,6 +15,7 @@
 #include "contact/coupling.hpp"
 #include "core/error.hpp"
 #include "io/scenario/config.hpp"
+#include "parallel/comm.hpp"
 #include "solver/part_names.hpp"
 
 namespace crater::solver {
@@ -60,10 +61,15 @@ void check_fixed_step(const io::Config& c, const StepLimit<D>& lim) {
 }
 
 /// Wall time spent in each part's stages and in the contacts (summary.json's
-/// run.time_by_part_s); a reading of the clock around each stage costs tens of nanoseconds.
+/// run.time_by_part_s), and of it, in MPI's calls (run.time_by_rank_s); a reading of the clock
+/// around each stage costs tens of nanoseconds.
 struct StageClock {
-  std::vector<double> part_s;  // per part, scenario order
-  double contacts_s = 0;
+  /// One stage's time, and the part of it in MPI's calls (waiting for other ranks, moving bytes).
+  struct Tally {
+    double s = 0, mpi_s = 0;
+  };
+  std::vector<Tally> parts;  // per part, scenario order
+  Tally contacts;
 
   using Clock = std::chrono::steady_clock;
   /// Runs f() and adds its wall time to `into`.
@@ -73,21 +79,28 @@ struct StageClock {
     f();
     into += std::chrono::duration<double>(Clock::now() - start).count();
   }
+  /// Runs f() and adds its wall time and its time in MPI's calls to `into`.
+  template <class F>
+  static void time(Tally& into, F&& f) {
+    const double mpi_s = parallel::Comm::world().seconds_in_mpi();
+    time(into.s, std::forward<F>(f));
+    into.mpi_s += parallel::Comm::world().seconds_in_mpi() - mpi_s;
+  }
   /// The same, or f() alone when there is no clock (`into` null).
   template <class F>
-  static void time(double* into, F&& f) {
+  static void time(Tally* into, F&& f) {
     if (into)
       time(*into, std::forward<F>(f));
     else
       f();
   }
   /// Where part k's time goes on `clock`, or nowhere.
-  static double* part_of(StageClock* clock, std::size_t k) {
+  static Tally* part_of(StageClock* clock, std::size_t k) {
     return clock ? &clock->part(k) : nullptr;
   }
-  double& part(std::size_t k) {
-    if (part_s.size() <= k) part_s.resize(k + 1, 0);
-    return part_s[k];
+  Tally& part(std::size_t k) {
+    if (parts.size() <= k) parts.resize(k + 1);
+    return parts[k];
   }
 };
 
@@ -112,7 +125,7 @@ void finish_step_stages(const std::vector<std::unique_ptr<Part<D>>>& parts,
   auto part_clock = [&](std::size_t k) { return StageClock::part_of(clock, k); };
   for (std::size_t k = 0; k < parts.size(); ++k)
     StageClock::time(part_clock(k), [&] { parts[k]->compute_forces(t_new); });
-  StageClock::time(clock ? &clock->contacts_s : nullptr, [&] { coupling.apply(parts, dt); });
+  StageClock::time(clock ? &clock->contacts : nullptr, [&] { coupling.apply(parts, dt); });
   for (std::size_t k = 0; k < parts.size(); ++k)
     StageClock::time(part_clock(k), [&] {
       if (auto fault = parts[k]->check())

@@ -176,8 +176,27 @@ class CraterRunOnRanks(unittest.TestCase):
         m = re.search(r"2 ranks, load max/mean (\d+\.\d+) \(bed\)", p.stderr)
         self.assertIsNotNone(m, p.stderr)
         self.assertGreaterEqual(float(m.group(1)), 1.0)
-        figures = json.loads((out / "summary.json").read_text())["run"]["ranks_by_part"]
+        run = json.loads((out / "summary.json").read_text())["run"]
+        figures = run["ranks_by_part"]
         self.assertAlmostEqual(figures["bed"]["load_ratio"], float(m.group(1)), delta=0.005)
+        # Each rank's loop, stages and time in MPI's calls: rank 0's stages are time_by_part_s's
+        # (the gather keeps the ranks' order), and no stage waits longer than it lasts.
+        by_rank = run["time_by_rank_s"]
+        self.assertEqual(by_rank["loop"][0], run["loop_time_s"])
+        self.assertEqual(by_rank["parts"]["bed"][0], run["time_by_part_s"]["parts"]["bed"])
+        self.assertEqual(by_rank["contacts"][0], run["time_by_part_s"]["contacts"])
+        for q in range(2):
+            self.assertGreater(by_rank["mpi"][q], 0)  # every step has its collectives
+            self.assertLessEqual(by_rank["mpi"][q], by_rank["loop"][q])
+            self.assertLessEqual(by_rank["mpi_by_stage"]["bed"][q], by_rank["parts"]["bed"][q])
+            self.assertLessEqual(by_rank["mpi_by_stage"]["bed"][q] +
+                                 by_rank["mpi_by_stage"]["contacts"][q], by_rank["mpi"][q])
+        self.assertEqual([len(v) for v in by_rank.values() if isinstance(v, list)], [2, 2, 2])
+        # One rank has no such block.
+        one = scratch("crater_ranks_progress") / "one"
+        p = plain("run", SCENE, "--out", one, "--force", "--quiet", "--set", "time.max_steps=5")
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertNotIn("time_by_rank_s", json.loads((one / "summary.json").read_text())["run"])
 
     def test_errors_on_ranks(self):
         work = scratch("crater_ranks_refused")
