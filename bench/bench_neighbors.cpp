@@ -85,6 +85,34 @@ void BM_NeighborCellSortOrder(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// A cross list (a contact's candidates): the queries a, in their order at the search radius,
+// against a second set b of as many points in the same box, in its own order: "SameOrder"
+// sorted at the search radius (the grid's order), "OtherOrder" sorted at 0.37 of it (a finer
+// part's order, e.g. a charge's SPH particles against the soil's grains), which the search's
+// grid does not follow.
+template <int D, bool kSameOrder>
+void BM_CrossList(benchmark::State& state) {
+  const Index n = state.range(0);
+  const std::vector<Vec<D>> a = random_points<D>(n, Order::Sorted);
+  std::vector<Vec<D>> b = random_points<D>(n, Order::Random);
+  for (auto& p : b)
+    p.reverseInPlace();  // other points than a's, in the same box
+  const std::vector<Index> perm =
+      nb::cell_sort_order<D>(b, kSameOrder ? kRadius<D> : Real(0.37) * kRadius<D>);
+  std::vector<Vec<D>> sorted(b.size());
+  for (std::size_t i = 0; i < b.size(); ++i)
+    sorted[i] = b[static_cast<std::size_t>(perm[i])];
+  nb::NeighborList list;
+  for (auto _ : state) {
+    nb::build_cross_list<D>(a, sorted, kRadius<D>, list);
+    benchmark::DoNotOptimize(list.indices.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["points_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["nbrs_per_pt"] = static_cast<double>(list.total_pairs()) / static_cast<double>(n);
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   b->Arg(10'000)->Arg(100'000)->Arg(1'000'000)->Unit(benchmark::kMillisecond)->UseRealTime();
 }
@@ -95,6 +123,10 @@ BENCHMARK(BM_NeighborList<2, Order::Moved>)->Name("BM_NeighborList2D/moved")->Ap
 BENCHMARK(BM_NeighborList<3, Order::Random>)->Name("BM_NeighborList3D/random")->Apply(sizes);
 BENCHMARK(BM_NeighborList<3, Order::Sorted>)->Name("BM_NeighborList3D/sorted")->Apply(sizes);
 BENCHMARK(BM_NeighborList<3, Order::Moved>)->Name("BM_NeighborList3D/moved")->Apply(sizes);
+BENCHMARK(BM_CrossList<2, true>)->Name("BM_CrossList2D/same_order")->Apply(sizes);
+BENCHMARK(BM_CrossList<2, false>)->Name("BM_CrossList2D/other_order")->Apply(sizes);
+BENCHMARK(BM_CrossList<3, true>)->Name("BM_CrossList3D/same_order")->Apply(sizes);
+BENCHMARK(BM_CrossList<3, false>)->Name("BM_CrossList3D/other_order")->Apply(sizes);
 BENCHMARK(BM_NeighborCellSortOrder<2>)->Name("BM_NeighborCellSortOrder2D")->Apply(sizes);
 BENCHMARK(BM_NeighborCellSortOrder<3>)->Name("BM_NeighborCellSortOrder3D")->Apply(sizes);
 

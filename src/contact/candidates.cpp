@@ -42,17 +42,25 @@ bool CrossCandidates<D>::keep_rows(std::span<const Vec<D>> a, const Numbering& n
     return false;
   const Index n = static_cast<Index>(a.size());
   // Each point's row at the build, when its id was there and it has not moved past what the
-  // margin left by the second set's motion covers; -1: its row is searched again.
+  // margin left by the second set's motion covers; -1: its row is searched again. Where the
+  // set holds the ids of the rows in their order (one rank's whole part between its re-sorts),
+  // point k's row is row k; else the rows are looked up by id.
+  const bool aligned =
+      std::equal(number_a.ids.begin(), number_a.ids.end(), a_.ids.begin(), a_.ids.end());
+  if (!aligned && !indexed_) index_rows();
   std::vector<Index> from(a.size(), -1);
   parallel::for_each(n, [&](Index i) {
     const auto k = static_cast<std::size_t>(i);
-    const std::int64_t id = number_a.ids[k];
-    const auto hit = std::lower_bound(row_of_id_.begin(), row_of_id_.end(),
-                                      std::pair<std::int64_t, Index>(id, -1));
-    if (hit == row_of_id_.end() || hit->first != id) return;
-    const Real d = (a[k] - a_.x[static_cast<std::size_t>(hit->second)]).norm();
-    if (std::isfinite(d) && (reach + d + moved_b) * (1 + Real(1e-9)) <= radius_)
-      from[k] = hit->second;
+    Index row = i;
+    if (!aligned) {
+      const std::int64_t id = number_a.ids[k];
+      const auto hit = std::lower_bound(row_of_id_.begin(), row_of_id_.end(),
+                                        std::pair<std::int64_t, Index>(id, -1));
+      if (hit == row_of_id_.end() || hit->first != id) return;
+      row = hit->second;
+    }
+    const Real d = (a[k] - a_.x[static_cast<std::size_t>(row)]).norm();
+    if (std::isfinite(d) && (reach + d + moved_b) * (1 + Real(1e-9)) <= radius_) from[k] = row;
   });
   const std::vector<Index> again = parallel::select(n, [&](Index i) { return from[at(i)] < 0; });
   // Past half the rows a new build costs less, and it starts the second set's margin afresh.
@@ -88,7 +96,7 @@ bool CrossCandidates<D>::keep_rows(std::span<const Vec<D>> a, const Numbering& n
   a_.x = std::move(x_row);
   a_.ids.assign(number_a.ids.begin(), number_a.ids.end());
   a_.revision = number_a.revision;
-  index_rows();
+  indexed_ = false;
   rows_searched_ += static_cast<Index>(again.size());
   return true;
 }
@@ -99,6 +107,7 @@ void CrossCandidates<D>::index_rows() {
   for (std::size_t i = 0; i < a_.ids.size(); ++i)
     row_of_id_[i] = {a_.ids[i], static_cast<Index>(i)};
   std::sort(row_of_id_.begin(), row_of_id_.end());
+  indexed_ = true;
 }
 
 template <int D>
@@ -121,7 +130,7 @@ const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> 
   radius_ = radius;
   a_.keep(a, number_a);
   b_.keep(b, number_b);
-  index_rows();
+  indexed_ = false;  // index_rows when a renumbered first set needs it
   ++builds_;
   return list_;
 }

@@ -68,7 +68,7 @@ class CrossCandidates {
  private:
   /// The rows kept by id, or false when the list has to be built anew.
   bool keep_rows(std::span<const Vec<D>> a, const Numbering& number_a, Real reach, Real moved_b);
-  void index_rows();  // row_of_id_ from a_.ids
+  void index_rows();  // row_of_id_ from a_.ids, and indexed_
 
   struct Side {
     std::vector<Vec<D>> x;  // positions at the build
@@ -84,8 +84,10 @@ class CrossCandidates {
   neighbors::NeighborList list_;
   Index builds_ = 0;
   Index rows_searched_ = 0;
-  // The rows' ids ascending, with their rows (when the first set has ids).
+  // The rows' ids ascending, with their rows (when the first set has ids), made when a
+  // renumbered first set is first looked up after a build (indexed_).
   std::vector<std::pair<std::int64_t, Index>> row_of_id_;
+  bool indexed_ = false;
   neighbors::NeighborList spare_, searched_;  // scratch of keep_rows, kept for their capacity
 };
 

@@ -477,16 +477,32 @@ CRATER_NEIGHBORS_CLONES void count_cell(const Candidates<D>& v, const Buckets<D>
   }
 }
 
+// Sorts a row of n indices, ascending: insertion sort for the usual few dozen.
+[[gnu::always_inline]] inline void sort_row(Index* row, Index n) {
+  if (n > 64) {
+    std::sort(row, row + n);
+    return;
+  }
+  for (Index q = 1; q < n; ++q) {
+    const Index j = row[q];
+    Index w = q;
+    for (; w > 0 && row[w - 1] > j; --w)
+      row[w] = row[w - 1];
+    row[w] = j;
+  }
+}
+
 // Rows of the query points [t0, t1) of one cell, written to their slots in out;
 // `rows` has room for kLanes rows of v.count entries. The masks come from
 // `cached` (left by count_cell for the same v) or, if it is null, are computed
-// again. Returns the number of rows whose length disagrees with the count pass:
-// 0 unless the distance test was miscompiled, and then no row is written past
-// its slot.
+// again. `sort_rows`: v's indices do not ascend, so each row is sorted before it
+// is written. Returns the number of rows whose length disagrees with the count
+// pass: 0 unless the distance test was miscompiled, and then no row is written
+// past its slot.
 template <int D, Keep keep>
 CRATER_NEIGHBORS_CLONES Index fill_cell(const Candidates<D>& v, const Buckets<D>& qb, Index t0,
-                                        Index t1, Real r2, const std::uint64_t* cached, Index* rows,
-                                        NeighborList& out) {
+                                        Index t1, Real r2, const std::uint64_t* cached,
+                                        bool sort_rows, Index* rows, NeighborList& out) {
   const Index* off = out.offsets.data();
   Index* idx = out.indices.data();
   Index bad = 0;
@@ -529,6 +545,7 @@ CRATER_NEIGHBORS_CLONES Index fill_cell(const Candidates<D>& v, const Buckets<D>
       const auto ul = static_cast<std::size_t>(l);
       const Index i = blk.i[ul];
       const Index len = off[i + 1] - off[i];
+      if (sort_rows) sort_row(rows + l * v.count, n[ul]);
       copy_short(rows + l * v.count, std::min(n[ul], len), idx + off[i]);
       bad += n[ul] != len;
     }
@@ -572,7 +589,10 @@ void build(const GridSpec<D>& grid, const Buckets<D>& cb, const Buckets<D>& qb, 
       }
       Candidates<D> v = stencil<D>(grid, cb, coords_of_linear(grid, c));
       std::uint64_t* store = nullptr;
-      if (ascending(cb, v)) {
+      // Only Keep::Greater needs its candidates ascending: the other modes take them as they
+      // lie and sort each row (fill_cell), which costs less than sorting the stencil's
+      // candidates of every cell (a cross list's second set is seldom in the grid's order).
+      if (keep != Keep::Greater || ascending(cb, v)) {
         const Index blocks = (t1 - t0 + kLanes - 1) / kLanes;
         ref[c] = MaskRef{thread, s.take_masks(blocks * chunk_count(v) * kLanes)};
         store = s.masks.data() + ref[c].offset;
@@ -604,13 +624,16 @@ void build(const GridSpec<D>& grid, const Buckets<D>& cb, const Buckets<D>& qb, 
       }
       Candidates<D> v = stencil<D>(grid, cb, coords_of_linear(grid, c));
       const std::uint64_t* cached = nullptr;
+      bool sort_rows = false;
       if (ref[c].thread >= 0) {
         cached = masks_of_thread[static_cast<std::size_t>(ref[c].thread)] + ref[c].offset;
+        sort_rows = keep != Keep::Greater && !ascending(cb, v);
       } else {
         v = sorted_copy(cb, v, s);
       }
       s.reserve(v.count);
-      bad_rows += fill_cell<D, keep>(v, qb, qcs[c], qcs[c + 1], r2, cached, s.row.data(), out);
+      bad_rows +=
+          fill_cell<D, keep>(v, qb, qcs[c], qcs[c + 1], r2, cached, sort_rows, s.row.data(), out);
     }
   }
   if (bad_rows != 0) {
