@@ -118,29 +118,68 @@ std::vector<BoundaryFace<D>> boundary_faces_within(const ExplicitMesh<D>& mesh,
   return out;
 }
 
+namespace {
+
+// The sorted node key of local face f of element e.
 template <int D>
-SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
+std::array<Index, 4> face_key(const ExplicitMesh<D>& mesh, Index e, int f) {
   constexpr int kF = D == 2 ? 2 : 4;
   const auto& faces = local_faces<D>();
+  std::array<Index, 4> key;
+  key.fill(-1);
+  for (int k = 0; k < kF; ++k)
+    key[at(k)] = mesh.elements[at(e)][at(faces[at(f)][at(k)])];
+  std::sort(key.begin(), key.end());
+  return key;
+}
+
+// Face f of element e as a surface face: its nodes numbered outward, its element, its area now
+// and at t = 0.
+template <int D>
+void add_surface_face(const ExplicitMesh<D>& mesh, Index e, int f, SurfaceFaces<D>& out) {
+  constexpr int kF = D == 2 ? 2 : 4;
+  const auto& faces = local_faces<D>();
+  std::array<Index, kF> nodes;
+  for (int k = 0; k < kF; ++k)
+    nodes[at(k)] = mesh.elements[at(e)][at(faces[at(f)][at(k)])];
+  std::vector<Index> as_vector(nodes.begin(), nodes.end());
+  const Vec<D> outward = face_area_vector(mesh, e, as_vector, mesh.position);
+  // The numbering's own normal, reversed when it points inward.
+  const Vec<D> own = numbered_face_area<D>(mesh.position, nodes);
+  if (own.dot(outward) < 0) {
+    if constexpr (D == 2) {
+      std::swap(nodes[0], nodes[1]);
+    } else {
+      std::swap(nodes[1], nodes[3]);
+    }
+  }
+  out.nodes.push_back(nodes);
+  out.element.push_back(e);
+  out.area.push_back(outward.norm());
+  out.reference_area.push_back(
+      face_area_vector(mesh, e, as_vector, mesh.reference_position).norm());
+}
+
+bool live(const std::vector<std::uint8_t>& eroded, Index e) {
+  return eroded.empty() || !eroded[at(e)];
+}
+
+}  // namespace
+
+template <int D>
+SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
+  const auto nf = static_cast<int>(local_faces<D>().size());
   struct Candidate {
     std::array<Index, 4> key{};
     Index element = 0;
     int face = 0;
   };
   std::vector<Candidate> candidates;
-  candidates.reserve(at(mesh.element_count()) * faces.size());
+  candidates.reserve(at(mesh.element_count()) * static_cast<std::size_t>(nf));
   for (Index e = 0; e < mesh.element_count(); ++e) {
-    if (!mesh.eroded.empty() && mesh.eroded[at(e)]) continue;
-    for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
-      Candidate c;
-      c.key.fill(-1);
-      for (int k = 0; k < kF; ++k)
-        c.key[at(k)] = mesh.elements[at(e)][at(faces[at(f)][at(k)])];
-      std::sort(c.key.begin(), c.key.end());
-      c.element = e;
-      c.face = f;
-      candidates.push_back(c);
-    }
+    if (!live(mesh.eroded, e)) continue;
+    for (int f = 0; f < nf; ++f)
+      candidates.push_back({face_key(mesh, e, f), e, f});
   }
   std::vector<std::size_t> order(candidates.size());
   for (std::size_t i = 0; i < order.size(); ++i)
@@ -153,29 +192,54 @@ SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
     std::size_t j = i + 1;
     while (j < order.size() && candidates[order[j]].key == candidates[order[i]].key)
       ++j;
-    if (j == i + 1) {
-      const Candidate& c = candidates[order[i]];
-      std::array<Index, kF> nodes;
-      for (int k = 0; k < kF; ++k)
-        nodes[at(k)] = mesh.elements[at(c.element)][at(faces[at(c.face)][at(k)])];
-      std::vector<Index> as_vector(nodes.begin(), nodes.end());
-      const Vec<D> outward = face_area_vector(mesh, c.element, as_vector, mesh.position);
-      // The numbering's own normal, reversed when it points inward.
-      const Vec<D> own = numbered_face_area<D>(mesh.position, nodes);
-      if (own.dot(outward) < 0) {
-        if constexpr (D == 2) {
-          std::swap(nodes[0], nodes[1]);
-        } else {
-          std::swap(nodes[1], nodes[3]);
-        }
-      }
-      out.nodes.push_back(nodes);
-      out.element.push_back(c.element);
-      out.area.push_back(outward.norm());
-      out.reference_area.push_back(
-          face_area_vector(mesh, c.element, as_vector, mesh.reference_position).norm());
-    }
+    if (j == i + 1)
+      add_surface_face(mesh, candidates[order[i]].element, candidates[order[i]].face, out);
     i = j;
+  }
+  return out;
+}
+
+// The live faces of a run of one key are the live ones of the sorted whole in their order (a
+// stable sort of a subset is the whole's order restricted to it), so a run with exactly one
+// live face gives the face surface_faces gives, in its place.
+template <int D>
+SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh, FaceIndex<D>& index) {
+  if (index.elements != mesh.elements || index.faces.empty() != mesh.elements.empty()) {
+    const auto nf = static_cast<int>(local_faces<D>().size());
+    std::vector<std::array<Index, 4>> keys;
+    index.faces.clear();
+    for (Index e = 0; e < mesh.element_count(); ++e)
+      for (int f = 0; f < nf; ++f) {
+        index.faces.emplace_back(e, f);
+        keys.push_back(face_key(mesh, e, f));
+      }
+    std::vector<std::size_t> order(keys.size());
+    for (std::size_t i = 0; i < order.size(); ++i)
+      order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
+    std::vector<std::pair<Index, int>> sorted(order.size());
+    index.run_end.clear();
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      sorted[i] = index.faces[order[i]];
+      if (i + 1 == order.size() || keys[order[i + 1]] != keys[order[i]])
+        index.run_end.push_back(i + 1);
+    }
+    index.faces = std::move(sorted);
+    index.elements = mesh.elements;
+  }
+  SurfaceFaces<D> out;
+  std::size_t begin = 0;
+  for (const std::size_t end : index.run_end) {
+    std::size_t found = end, count = 0;
+    for (std::size_t i = begin; i < end && count < 2; ++i)
+      if (live(mesh.eroded, index.faces[i].first)) {
+        found = i;
+        ++count;
+      }
+    if (count == 1)
+      add_surface_face(mesh, index.faces[found].first, index.faces[found].second, out);
+    begin = end;
   }
   return out;
 }
@@ -285,6 +349,8 @@ template MeshSource<2> build_mesh_source<2>(const PartSettings&);
 template MeshSource<3> build_mesh_source<3>(const PartSettings&);
 template SurfaceFaces<2> surface_faces<2>(const ExplicitMesh<2>&);
 template SurfaceFaces<3> surface_faces<3>(const ExplicitMesh<3>&);
+template SurfaceFaces<2> surface_faces<2>(const ExplicitMesh<2>&, FaceIndex<2>&);
+template SurfaceFaces<3> surface_faces<3>(const ExplicitMesh<3>&, FaceIndex<3>&);
 template NodeSet<2> face_node_set<2>(const ExplicitMesh<2>&, parts::Face);
 template NodeSet<3> face_node_set<3>(const ExplicitMesh<3>&, parts::Face);
 template std::vector<BoundaryFace<2>> boundary_faces_within<2>(const ExplicitMesh<2>&,

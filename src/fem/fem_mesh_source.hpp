@@ -94,6 +94,21 @@ struct SurfaceFaces {
 template <int D>
 SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh);
 
+/// Every face of every element (live or not), sorted by its node key as surface_faces sorts
+/// the live ones (ties in element, then local face order), with where each run of one key
+/// ends: made once for a mesh's connectivity, which erosion does not change, so that listing
+/// the surface again after an erosion is a pass over the runs instead of a sort.
+template <int D>
+struct FaceIndex {
+  std::vector<ElementNodes<D>> elements;     // the connectivity it was made for
+  std::vector<std::pair<Index, int>> faces;  // (element, local face), by key
+  std::vector<std::size_t> run_end;          // per run of equal keys, its end in `faces`
+};
+/// surface_faces of `mesh` through `index`, which is made again first if it was made for
+/// another connectivity (or not yet): the same faces in the same order.
+template <int D>
+SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh, FaceIndex<D>& index);
+
 /// The boundary faces (faces of exactly one element) whose nodes are all in `sorted_nodes`.
 template <int D>
 std::vector<BoundaryFace<D>> boundary_faces_within(const ExplicitMesh<D>& mesh,

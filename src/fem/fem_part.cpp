@@ -445,7 +445,7 @@ std::vector<parts::Diagnostic> FemPart<D>::diagnostics() const {
 /// step for the rest of the run.
 template <int D>
 void FemPart<D>::rebuild_surface() {
-  const SurfaceFaces<D> sf = surface_faces(mesh_);
+  const SurfaceFaces<D> sf = surface_faces(mesh_, face_index_);
   surface_faces_ = sf.nodes;
   surface_element_ = sf.element;
   surface_stiffness_ = face_stiffness(sf, mesh_);

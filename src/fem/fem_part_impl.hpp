@@ -285,6 +285,7 @@ class FemPart final : public parts::Part<D> {
   std::vector<Index> surface_element_;
   std::vector<Real> surface_stiffness_;
   std::uint64_t surface_revision_ = 0;
+  FaceIndex<D> face_index_;  // the mesh's faces by key, for rebuild_surface
   std::map<std::string, std::vector<Index>> group_nodes_;  // the mesh file's physical groups
   ForceReport last_;
   Real dt_pending_ = 0;  // the step the nodes moved by since the last force evaluation
@@ -327,6 +328,7 @@ class FemPart final : public parts::Part<D> {
   mutable std::vector<std::array<Index, parts::kFaceNodes<D>>> whole_faces_;
   mutable std::vector<Index> whole_face_element_;
   mutable std::vector<Real> whole_face_stiffness_;
+  mutable FaceIndex<D> whole_face_index_;      // whole_mesh_'s faces by key
   mutable std::uint64_t whole_revision_ = 0;   // of whole_faces_ (0: none built yet)
   mutable std::uint64_t synced_revision_ = 0;  // surface_revision_ when last brought up to date
   mutable bool whole_relist_ = false;          // erosion synced, the faces not yet listed again

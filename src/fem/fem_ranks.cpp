@@ -241,7 +241,7 @@ std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
   if (!comm_) return std::nullopt;
   if (whole_relist_) {
     whole_mesh_.position = whole_x;
-    const SurfaceFaces<D> sf = surface_faces(whole_mesh_);
+    const SurfaceFaces<D> sf = surface_faces(whole_mesh_, whole_face_index_);
     whole_faces_ = sf.nodes;
     whole_face_element_ = sf.element;
     whole_face_stiffness_ = face_stiffness(sf, whole_mesh_);
