@@ -51,14 +51,8 @@ bool CrossCandidates<D>::keep_rows(std::span<const Vec<D>> a, const Numbering& n
   std::vector<Index> from(a.size(), -1);
   parallel::for_each(n, [&](Index i) {
     const auto k = static_cast<std::size_t>(i);
-    Index row = i;
-    if (!aligned) {
-      const std::int64_t id = number_a.ids[k];
-      const auto hit = std::lower_bound(row_of_id_.begin(), row_of_id_.end(),
-                                        std::pair<std::int64_t, Index>(id, -1));
-      if (hit == row_of_id_.end() || hit->first != id) return;
-      row = hit->second;
-    }
+    const Index row = aligned ? i : row_of(number_a.ids[k]);
+    if (row < 0) return;
     const Real d = (a[k] - a_.x[static_cast<std::size_t>(row)]).norm();
     if (std::isfinite(d) && (reach + d + moved_b) * (1 + Real(1e-9)) <= radius_) from[k] = row;
   });
@@ -101,13 +95,39 @@ bool CrossCandidates<D>::keep_rows(std::span<const Vec<D>> a, const Numbering& n
   return true;
 }
 
+// Ids of a part's particles are mostly a dense range (numbered at creation, a few removed):
+// then a table over the range, else the ids sorted with their rows for a binary search.
 template <int D>
 void CrossCandidates<D>::index_rows() {
-  row_of_id_.resize(a_.ids.size());
-  for (std::size_t i = 0; i < a_.ids.size(); ++i)
+  indexed_ = true;
+  row_of_id_.clear();
+  row_by_id_.clear();
+  if (a_.ids.empty()) return;
+  const auto [lo, hi] = std::minmax_element(a_.ids.begin(), a_.ids.end());
+  first_id_ = *lo;
+  const auto n = a_.ids.size();
+  if (static_cast<std::uint64_t>(*hi) - static_cast<std::uint64_t>(*lo) < 4 * n + 64) {
+    row_by_id_.assign(static_cast<std::size_t>(*hi - *lo) + 1, -1);
+    for (std::size_t i = 0; i < n; ++i)
+      row_by_id_[static_cast<std::size_t>(a_.ids[i] - first_id_)] = static_cast<Index>(i);
+    return;
+  }
+  row_of_id_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
     row_of_id_[i] = {a_.ids[i], static_cast<Index>(i)};
   std::sort(row_of_id_.begin(), row_of_id_.end());
-  indexed_ = true;
+}
+
+template <int D>
+Index CrossCandidates<D>::row_of(std::int64_t id) const {
+  if (!row_by_id_.empty()) {
+    if (id < first_id_ || static_cast<std::uint64_t>(id - first_id_) >= row_by_id_.size())
+      return -1;
+    return row_by_id_[static_cast<std::size_t>(id - first_id_)];
+  }
+  const auto hit = std::lower_bound(row_of_id_.begin(), row_of_id_.end(),
+                                    std::pair<std::int64_t, Index>(id, -1));
+  return hit == row_of_id_.end() || hit->first != id ? -1 : hit->second;
 }
 
 template <int D>

@@ -84,10 +84,14 @@ class CrossCandidates {
   neighbors::NeighborList list_;
   Index builds_ = 0;
   Index rows_searched_ = 0;
-  // The rows' ids ascending, with their rows (when the first set has ids), made when a
-  // renumbered first set is first looked up after a build (indexed_).
+  // The rows by id (when the first set has ids), made when a renumbered first set is first
+  // looked up after a build (indexed_): a table over the ids' range from first_id_ when they
+  // are dense (row_by_id_, -1 for none), else the ids ascending with their rows (row_of_id_).
+  std::vector<Index> row_by_id_;
+  std::int64_t first_id_ = 0;
   std::vector<std::pair<std::int64_t, Index>> row_of_id_;
   bool indexed_ = false;
+  Index row_of(std::int64_t id) const;        // -1: no row of that id
   neighbors::NeighborList spare_, searched_;  // scratch of keep_rows, kept for their capacity
 };
 

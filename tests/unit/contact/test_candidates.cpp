@@ -147,8 +147,11 @@ TEST(CrossCandidates, RebuiltWhenTheSecondSetIsRenumberedOrTheReachGrows) {
 // A contact zone's view on ranks: a different subset of a large set at every step (in the set's
 // order), against a second set that barely moves. The list holds every pair at every step, and
 // the rows of the points that stay are kept.
+// `id_stride`: the ids of point i is i * id_stride (1: a dense range, looked up in a table;
+// 1000: spread, looked up by binary search).
 template <int D>
-void view_keeps_its_rows() {
+void view_keeps_its_rows(std::int64_t id_stride) {
+  SCOPED_TRACE(::testing::Message() << "ids i * " << id_stride);
   std::mt19937_64 rng(11);
   constexpr Real kReach = 0.05;
   std::vector<Vec<D>> all = random_points<D>(rng, 2000, 1.0);
@@ -167,7 +170,7 @@ void view_keeps_its_rows() {
     for (std::size_t i = 0; i < all.size(); ++i)
       if (in[i]) {
         a.push_back(all[i]);
-        ids.push_back(static_cast<std::int64_t>(i));
+        ids.push_back(static_cast<std::int64_t>(i) * id_stride);
       }
     rows += static_cast<Index>(a.size());
     const auto& list = kept.find(a, {.ids = ids, .revision = 0, .known = true}, b,
@@ -182,10 +185,12 @@ void view_keeps_its_rows() {
 }
 
 TEST(CrossCandidates, AViewOfOtherPointsEveryStepKeepsItsRows2D) {
-  view_keeps_its_rows<2>();
+  for (const std::int64_t stride : {1, 1000})
+    view_keeps_its_rows<2>(stride);
 }
 TEST(CrossCandidates, AViewOfOtherPointsEveryStepKeepsItsRows3D) {
-  view_keeps_its_rows<3>();
+  for (const std::int64_t stride : {1, 1000})
+    view_keeps_its_rows<3>(stride);
 }
 
 // Grains on a plate's top surface (a row of segments, 2D) and particles against grains: with
