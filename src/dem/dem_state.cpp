@@ -210,7 +210,20 @@ void DemPart<D>::remove_outflow() {
 template <int D>
 std::vector<Real> DemPart<D>::unhook_leaving() {
   std::vector<Real> lost(static_cast<std::size_t>(f_.size()), 0);
-  parallel::for_each(f_.size(), [&](Index i) {
+  // The staying own grains with a pair of a leaving one (the partners of its pairs, the owners
+  // of the pairs it receives), ascending: the others have nothing to undo.
+  std::vector<Index> touched;
+  for (const Index j : parallel::select(f_.size(), [&](Index k) { return !outflow_.kept(k); })) {
+    const auto uj = static_cast<std::size_t>(j);
+    for (auto k = static_cast<std::size_t>(pair_begin_[uj]); k < at(pair_begin_[uj + 1]); ++k)
+      touched.push_back(pair_j_[k]);
+    for (auto e = static_cast<std::size_t>(recv_begin_[uj]); e < at(recv_begin_[uj + 1]); ++e)
+      touched.push_back(pair_owner(static_cast<std::size_t>(recv_pair_[e])));
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  parallel::for_each(static_cast<Index>(touched.size()), [&](Index q) {
+    const Index i = touched[at(q)];
     if (!outflow_.kept(i) || ghost(i)) return;
     Real held = 0;
     const auto own_first = static_cast<std::size_t>(pair_begin_[static_cast<std::size_t>(i)]);
