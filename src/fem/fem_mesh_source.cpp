@@ -166,45 +166,11 @@ bool live(const std::vector<std::uint8_t>& eroded, Index e) {
 
 }  // namespace
 
-template <int D>
-SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
-  const auto nf = static_cast<int>(local_faces<D>().size());
-  struct Candidate {
-    std::array<Index, 4> key{};
-    Index element = 0;
-    int face = 0;
-  };
-  std::vector<Candidate> candidates;
-  candidates.reserve(at(mesh.element_count()) * static_cast<std::size_t>(nf));
-  for (Index e = 0; e < mesh.element_count(); ++e) {
-    if (!live(mesh.eroded, e)) continue;
-    for (int f = 0; f < nf; ++f)
-      candidates.push_back({face_key(mesh, e, f), e, f});
-  }
-  std::vector<std::size_t> order(candidates.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return candidates[a].key < candidates[b].key;
-  });
-  SurfaceFaces<D> out;
-  for (std::size_t i = 0; i < order.size();) {
-    std::size_t j = i + 1;
-    while (j < order.size() && candidates[order[j]].key == candidates[order[i]].key)
-      ++j;
-    if (j == i + 1)
-      add_surface_face(mesh, candidates[order[i]].element, candidates[order[i]].face, out);
-    i = j;
-  }
-  return out;
-}
-
-// The live faces of a run of one key are the live ones of the sorted whole in their order (a
-// stable sort of a subset is the whole's order restricted to it), so a run with exactly one
-// live face gives the face surface_faces gives, in its place.
+// A surface face is a run of one key with exactly one live face; the runs come in ascending
+// key, so the surface is listed by key whichever faces have eroded.
 template <int D>
 SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh, FaceIndex<D>& index) {
-  if (index.elements != mesh.elements || index.faces.empty() != mesh.elements.empty()) {
+  if (index.elements != mesh.elements) {
     const auto nf = static_cast<int>(local_faces<D>().size());
     std::vector<std::array<Index, 4>> keys;
     index.faces.clear();
@@ -242,6 +208,12 @@ SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh, FaceIndex<D>& index) 
     begin = end;
   }
   return out;
+}
+
+template <int D>
+SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh) {
+  FaceIndex<D> index;
+  return surface_faces(mesh, index);
 }
 
 template <int D>

@@ -94,10 +94,10 @@ struct SurfaceFaces {
 template <int D>
 SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh);
 
-/// Every face of every element (live or not), sorted by its node key as surface_faces sorts
-/// the live ones (ties in element, then local face order), with where each run of one key
-/// ends: made once for a mesh's connectivity, which erosion does not change, so that listing
-/// the surface again after an erosion is a pass over the runs instead of a sort.
+/// Every face of every element (live or not), sorted by its node key (ties in element, then
+/// local face order), with where each run of one key ends: made once for a mesh's
+/// connectivity, which erosion does not change, so that listing the surface again after an
+/// erosion is a pass over the runs instead of a sort.
 template <int D>
 struct FaceIndex {
   std::vector<ElementNodes<D>> elements;     // the connectivity it was made for
@@ -105,7 +105,7 @@ struct FaceIndex {
   std::vector<std::size_t> run_end;          // per run of equal keys, its end in `faces`
 };
 /// surface_faces of `mesh` through `index`, which is made again first if it was made for
-/// another connectivity (or not yet): the same faces in the same order.
+/// another connectivity (or not yet); the one-argument form makes a fresh index.
 template <int D>
 SurfaceFaces<D> surface_faces(const ExplicitMesh<D>& mesh, FaceIndex<D>& index);
 
