@@ -155,7 +155,167 @@ const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> 
   return list_;
 }
 
+namespace {
+
+// How far a set has moved since `x` (+inf when renumbered or not finite): Side::moved for a
+// set held apart.
+template <int D>
+Real moved_since(std::span<const Vec<D>> now, const Numbering& n, const std::vector<Vec<D>>& x,
+                 const std::vector<std::int64_t>& ids, std::uint64_t revision, bool known) {
+  constexpr Real kInf = std::numeric_limits<Real>::infinity();
+  if (!known || !n.known || now.size() != x.size() || n.revision != revision) return kInf;
+  if (!n.ids.empty() && n.ids.size() != ids.size()) return kInf;
+  const bool by_id = !n.ids.empty();
+  const Real moved_sq = parallel::max_over(static_cast<Index>(now.size()), 0.0, [&](Index i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (by_id && n.ids[k] != ids[k]) return kInf;
+    const Real d2 = (now[k] - x[k]).squaredNorm();
+    return std::isfinite(d2) ? d2 : kInf;
+  });
+  return std::sqrt(moved_sq);
+}
+
+}  // namespace
+
+template <int D>
+bool NearCandidates<D>::build(std::span<const Vec<D>> a, const Numbering& number_a,
+                              std::span<const Vec<D>> b, const Numbering& number_b, Real reach) {
+  const std::span<const std::int64_t> ids = number_a.ids;
+  const auto [lo, hi] = std::minmax_element(ids.begin(), ids.end());
+  if (static_cast<std::uint64_t>(*hi) - static_cast<std::uint64_t>(*lo) >= 4 * ids.size() + 64)
+    return false;
+  const Real radius = reach * (1 + kMarginFraction);
+  radius_ = 0;  // none, should the search throw
+  neighbors::build_cross_list<D>(a, b, radius, searched_);
+  first_id_ = *lo;
+  const auto slots = static_cast<std::size_t>(*hi - *lo) + 1;
+  x_row_.assign(slots, Vec<D>::Constant(std::numeric_limits<Real>::quiet_NaN()));
+  row_.resize(slots);
+  for (auto& r : row_)
+    r.clear();
+  listed_.assign(slots, 0);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto s = static_cast<std::size_t>(ids[i] - first_id_);
+    x_row_[s] = a[i];
+    const auto r = searched_.of(static_cast<Index>(i));
+    row_[s].assign(r.begin(), r.end());
+    listed_[s] = !r.empty();
+  }
+  ids_.clear();  // the view in the set's order: made by align()
+  align(ids);
+  b_x_.assign(b.begin(), b.end());
+  b_ids_.assign(number_b.ids.begin(), number_b.ids.end());
+  b_revision_ = number_b.revision;
+  b_known_ = number_b.known;
+  radius_ = radius;
+  ++builds_;
+  return true;
+}
+
+template <int D>
+void NearCandidates<D>::align(std::span<const std::int64_t> ids) {
+  if (std::equal(ids.begin(), ids.end(), ids_.begin(), ids_.end())) return;
+  ids_.assign(ids.begin(), ids.end());
+  const Index n = static_cast<Index>(ids.size());
+  x_at_.resize(ids.size());
+  listed_at_.resize(ids.size());
+  parallel::for_each(n, [&](Index i) {
+    const Index s = slot_of(ids[at(i)]);
+    x_at_[at(i)] = s < 0 ? Vec<D>::Constant(std::numeric_limits<Real>::quiet_NaN()) : x_row_[at(s)];
+    listed_at_[at(i)] = s < 0 ? 0 : listed_[at(s)];
+  });
+}
+
+template <int D>
+void NearCandidates<D>::gather(std::span<const std::int64_t> ids, std::span<const Index> points) {
+  rows_.point.clear();
+  rows_.indices.clear();
+  rows_.offsets.assign(1, 0);
+  for (const Index i : points) {
+    if (!listed_at_[at(i)]) continue;
+    const std::vector<Index>& r = row_[at(slot_of(ids[at(i)]))];
+    rows_.point.push_back(i);
+    rows_.indices.insert(rows_.indices.end(), r.begin(), r.end());
+    rows_.offsets.push_back(static_cast<Index>(rows_.indices.size()));
+  }
+}
+
+template <int D>
+const NearRows& NearCandidates<D>::find(std::span<const Vec<D>> a, const Numbering& number_a,
+                                        std::span<const Vec<D>> b, const Numbering& number_b,
+                                        Real reach) {
+  const std::span<const std::int64_t> ids = number_a.ids;
+  const Index n = static_cast<Index>(a.size());
+  const bool by_id = number_a.known && !ids.empty() && ids.size() == a.size();
+  if (by_id && radius_ > 0) {
+    const Real moved_b = moved_since<D>(b, number_b, b_x_, b_ids_, b_revision_, b_known_);
+    // A pair within `reach` now was within reach + (moved a) + (moved b) when its row was
+    // searched: a row is kept while its point has moved by `allow` at most (the factor covers
+    // the rounding of that sum and of the search's distances).
+    const Real allow = radius_ / (1 + Real(1e-9)) - reach - moved_b;
+    const Real allow_sq = allow * allow;
+    if (std::isfinite(moved_b) && allow >= 0) {
+      align(ids);
+      // One pass over the set, in its order: the points with a row, or whose row is searched
+      // again (not finite: never searched, or an id outside the table).
+      auto again = [&](Index i) { return !((a[at(i)] - x_at_[at(i)]).squaredNorm() <= allow_sq); };
+      const std::vector<Index> near =
+          parallel::select(n, [&](Index i) { return listed_at_[at(i)] || again(i); });
+      std::vector<Index> redo;
+      bool fits = true;
+      for (const Index i : near) {
+        if (!again(i)) continue;
+        redo.push_back(i);
+        // An id new to the table, or a point not finite (which the build reports as the
+        // search does): a new build.
+        if (slot_of(ids[at(i)]) < 0 || !a[at(i)].allFinite()) fits = false;
+      }
+      // Past half the points a new build costs less, and it starts b's margin afresh.
+      if (fits && 2 * redo.size() <= a.size()) {
+        std::vector<Vec<D>> x(redo.size());
+        for (std::size_t q = 0; q < redo.size(); ++q)
+          x[q] = a[at(redo[q])];
+        neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(b_x_),
+                                       radius_, searched_);
+        for (std::size_t q = 0; q < redo.size(); ++q) {
+          const auto i = at(redo[q]);
+          const auto s = at(slot_of(ids[i]));
+          const auto r = searched_.of(static_cast<Index>(q));
+          row_[s].assign(r.begin(), r.end());
+          listed_[s] = listed_at_[i] = !r.empty();
+          x_row_[s] = x_at_[i] = x[q];
+        }
+        rows_searched_ += static_cast<Index>(redo.size());
+        gather(ids, near);
+        return rows_;
+      }
+    }
+  }
+  if (by_id && n > 0 && build(a, number_a, b, number_b, reach)) {
+    std::vector<Index> all(a.size());
+    for (Index i = 0; i < n; ++i)
+      all[at(i)] = i;
+    gather(ids, all);
+    return rows_;
+  }
+  // Without a table of ids: the rows in the set's order, those with candidates taken.
+  const neighbors::NeighborList& list = by_order_.find(a, number_a, b, number_b, reach);
+  rows_.point.clear();
+  rows_.indices.clear();
+  rows_.offsets.assign(1, 0);
+  for (Index i = 0; i < list.size(); ++i) {
+    const auto r = list.of(i);
+    if (r.empty()) continue;
+    rows_.point.push_back(i);
+    rows_.indices.insert(rows_.indices.end(), r.begin(), r.end());
+    rows_.offsets.push_back(static_cast<Index>(rows_.indices.size()));
+  }
+  return rows_;
+}
+
 template class CrossCandidates<2>;
 template class CrossCandidates<3>;
+template class NearCandidates<2>;
+template class NearCandidates<3>;
 
 }  // namespace crater::contact

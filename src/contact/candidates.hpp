@@ -95,6 +95,79 @@ class CrossCandidates {
   neighbors::NeighborList spare_, searched_;  // scratch of keep_rows, kept for their capacity
 };
 
+/// The candidates of the points of a first set that are near the second, in compressed rows:
+/// row k is point[k]'s, the points ascending, each row ascending. Points with no candidate have
+/// no row.
+struct NearRows {
+  std::vector<Index> point;
+  std::vector<Index> offsets;  // point.size() + 1 entries
+  std::vector<Index> indices;
+
+  std::span<const Index> of(std::size_t k) const {
+    return {indices.data() + offsets[k], static_cast<std::size_t>(offsets[k + 1] - offsets[k])};
+  }
+};
+
+/// A kept candidate list for a first set of many points of which few are near the second (a
+/// soil bed against a plate's surface, thousands of grains for a few hundred in reach), kept
+/// by the first set's ids rather than in its order: each id keeps its row and the position its
+/// row was searched at, so a re-sort of the set costs nothing and a step costs one pass over
+/// the set (which points moved past the margin, which have candidates) plus the search of the
+/// points that moved too far. CrossCandidates, whose rows follow the set's order, rebuilds or
+/// re-indexes all of them then. The guarantee is CrossCandidates's: every row holds the
+/// second set's points within the reach, ascending, so the searches filtering by their own
+/// test find the hits of a fresh list bit for bit. Without ids, or with ids too sparse for a
+/// table over their range, the rows come from a CrossCandidates.
+template <int D>
+class NearCandidates {
+ public:
+  static constexpr Real kMarginFraction = CrossCandidates<D>::kMarginFraction;
+
+  /// The rows of the points of a with a candidate in b within `reach` (and more, see above).
+  const NearRows& find(std::span<const Vec<D>> a, const Numbering& number_a,
+                       std::span<const Vec<D>> b, const Numbering& number_b, Real reach);
+
+  /// Lists built for every point so far, and rows searched again (for tests and the notes).
+  Index builds() const { return builds_ + by_order_.builds(); }
+  Index rows_searched() const { return rows_searched_ + by_order_.rows_searched(); }
+
+ private:
+  // Every point of a searched afresh against b (b's margin starts anew); false when a's ids
+  // do not fit a table, which then leaves the rows to by_order_.
+  bool build(std::span<const Vec<D>> a, const Numbering& number_a, std::span<const Vec<D>> b,
+             const Numbering& number_b, Real reach);
+  // The slot of an id in the tables (-1: outside them).
+  Index slot_of(std::int64_t id) const {
+    const auto s = static_cast<std::uint64_t>(id) - static_cast<std::uint64_t>(first_id_);
+    return s < x_row_.size() ? static_cast<Index>(s) : -1;
+  }
+  // x_at_ and listed_at_ for the set's order `ids` (when it is not that of the last find).
+  void align(std::span<const std::int64_t> ids);
+  // rows_: the rows of `points` (ascending; in the table) that have candidates.
+  void gather(std::span<const std::int64_t> ids, std::span<const Index> points);
+
+  std::vector<Vec<D>> b_x_;  // the second set at the build
+  std::vector<std::int64_t> b_ids_;
+  std::uint64_t b_revision_ = 0;
+  bool b_known_ = false;
+  Real radius_ = 0;  // the radius of the build; 0: none
+  // Per id from first_id_: where its row was searched (NaN: never), and its row.
+  std::int64_t first_id_ = 0;
+  std::vector<Vec<D>> x_row_;
+  std::vector<std::vector<Index>> row_;
+  std::vector<char> listed_;  // whether the row holds any candidate
+  // The same per point of the set in its order at the last find (ids_), which the pass over
+  // the set reads in order; made again from the tables when the order changes (a re-sort).
+  std::vector<std::int64_t> ids_;
+  std::vector<Vec<D>> x_at_;
+  std::vector<char> listed_at_;
+  NearRows rows_;
+  CrossCandidates<D> by_order_;  // without a usable table of ids
+  neighbors::NeighborList searched_;
+  Index builds_ = 0;
+  Index rows_searched_ = 0;
+};
+
 /// |x - y|^2 as the neighbour search computes it (the same operations in the same order), so
 /// that a search filtering a kept list by `d2 <= reach^2` keeps exactly the pairs a fresh list
 /// of that reach holds.

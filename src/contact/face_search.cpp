@@ -39,35 +39,19 @@ FaceCentres<D> face_centres(const parts::ContactSurface<D>& surf) {
 // projection itself when that lies on the face).
 constexpr Real kBesideFace = 1e-6;
 
-template <int D>
-std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
-                                           const parts::ContactSurface<D>& surf,
-                                           CrossCandidates<D>* kept) {
+namespace {
+
+// The face tests of the points near[k] against the faces of their rows row(k): of each point,
+// the face of largest overlap, if any (the order of `near`).
+template <int D, class Row>
+std::vector<FaceHit<D>> face_tests(const parts::ContactPoints<D>& pts,
+                                   const parts::ContactSurface<D>& surf, const FaceCentres<D>& fc,
+                                   Real reach, std::span<const Index> near, Row&& row) {
   constexpr int kF = parts::kFaceNodes<D>;
   const auto& xn = *surf.node_position;
   const auto& faces = *surf.faces;
-  const Index nf = static_cast<Index>(faces.size());
-  const Index np = static_cast<Index>(pts.position->size());
-  if (nf == 0 || np == 0) return {};
-
-  // Candidates: faces whose centre is within r_max + the largest face half-size.
-  const FaceCentres<D> fc = face_centres(surf);
   const std::vector<Vec<D>>& centre = fc.centre;
-  const Real half_size = fc.half_size;
-  const Real r_max = largest_radius(pts);
-  const Real reach = r_max + half_size;
   const Real reach_sq = reach * reach;  // the test of a list built for `reach`
-  neighbors::NeighborList fresh;
-  const std::span<const Vec<D>> xp(*pts.position);
-  const std::span<const Vec<D>> xc(centre);
-  if (!kept) neighbors::build_cross_list<D>(xp, xc, reach, fresh);
-  const neighbors::NeighborList& candidates =
-      kept ? kept->find(xp, numbering(pts), xc,
-                        Numbering{.ids = {}, .revision = surf.revision, .known = true}, reach)
-           : fresh;
-  // Only the particles with a candidate face (a few per cent of a soil bed) are looked at.
-  const std::vector<Index> near =
-      parallel::select(np, [&](Index i) { return !candidates.of(i).empty(); });
   std::vector<FaceHit<D>> found(near.size());
   parallel::for_each(
       static_cast<Index>(near.size()),
@@ -77,7 +61,7 @@ std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
         const Real r = (*pts.radius)[at(i)];
         FaceHit<D> best;
         best.body = i;
-        for (Index f : candidates.of(i)) {
+        for (Index f : row(k)) {
           const Real d2 = search_distance_sq<D>(centre[at(f)], x);
           if (d2 > reach_sq) continue;  // a kept list's margin
           // A face the particle overlaps has its closest point within r of the centre and
@@ -125,6 +109,54 @@ std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
   for (std::size_t k = 0; k < touching.size(); ++k)
     touched[k] = found[at(touching[k])];
   return touched;
+}
+
+// Candidates: faces whose centre is within r_max + the largest face half-size.
+template <int D>
+Real face_reach(const parts::ContactPoints<D>& pts, const FaceCentres<D>& fc) {
+  return largest_radius(pts) + fc.half_size;
+}
+
+}  // namespace
+
+template <int D>
+std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
+                                           const parts::ContactSurface<D>& surf,
+                                           CrossCandidates<D>* kept) {
+  const Index nf = static_cast<Index>(surf.faces->size());
+  const Index np = static_cast<Index>(pts.position->size());
+  if (nf == 0 || np == 0) return {};
+  const FaceCentres<D> fc = face_centres(surf);
+  const Real reach = face_reach(pts, fc);
+  neighbors::NeighborList fresh;
+  const std::span<const Vec<D>> xp(*pts.position);
+  const std::span<const Vec<D>> xc(fc.centre);
+  if (!kept) neighbors::build_cross_list<D>(xp, xc, reach, fresh);
+  const neighbors::NeighborList& candidates =
+      kept ? kept->find(xp, numbering(pts), xc,
+                        Numbering{.ids = {}, .revision = surf.revision, .known = true}, reach)
+           : fresh;
+  // Only the particles with a candidate face (a few per cent of a soil bed) are looked at.
+  const std::vector<Index> near =
+      parallel::select(np, [&](Index i) { return !candidates.of(i).empty(); });
+  return face_tests(pts, surf, fc, reach, std::span<const Index>(near),
+                    [&](Index k) { return candidates.of(near[at(k)]); });
+}
+
+template <int D>
+std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
+                                           const parts::ContactSurface<D>& surf,
+                                           NearCandidates<D>& kept) {
+  const Index nf = static_cast<Index>(surf.faces->size());
+  const Index np = static_cast<Index>(pts.position->size());
+  if (nf == 0 || np == 0) return {};
+  const FaceCentres<D> fc = face_centres(surf);
+  const Real reach = face_reach(pts, fc);
+  const NearRows& rows = kept.find(
+      std::span<const Vec<D>>(*pts.position), numbering(pts), std::span<const Vec<D>>(fc.centre),
+      Numbering{.ids = {}, .revision = surf.revision, .known = true}, reach);
+  return face_tests(pts, surf, fc, reach, std::span<const Index>(rows.point),
+                    [&](Index k) { return rows.of(at(k)); });
 }
 
 template <int D>
@@ -222,6 +254,8 @@ std::vector<FaceHit<D>> node_face_hits(const parts::ContactSurface<D>& nodes_of,
   template FaceCentres<D> face_centres<D>(const parts::ContactSurface<D>&);                  \
   template std::vector<FaceHit<D>> particle_face_hits<D>(                                    \
       const parts::ContactPoints<D>&, const parts::ContactSurface<D>&, CrossCandidates<D>*); \
+  template std::vector<FaceHit<D>> particle_face_hits<D>(                                    \
+      const parts::ContactPoints<D>&, const parts::ContactSurface<D>&, NearCandidates<D>&);  \
   template std::vector<FaceHit<D>> node_face_hits<D>(const parts::ContactSurface<D>&,        \
                                                      const parts::ContactSurface<D>&);
 CRATER_FACE_SEARCH(2)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -19,7 +20,8 @@ namespace crater::contact {
 /// few thousand radii costs about what a fork and join of the team would.
 template <int D>
 Real largest_radius(const parts::ContactPoints<D>& pts) {
-  if (pts.whole_count >= 0) return pts.whole_largest_radius_m;  // a contact zone's view
+  if (pts.whole_count >= 0) return pts.whole_largest_radius_m;         // a contact zone's view
+  if (!std::isnan(pts.largest_radius_m)) return pts.largest_radius_m;  // kept by the part
   Real r = -std::numeric_limits<Real>::infinity();
   for (const Real ri : *pts.radius)
     r = std::max(r, ri);
@@ -56,6 +58,11 @@ template <int D>
 std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
                                            const parts::ContactSurface<D>& surf,
                                            CrossCandidates<D>* kept = nullptr);
+/// The same hits, with the candidates kept by the particles' ids (a large set, few near).
+template <int D>
+std::vector<FaceHit<D>> particle_face_hits(const parts::ContactPoints<D>& pts,
+                                           const parts::ContactSurface<D>& surf,
+                                           NearCandidates<D>& kept);
 
 /// Every surface node of `nodes_of` that carries mass, ascending, with the face of `faces_of`
 /// it is in contact with (face < 0: none) and the stiffer of the two sides' springs.

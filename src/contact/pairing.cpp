@@ -171,7 +171,8 @@ Real lightest_face_node(const parts::ContactSurface<D>& surf) {
 
 template <int D>
 Real lightest_particle(const parts::ContactPoints<D>& pts) {
-  if (pts.whole_count >= 0) return pts.whole_lightest_kg;  // a contact zone's view
+  if (pts.whole_count >= 0) return pts.whole_lightest_kg;    // a contact zone's view
+  if (!std::isnan(pts.lightest_kg)) return pts.lightest_kg;  // kept by the part
   return parallel::min_over(static_cast<Index>(pts.mass->size()),
                             std::numeric_limits<Real>::infinity(),
                             [&](Index i) { return (*pts.mass)[at(i)]; });

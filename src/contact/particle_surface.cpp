@@ -132,7 +132,7 @@ void ParticleSurface<D>::measure_load(const PartList<D>& parts) const {
   const auto pts = parts[this->points_]->contact_points();
   const auto surf = this->surface_of(parts, 1);
   this->measure(pts->position->size(), surf->node_position->size(),
-                particle_face_hits(*pts, *surf, &kept_), [&](const Hit& h) { add_load(*surf, h); });
+                particle_face_hits(*pts, *surf, kept_), [&](const Hit& h) { add_load(*surf, h); });
 }
 
 template <int D>
@@ -146,7 +146,7 @@ void ParticleSurface<D>::apply(const PartList<D>& parts, Real dt_s, ContactForce
   this->load_.known = true;
   if (faces.empty() || np == 0) return;
 
-  const std::vector<Hit> touched = particle_face_hits(*pts, *surf, &kept_);
+  const std::vector<Hit> touched = particle_face_hits(*pts, *surf, kept_);
   const std::vector<Push<D>> push = pushes(this->settings_, touched, dt_s, *pts, *surf);
   std::vector<Vec<D>>& f_points = out.force[this->points_];
   std::vector<AxialVec<D>>& t_points = out.torque[this->points_];

@@ -25,7 +25,7 @@ class ParticleSurface final : public Pairing<D> {
   // Fills the spring sums from the current state (without changing it).
   void measure_load(const PartList<D>& parts) const;
 
-  mutable CrossCandidates<D> kept_;  // the candidate faces, kept between steps
+  mutable NearCandidates<D> kept_;  // the candidate faces, kept between steps by grain id
 };
 
 }  // namespace crater::contact

@@ -203,6 +203,20 @@ class DemPart final : public parts::Part<D> {
     p.surface_offset = &surface_offset_;
     p.surface_overlap = &surface_overlap_;
     p.id = &id_;
+    if (!comm_) {
+      // Measured again only when the grains changed (contact_extremes_at_).
+      if (contact_extremes_at_ != f_.size()) {
+        contact_lightest_kg_ = std::numeric_limits<Real>::infinity();
+        contact_largest_m_ = -std::numeric_limits<Real>::infinity();
+        for (Index i = 0; i < f_.size(); ++i) {
+          contact_lightest_kg_ = std::min(contact_lightest_kg_, m_[i]);
+          contact_largest_m_ = std::max(contact_largest_m_, r_[i]);
+        }
+        contact_extremes_at_ = f_.size();
+      }
+      p.lightest_kg = contact_lightest_kg_;
+      p.largest_radius_m = contact_largest_m_;
+    }
     return p;
   }
   void add_contact_forces(const std::vector<Vec<D>>& force,
@@ -714,9 +728,13 @@ class DemPart final : public parts::Part<D> {
   const parallel::Comm* comm_ = nullptr;
   mutable parts::WholeLayout contact_layout_;  // contact_layout()'s, on ranks
   mutable Index contact_layout_builds_ = -1;   // skin_.builds() it was made at (-1: none)
-  Index rebalances_ = 0;                       // on ranks: how often the cuts were made again
-  Real load_ratio_ = 1;  // on ranks: heaviest rank over the mean (last rebuild)
-  Index arrivals_ = 0;   // on ranks: grains received from another owner
+  // On one rank, the grains' lightest mass and largest radius for contact_points(), measured
+  // at this grain count (-1: none since the grains last changed: load_state, remove_outflow).
+  mutable Index contact_extremes_at_ = -1;
+  mutable Real contact_lightest_kg_ = 0, contact_largest_m_ = 0;
+  Index rebalances_ = 0;  // on ranks: how often the cuts were made again
+  Real load_ratio_ = 1;   // on ranks: heaviest rank over the mean (last rebuild)
+  Index arrivals_ = 0;    // on ranks: grains received from another owner
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::vector<Index>> halo_send_, halo_recv_;

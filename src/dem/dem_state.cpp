@@ -286,6 +286,7 @@ void DemPart<D>::compact_survivors() {
   resize_bond_scratch();
   clear_wall_slots();
   skin_.compacted(outflow_.survivors());
+  contact_extremes_at_ = -1;
   contact_layout_builds_ = -1;  // the whole bed has fewer grains
 }
 
@@ -386,6 +387,7 @@ template <int D>
 void DemPart<D>::load_state(parts::StateReader& r) {
   r.tag("dem");
   moved_sq_ = -1;  // measured again at the next force stage
+  contact_extremes_at_ = -1;
   f_.load(r);
   r.vector(partner_);
   r.vector(xi_);

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -103,6 +104,11 @@ struct ContactPoints {
   // lightest mass and largest contact radius, which the contacts' step limits and searches take.
   Index whole_count = -1;
   Real whole_lightest_kg = 0, whole_largest_radius_m = 0;
+  // The lightest mass and largest contact radius of the view's particles, when the part keeps
+  // them (a bed of grains: they change only when grains leave); NaN: the contacts find them
+  // from `mass` and `radius`. Exactly those values when given.
+  Real lightest_kg = std::numeric_limits<Real>::quiet_NaN();
+  Real largest_radius_m = std::numeric_limits<Real>::quiet_NaN();
   // Contacts on ranks, a view that differs from rank to rank (owner-computed: each rank's own
   // particles and the others' that touch its own): per particle of the view, whether it is this
   // rank's own; a pair counts in the contact's sums on the rank that owns its particle of such a

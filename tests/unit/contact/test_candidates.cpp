@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "contact/candidates.hpp"
@@ -193,6 +195,129 @@ TEST(CrossCandidates, AViewOfOtherPointsEveryStepKeepsItsRows3D) {
     view_keeps_its_rows<3>(stride);
 }
 
+// NearCandidates: every pair within the reach is in the rows, the points with candidates
+// ascending, each row ascending, and every point with a pair within the reach has a row.
+template <int D>
+void expect_near_holds_every_pair(const NearRows& rows, const std::vector<Vec<D>>& a,
+                                  const std::vector<Vec<D>>& b, Real reach) {
+  ASSERT_TRUE(std::is_sorted(rows.point.begin(), rows.point.end()));
+  ASSERT_EQ(rows.offsets.size(), rows.point.size() + 1);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto at_row = std::lower_bound(rows.point.begin(), rows.point.end(), Index(i));
+    const bool has_row = at_row != rows.point.end() && *at_row == Index(i);
+    std::span<const Index> row;
+    if (has_row) {
+      row = rows.of(static_cast<std::size_t>(at_row - rows.point.begin()));
+      ASSERT_FALSE(row.empty()) << "point " << i << " has an empty row";
+      ASSERT_TRUE(std::is_sorted(row.begin(), row.end())) << "row of " << i;
+    }
+    for (std::size_t j = 0; j < b.size(); ++j)
+      if (search_distance_sq<D>(b[j], a[i]) <= reach * reach) {
+        ASSERT_TRUE(has_row && std::binary_search(row.begin(), row.end(), static_cast<Index>(j)))
+            << "pair (" << i << ", " << j << ") within the reach is missing";
+      }
+  }
+}
+
+// A bed of grains that walk and are re-sorted at random every few steps (their ids travel
+// with them) and now and then lose a grain, against a surface that drifts: the rows hold
+// every pair at every step, the re-sorts keep them, and only the points that moved past the
+// margin are searched again.
+template <int D>
+void near_rows_follow_ids() {
+  std::mt19937_64 rng(5);
+  constexpr Real kReach = 0.05;
+  std::vector<Vec<D>> a = random_points<D>(rng, 1500, 1.0);
+  std::vector<Vec<D>> b = random_points<D>(rng, 60, 1.0);
+  for (auto& p : b)
+    p[D - 1] = 0.5 + 0.05 * p[D - 1];  // a layer across the bed: few grains are near it
+  std::vector<std::int64_t> ids = iota_ids(a.size());
+  NearCandidates<D> kept;
+  constexpr int kSteps = 150;
+  Index rows = 0;
+  for (int step = 0; step < kSteps; ++step) {
+    if (step % 7 == 3) {  // a re-sort
+      std::vector<std::size_t> order(a.size());
+      for (std::size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+      std::shuffle(order.begin(), order.end(), rng);
+      std::vector<Vec<D>> a2(a.size());
+      std::vector<std::int64_t> ids2(a.size());
+      for (std::size_t i = 0; i < order.size(); ++i) {
+        a2[i] = a[order[i]];
+        ids2[i] = ids[order[i]];
+      }
+      a = std::move(a2);
+      ids = std::move(ids2);
+    }
+    if (step % 11 == 5) {  // a grain leaves
+      a.erase(a.begin() + 17);
+      ids.erase(ids.begin() + 17);
+    }
+    const NearRows& near = kept.find(a, {.ids = ids, .revision = 0, .known = true}, b,
+                                     {.ids = {}, .revision = 0, .known = true}, kReach);
+    expect_near_holds_every_pair<D>(near, a, b, kReach);
+    rows += static_cast<Index>(a.size());
+    walk<D>(rng, a, 2e-4);
+    walk<D>(rng, b, 5e-5, 2e-4);
+  }
+  EXPECT_GT(kept.builds(), 1) << "the surface drifts past the margin: rebuilt";
+  EXPECT_LT(kept.builds(), kSteps / 10) << "re-sorts and removals keep the rows";
+  EXPECT_LT(kept.rows_searched(), rows / 20) << "only points that moved past the margin";
+}
+
+TEST(NearCandidates, RowsHoldEveryPairAcrossReSortsAndRemovals2D) {
+  near_rows_follow_ids<2>();
+}
+TEST(NearCandidates, RowsHoldEveryPairAcrossReSortsAndRemovals3D) {
+  near_rows_follow_ids<3>();
+}
+
+TEST(NearCandidates, RebuiltWhenTheSecondSetChangesOrTheReachGrows) {
+  std::mt19937_64 rng(9);
+  std::vector<Vec<2>> a = random_points<2>(rng, 200, 1.0);
+  std::vector<Vec<2>> b = random_points<2>(rng, 50, 1.0);
+  std::vector<std::int64_t> ids = iota_ids(a.size());
+  NearCandidates<2> kept;
+  auto find = [&](std::uint64_t revision_b, Real reach) -> const NearRows& {
+    return kept.find(a, {.ids = ids, .revision = 0, .known = true}, b,
+                     {.ids = {}, .revision = revision_b, .known = true}, reach);
+  };
+  find(0, 0.1);
+  find(0, 0.1);
+  EXPECT_EQ(kept.builds(), 1) << "nothing moved: the rows are kept";
+  EXPECT_EQ(kept.rows_searched(), 0);
+  // One point jumps by more than the margin: its row alone is searched again.
+  a[10] += Vec<2>(0.2, 0.1);
+  expect_near_holds_every_pair<2>(find(0, 0.1), a, b, 0.1);
+  EXPECT_EQ(kept.builds(), 1);
+  EXPECT_EQ(kept.rows_searched(), 1);
+  // A point with an id new to the set (in the table's range, then beyond it).
+  a.push_back(Vec<2>(0.5, 0.5));
+  ids.push_back(0);
+  ids[0] = 200;  // the old id 0 left; 200 is past the table's range
+  expect_near_holds_every_pair<2>(find(0, 0.1), a, b, 0.1);
+  EXPECT_EQ(kept.builds(), 2) << "an id past the table: a new build";
+  find(1, 0.1);
+  EXPECT_EQ(kept.builds(), 3) << "a new revision of the surface is rebuilt";
+  find(1, 0.12);
+  EXPECT_EQ(kept.builds(), 3) << "a reach grown within the margin (0.125) is covered";
+  expect_near_holds_every_pair<2>(find(1, 0.13), a, b, 0.13);
+  EXPECT_EQ(kept.builds(), 4) << "a reach past the margin is rebuilt";
+  // Ids too sparse for a table, and no ids at all: the rows of a list in the set's order.
+  std::vector<std::int64_t> sparse(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    sparse[i] = static_cast<std::int64_t>(i) * 1000;
+  expect_near_holds_every_pair<2>(kept.find(a, {.ids = sparse, .revision = 0, .known = true}, b,
+                                            {.ids = {}, .revision = 1, .known = true}, 0.13),
+                                  a, b, 0.13);
+  expect_near_holds_every_pair<2>(
+      kept.find(a, {}, b, {.ids = {}, .revision = 1, .known = true}, 0.13), a, b, 0.13);
+  // A point that is not finite is reported as the search reports it.
+  a[3][0] = std::numeric_limits<Real>::quiet_NaN();
+  EXPECT_THROW(find(1, 0.13), std::invalid_argument);
+}
+
 // Grains on a plate's top surface (a row of segments, 2D) and particles against grains: with
 // the kept lists the searches find the hits and pairs of fresh lists, bit for bit.
 TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
@@ -240,6 +365,7 @@ TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
   parts::ContactPoints<D> pg_zone = pg;
   pg_zone.own = &own;
   CrossCandidates<D> kept_faces, kept_pairs, kept_zone;
+  NearCandidates<D> near_faces;
   Index hits = 0, pairs = 0;
   for (int step = 0; step < 100; ++step) {
     const auto fresh = particle_face_hits<D>(pg, surf);
@@ -249,6 +375,14 @@ TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
       EXPECT_EQ(fresh[q].body, from_kept[q].body);
       EXPECT_EQ(fresh[q].face, from_kept[q].face);
       EXPECT_EQ(fresh[q].overlap, from_kept[q].overlap);  // bit for bit
+    }
+    const auto from_near = particle_face_hits<D>(pg, surf, near_faces);
+    ASSERT_EQ(fresh.size(), from_near.size()) << "step " << step;
+    for (std::size_t q = 0; q < fresh.size(); ++q) {
+      EXPECT_EQ(fresh[q].body, from_near[q].body);
+      EXPECT_EQ(fresh[q].face, from_near[q].face);
+      EXPECT_EQ(fresh[q].overlap, from_near[q].overlap);
+      EXPECT_EQ(fresh[q].n, from_near[q].n);
     }
     const auto p_fresh = ParticleParticle<D>::pairs(ps, pg);
     const auto p_kept = ParticleParticle<D>::pairs(ps, pg, &kept_pairs);
@@ -277,6 +411,7 @@ TEST(CrossCandidates, SearchesFindTheHitsOfAFreshList) {
   EXPECT_LT(kept_faces.builds(), 50);
   EXPECT_LT(kept_pairs.builds(), 50);
   EXPECT_LT(kept_zone.builds(), 50);
+  EXPECT_LT(near_faces.builds(), 50);
 }
 
 }  // namespace
