@@ -312,20 +312,23 @@ void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
   if (static_cast<Index>(force.size()) != f_.size() ||
       static_cast<Index>(torque.size()) != f_.size())
     throw std::logic_error("dem: contact forces for another grain count");
-  contact_.settle(
-      comm_ ? *comm_ : parallel::Comm{}, f_.size(),
-      [&](Index i) {
-        return v_[i].dot(contact_force_[i] + force[i]) +
-               angular_dot<D>(w_[i], contact_torque_[i] + torque[i]);
-      },
-      [&](Index i) { return !ghost(i); });
+  // One pass: the power of the contact forces over the advance just taken (the old forces and
+  // these, ContactWork::settle), then the new forces in.
+  const bool booking = contact_.begin(f_.size());
+  const Real half_dt = contact_.half_dt();
+  std::vector<Real>& power = contact_.powers();
   parallel::for_each(f_.size(), [&](Index i) {
+    if (booking)
+      power[at(i)] = !ghost(i) ? half_dt * (v_[i].dot(contact_force_[i] + force[i]) +
+                                            angular_dot<D>(w_[i], contact_torque_[i] + torque[i]))
+                               : Real(0);
     contact_force_[i] = force[i];
     contact_torque_[i] = torque[i];
     force_[i] += force[i];
     torque_[i] += torque[i];
     note_health(i);
   });
+  contact_.book(comm_ ? *comm_ : parallel::Comm{}, f_.size());
 }
 
 template <int D>

@@ -50,8 +50,34 @@ struct ContactWork {
     pending = false;
   }
 
+  /// settle() for a part that computes the powers in a pass of its own (the one that takes the
+  /// new forces): begin() says whether this advance's work is still to be booked, and sizes
+  /// powers() for n entities; the pass then sets powers()[i] = half_dt() * power(i) for the own
+  /// entities and 0 for the others, and book() books their sum as settle() does (collective
+  /// on ranks).
+  bool begin(Index n) {
+    booking_ = pending && last_dt_s > 0;
+    if (booking_) power_.resize(static_cast<std::size_t>(n));
+    return booking_;
+  }
+  Real half_dt() const { return Real(0.5) * last_dt_s; }
+  std::vector<Real>& powers() { return power_; }
+  void book(const parallel::Comm& comm, Index n) {
+    if (booking_) {
+      const std::vector<Index> nonzero =
+          parallel::select(n, [&](Index i) { return power_[at(i)] != 0; });
+      std::vector<Real> terms(nonzero.size());
+      for (std::size_t q = 0; q < terms.size(); ++q)
+        terms[q] = power_[at(nonzero[q])];
+      work_j += parallel::reproducible_sum(comm, std::span<const Real>(terms));
+    }
+    booking_ = false;
+    pending = false;
+  }
+
  private:
   std::vector<Real> power_;  // settle()'s scratch
+  bool booking_ = false;     // between begin() and book()
 };
 
 /// A particle or solid part's positions as the contacts see them under multi-rate stepping
