@@ -64,8 +64,10 @@ bool CrossCandidates<D>::keep_rows(std::span<const Vec<D>> a, const Numbering& n
     x[q] = a[at(again[q])];
     if (!x[q].allFinite()) return false;  // the new build reports it as the search does
   }
-  neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(b_.x), radius_,
-                                 searched_);
+  // Against the second set as it was at the build, bucketed once for the rows of every step
+  // until the next build.
+  if (!b_index_.built()) b_index_.build(std::span<const Vec<D>>(b_.x), radius_);
+  b_index_.query(std::span<const Vec<D>>(x), searched_);
   // The new list: each row from the old list or from the search, in the first set's order.
   std::vector<Index> searched_row(a.size(), -1);
   for (std::size_t q = 0; q < again.size(); ++q)
@@ -146,6 +148,7 @@ const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> 
   }
   const Real radius = reach * (1 + kMarginFraction);
   radius_ = 0;  // none, should the build throw
+  b_index_.clear();
   neighbors::build_cross_list<D>(a, b, radius, list_);
   radius_ = radius;
   a_.keep(a, number_a);
@@ -186,6 +189,7 @@ bool NearCandidates<D>::build(std::span<const Vec<D>> a, const Numbering& number
     return false;
   const Real radius = reach * (1 + kMarginFraction);
   radius_ = 0;  // none, should the search throw
+  b_index_.clear();
   neighbors::build_cross_list<D>(a, b, radius, searched_);
   first_id_ = *lo;
   const auto slots = static_cast<std::size_t>(*hi - *lo) + 1;
@@ -275,8 +279,8 @@ const NearRows& NearCandidates<D>::find(std::span<const Vec<D>> a, const Numberi
         std::vector<Vec<D>> x(redo.size());
         for (std::size_t q = 0; q < redo.size(); ++q)
           x[q] = a[at(redo[q])];
-        neighbors::build_cross_list<D>(std::span<const Vec<D>>(x), std::span<const Vec<D>>(b_x_),
-                                       radius_, searched_);
+        if (!b_index_.built()) b_index_.build(std::span<const Vec<D>>(b_x_), radius_);
+        b_index_.query(std::span<const Vec<D>>(x), searched_);
         for (std::size_t q = 0; q < redo.size(); ++q) {
           const auto i = at(redo[q]);
           const auto s = at(slot_of(ids[i]));

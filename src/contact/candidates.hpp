@@ -93,6 +93,7 @@ class CrossCandidates {
   bool indexed_ = false;
   Index row_of(std::int64_t id) const;        // -1: no row of that id
   neighbors::NeighborList spare_, searched_;  // scratch of keep_rows, kept for their capacity
+  neighbors::CrossIndex<D> b_index_;          // b_.x bucketed, at the first keep_rows of a build
 };
 
 /// The candidates of the points of a first set that are near the second, in compressed rows:
@@ -164,6 +165,7 @@ class NearCandidates {
   NearRows rows_;
   CrossCandidates<D> by_order_;  // without a usable table of ids
   neighbors::NeighborList searched_;
+  neighbors::CrossIndex<D> b_index_;  // b_x_ bucketed, at the first search again of a build
   Index builds_ = 0;
   Index rows_searched_ = 0;
 };

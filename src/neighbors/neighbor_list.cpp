@@ -26,9 +26,15 @@
 #include <vector>
 
 #include "neighbors/cell_grid.hpp"
+#include "neighbors/point_sets.hpp"
 #include "parallel/parallel.hpp"
 
 namespace crater::neighbors {
+
+using detail::bounds;
+using detail::check_finite;
+using detail::check_radius;
+using detail::inside;
 
 namespace {
 
@@ -163,28 +169,6 @@ struct Scratch {
     row.resize(u * kRowLanes);
   }
 };
-
-void check_radius(Real radius) {
-  if (!(radius > 0) || !std::isfinite(radius)) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", radius);
-    throw std::invalid_argument(std::string("neighbour search: radius must be positive and "
-                                            "finite, got ") +
-                                buf);
-  }
-}
-
-// Cross lists name the set; self lists get the message of make_grid_spec.
-template <int D>
-void check_finite(std::span<const Vec<D>> x, const char* set) {
-  const std::vector<Index> bad = parallel::select(static_cast<Index>(x.size()), [&](Index i) {
-    return !x[static_cast<std::size_t>(i)].allFinite();
-  });
-  if (!bad.empty()) {
-    throw std::invalid_argument("neighbour search: non-finite coordinate at point " +
-                                std::to_string(bad.front()) + " of the " + set + " set");
-  }
-}
 
 template <int D>
 IVec<D> coords_of_linear(const GridSpec<D>& g, Index c) {
@@ -687,46 +671,6 @@ void build_cross_list_of(std::span<const Vec<D>> a, std::span<const Vec<D>> b, R
   build<D, Keep::All>(ws.grid, ws.cand, ws.query, radius, par, ws.masks, out);
 }
 
-// The points of x inside `box` grown by `reach` on every side, ascending.
-template <int D>
-std::vector<Index> inside(std::span<const Vec<D>> x, const Eigen::AlignedBox<Real, D>& box,
-                          Real reach) {
-  const Vec<D> lo = box.min() - Vec<D>::Constant(reach);
-  const Vec<D> hi = box.max() + Vec<D>::Constant(reach);
-  return parallel::select(static_cast<Index>(x.size()), [&](Index i) {
-    const Vec<D>& p = x[static_cast<std::size_t>(i)];
-    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
-  });
-}
-
-// Bounding box of x (min and max are exact: any order of the blocks gives the same box).
-template <int D>
-Eigen::AlignedBox<Real, D> bounds(std::span<const Vec<D>> x) {
-  const Index n = static_cast<Index>(x.size());
-  const Index blocks = (n + parallel::kReduceBlock - 1) / parallel::kReduceBlock;
-  std::vector<Eigen::AlignedBox<Real, D>> part(static_cast<std::size_t>(blocks));
-#pragma omp parallel for schedule(static) if (n >= parallel::parallel_min())
-  for (Index b = 0; b < blocks; ++b) {
-    Eigen::AlignedBox<Real, D> box;
-    const Index end = std::min(n, (b + 1) * parallel::kReduceBlock);
-    for (Index i = b * parallel::kReduceBlock; i < end; ++i)
-      box.extend(x[static_cast<std::size_t>(i)]);
-    part[static_cast<std::size_t>(b)] = box;
-  }
-  Eigen::AlignedBox<Real, D> box;
-  for (const auto& p : part)
-    box.extend(p);
-  return box;
-}
-
-template <int D>
-Eigen::AlignedBox<Real, D> bounds(std::span<const Vec<D>> x, std::span<const Index> which) {
-  Eigen::AlignedBox<Real, D> box;
-  for (Index i : which)
-    box.extend(x[static_cast<std::size_t>(i)]);
-  return box;
-}
-
 }  // namespace
 
 // Only the points of either set near the other's bounding box can pair, so the search runs on
@@ -783,6 +727,61 @@ void build_cross_list(std::span<const Vec<D>> a, std::span<const Vec<D>> b, Real
         sub_b[static_cast<std::size_t>(sub.indices[static_cast<std::size_t>(k)])];
   });
 }
+
+template <int D>
+struct CrossIndex<D>::Impl {
+  GridSpec<D> grid;
+  Buckets<D> cand;
+  Real radius = 0;
+  mutable Buckets<D> query;
+  mutable std::vector<MaskRef> masks;
+};
+
+template <int D>
+CrossIndex<D>::CrossIndex() : impl_(std::make_unique<Impl>()) {}
+template <int D>
+CrossIndex<D>::~CrossIndex() = default;
+template <int D>
+CrossIndex<D>::CrossIndex(CrossIndex&&) noexcept = default;
+template <int D>
+CrossIndex<D>& CrossIndex<D>::operator=(CrossIndex&&) noexcept = default;
+
+template <int D>
+void CrossIndex<D>::build(std::span<const Vec<D>> b, Real radius) {
+  check_radius(radius);
+  check_finite<D>(b, "candidate");
+  Impl& m = *impl_;
+  built_ = false;
+  m.radius = radius;
+  if (!b.empty()) {
+    m.grid = make_grid_spec<D>(b, radius);
+    m.cand.fill(b, m.grid, parallel::forks(static_cast<Index>(b.size()), parallel::Cost::heavy));
+  } else {
+    m.cand.n = 0;
+  }
+  built_ = true;
+}
+
+template <int D>
+void CrossIndex<D>::query(std::span<const Vec<D>> a, NeighborList& out) const {
+  const Impl& m = *impl_;
+  if (!built_) throw std::logic_error("neighbour search: query of an index not built");
+  check_finite<D>(a, "query");
+  const Index na = static_cast<Index>(a.size());
+  out.offsets.assign(static_cast<std::size_t>(na + 1), 0);
+  if (na == 0 || m.cand.n == 0) {
+    out.indices.clear();
+    return;
+  }
+  const bool par = parallel::forks(na, parallel::Cost::heavy);
+  // Query points outside b's box clamp to a boundary cell, whose stencil still covers every
+  // candidate within the radius (cell_grid.hpp).
+  m.query.fill(a, m.grid, par);
+  ::crater::neighbors::build<D, Keep::All>(m.grid, m.cand, m.query, m.radius, par, m.masks, out);
+}
+
+template class CrossIndex<2>;
+template class CrossIndex<3>;
 
 template void build_neighbor_list<2>(std::span<const Vec<2>>, Real, Pairs, NeighborList&);
 template void build_neighbor_list<3>(std::span<const Vec<3>>, Real, Pairs, NeighborList&);

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -57,5 +58,31 @@ void build_neighbor_list(std::span<const Vec<D>> x, Real radius, Pairs mode, Nei
 template <int D>
 void build_cross_list(std::span<const Vec<D>> a, std::span<const Vec<D>> b, Real radius,
                       NeighborList& out);
+
+/// A fixed set b bucketed once for many cross searches at one radius (a kept candidate list
+/// searching a few points again, step after step, against the set as it was at its build):
+/// query(a) gives build_cross_list(a, b, radius)'s list, without bucketing b again.
+template <int D>
+class CrossIndex {
+ public:
+  CrossIndex();
+  ~CrossIndex();
+  CrossIndex(CrossIndex&&) noexcept;
+  CrossIndex& operator=(CrossIndex&&) noexcept;
+
+  /// Buckets b for searches within `radius` (build_cross_list's errors). b is copied.
+  void build(std::span<const Vec<D>> b, Real radius);
+  /// Whether build() has been called since the last clear().
+  bool built() const { return built_; }
+  void clear() { built_ = false; }
+  /// For each point of a, the points of b within the radius, ascending (a's points must be
+  /// finite: the errors of build_cross_list).
+  void query(std::span<const Vec<D>> a, NeighborList& out) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  bool built_ = false;
+};
 
 }  // namespace crater::neighbors

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include "neighbors/cell_grid.hpp"
@@ -616,6 +617,47 @@ void check_cross_radius_against_brute_force() {
       EXPECT_EQ(rows_of(nl), expected);
     }
   }
+}
+
+// CrossIndex: b bucketed once, queried with several sets (inside b's box, straddling it, far
+// outside it, empty): each query is brute force's list and build_cross_list's, bit for bit.
+template <int D>
+void cross_index_matches() {
+  const auto b = random_points<D>(900, 0.0, 1.0, 21);
+  constexpr Real kR = 0.04;
+  CrossIndex<D> index;
+  EXPECT_FALSE(index.built());
+  index.build(sp(b), kR);
+  ASSERT_TRUE(index.built());
+  for (const auto& [lo, hi, seed] : {std::tuple{0.0, 1.0, 1}, std::tuple{-0.5, 1.5, 2},
+                                     std::tuple{5.0, 6.0, 3}, std::tuple{0.9, 1.02, 4}}) {
+    const auto a = random_points<D>(300, lo, hi, static_cast<std::uint64_t>(seed));
+    NeighborList from_index, fresh;
+    index.query(sp(a), from_index);
+    build_cross_list<D>(sp(a), sp(b), kR, fresh);
+    const Rows rows = rows_of(from_index);
+    EXPECT_EQ(rows, brute_cross<D>(a, b, kR)) << "query set " << seed;
+    EXPECT_EQ(rows, rows_of(fresh)) << "query set " << seed;
+  }
+  NeighborList none;
+  index.query(std::span<const Vec<D>>(), none);
+  EXPECT_EQ(none.size(), 0);
+  std::vector<Vec<D>> bad(3, Vec<D>::Zero());
+  bad[1][0] = std::numeric_limits<Real>::quiet_NaN();
+  EXPECT_THROW(index.query(sp(bad), none), std::invalid_argument);
+  index.clear();
+  EXPECT_THROW(index.query(sp(b), none), std::logic_error);
+  index.build(std::span<const Vec<D>>(), kR);  // an empty set: every row empty
+  index.query(sp(b), none);
+  EXPECT_EQ(none.size(), static_cast<Index>(b.size()));
+  EXPECT_EQ(none.total_pairs(), 0);
+}
+
+TEST(CrossIndex, MatchesBruteForceAndFreshLists2D) {
+  cross_index_matches<2>();
+}
+TEST(CrossIndex, MatchesBruteForceAndFreshLists3D) {
+  cross_index_matches<3>();
 }
 
 TEST(CrossRadiusList, MatchesBruteForce2D) {
