@@ -10,14 +10,18 @@
 
 namespace crater::contact {
 
+namespace {
+
+// How far a set has moved since it was at `x` with these ids and revision: +inf when it was
+// renumbered, or for a point that is not finite (which a new build then reports as the
+// neighbour search does).
 template <int D>
-Real CrossCandidates<D>::Side::moved(std::span<const Vec<D>> now, const Numbering& n) const {
+Real moved_since(std::span<const Vec<D>> now, const Numbering& n, const std::vector<Vec<D>>& x,
+                 const std::vector<std::int64_t>& ids, std::uint64_t revision, bool known) {
   constexpr Real kInf = std::numeric_limits<Real>::infinity();
   if (!known || !n.known || now.size() != x.size() || n.revision != revision) return kInf;
   if (!n.ids.empty() && n.ids.size() != ids.size()) return kInf;
   const bool by_id = !n.ids.empty();
-  // One pass: the largest squared displacement, or +inf for a renumbered or non-finite point
-  // (which a new build then reports as the neighbour search does).
   const Real moved_sq = parallel::max_over(static_cast<Index>(now.size()), 0.0, [&](Index i) {
     const auto k = static_cast<std::size_t>(i);
     if (by_id && n.ids[k] != ids[k]) return kInf;
@@ -25,6 +29,13 @@ Real CrossCandidates<D>::Side::moved(std::span<const Vec<D>> now, const Numberin
     return std::isfinite(d2) ? d2 : kInf;
   });
   return std::sqrt(moved_sq);
+}
+
+}  // namespace
+
+template <int D>
+Real CrossCandidates<D>::Side::moved(std::span<const Vec<D>> now, const Numbering& n) const {
+  return moved_since<D>(now, n, x, ids, revision, known);
 }
 
 template <int D>
@@ -157,28 +168,6 @@ const neighbors::NeighborList& CrossCandidates<D>::find(std::span<const Vec<D>> 
   ++builds_;
   return list_;
 }
-
-namespace {
-
-// How far a set has moved since `x` (+inf when renumbered or not finite): Side::moved for a
-// set held apart.
-template <int D>
-Real moved_since(std::span<const Vec<D>> now, const Numbering& n, const std::vector<Vec<D>>& x,
-                 const std::vector<std::int64_t>& ids, std::uint64_t revision, bool known) {
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
-  if (!known || !n.known || now.size() != x.size() || n.revision != revision) return kInf;
-  if (!n.ids.empty() && n.ids.size() != ids.size()) return kInf;
-  const bool by_id = !n.ids.empty();
-  const Real moved_sq = parallel::max_over(static_cast<Index>(now.size()), 0.0, [&](Index i) {
-    const auto k = static_cast<std::size_t>(i);
-    if (by_id && n.ids[k] != ids[k]) return kInf;
-    const Real d2 = (now[k] - x[k]).squaredNorm();
-    return std::isfinite(d2) ? d2 : kInf;
-  });
-  return std::sqrt(moved_sq);
-}
-
-}  // namespace
 
 template <int D>
 bool NearCandidates<D>::build(std::span<const Vec<D>> a, const Numbering& number_a,

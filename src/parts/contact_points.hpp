@@ -35,19 +35,11 @@ struct ContactWork {
   /// contact have power: the sum takes the nonzero terms alone. Collective on ranks.
   template <class Power, class Own>
   void settle(const parallel::Comm& comm, Index n, Power&& power, Own&& own) {
-    if (pending && last_dt_s > 0) {
-      const Real half_dt = Real(0.5) * last_dt_s;
-      power_.resize(static_cast<std::size_t>(n));
-      parallel::for_each(n,
-                         [&](Index i) { power_[at(i)] = own(i) ? half_dt * power(i) : Real(0); });
-      const std::vector<Index> nonzero =
-          parallel::select(n, [&](Index i) { return power_[at(i)] != 0; });
-      std::vector<Real> terms(nonzero.size());
-      for (std::size_t q = 0; q < terms.size(); ++q)
-        terms[q] = power_[at(nonzero[q])];
-      work_j += parallel::reproducible_sum(comm, std::span<const Real>(terms));
+    if (begin(n)) {
+      const Real h = half_dt();
+      parallel::for_each(n, [&](Index i) { power_[at(i)] = own(i) ? h * power(i) : Real(0); });
     }
-    pending = false;
+    book(comm, n);
   }
 
   /// settle() for a part that computes the powers in a pass of its own (the one that takes the
