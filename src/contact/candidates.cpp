@@ -187,15 +187,17 @@ bool NearCandidates<D>::build(std::span<const Vec<D>> a, const Numbering& number
   for (auto& r : row_)
     r.clear();
   listed_.assign(slots, 0);
+  // The tables by id, and the same in the set's order (what align() would make of them).
+  ids_.assign(ids.begin(), ids.end());
+  x_at_.assign(a.begin(), a.end());
+  listed_at_.resize(a.size());
   for (std::size_t i = 0; i < a.size(); ++i) {
     const auto s = static_cast<std::size_t>(ids[i] - first_id_);
     x_row_[s] = a[i];
     const auto r = searched_.of(static_cast<Index>(i));
     row_[s].assign(r.begin(), r.end());
-    listed_[s] = !r.empty();
+    listed_[s] = listed_at_[i] = !r.empty();
   }
-  ids_.clear();  // the view in the set's order: made by align()
-  align(ids);
   b_x_.assign(b.begin(), b.end());
   b_ids_.assign(number_b.ids.begin(), number_b.ids.end());
   b_revision_ = number_b.revision;
@@ -221,16 +223,9 @@ void NearCandidates<D>::align(std::span<const std::int64_t> ids) {
 
 template <int D>
 void NearCandidates<D>::gather(std::span<const std::int64_t> ids, std::span<const Index> points) {
-  rows_.point.clear();
-  rows_.indices.clear();
-  rows_.offsets.assign(1, 0);
-  for (const Index i : points) {
-    if (!listed_at_[at(i)]) continue;
-    const std::vector<Index>& r = row_[at(slot_of(ids[at(i)]))];
-    rows_.point.push_back(i);
-    rows_.indices.insert(rows_.indices.end(), r.begin(), r.end());
-    rows_.offsets.push_back(static_cast<Index>(rows_.indices.size()));
-  }
+  rows_.clear();
+  for (const Index i : points)
+    if (listed_at_[at(i)]) rows_.add(i, row_[at(slot_of(ids[at(i)]))]);
 }
 
 template <int D>
@@ -284,25 +279,14 @@ const NearRows& NearCandidates<D>::find(std::span<const Vec<D>> a, const Numberi
       }
     }
   }
-  if (by_id && n > 0 && build(a, number_a, b, number_b, reach)) {
-    std::vector<Index> all(a.size());
-    for (Index i = 0; i < n; ++i)
-      all[at(i)] = i;
-    gather(ids, all);
-    return rows_;
-  }
-  // Without a table of ids: the rows in the set's order, those with candidates taken.
-  const neighbors::NeighborList& list = by_order_.find(a, number_a, b, number_b, reach);
-  rows_.point.clear();
-  rows_.indices.clear();
-  rows_.offsets.assign(1, 0);
-  for (Index i = 0; i < list.size(); ++i) {
-    const auto r = list.of(i);
-    if (r.empty()) continue;
-    rows_.point.push_back(i);
-    rows_.indices.insert(rows_.indices.end(), r.begin(), r.end());
-    rows_.offsets.push_back(static_cast<Index>(rows_.indices.size()));
-  }
+  // A new build's rows (the searched list, in the set's order), or without a table of ids
+  // those of a list in the set's order: the rows with candidates.
+  const neighbors::NeighborList& list = by_id && n > 0 && build(a, number_a, b, number_b, reach)
+                                            ? searched_
+                                            : by_order_.find(a, number_a, b, number_b, reach);
+  rows_.clear();
+  for (Index i = 0; i < list.size(); ++i)
+    if (!list.of(i).empty()) rows_.add(i, list.of(i));
   return rows_;
 }
 

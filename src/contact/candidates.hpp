@@ -107,6 +107,18 @@ struct NearRows {
   std::span<const Index> of(std::size_t k) const {
     return {indices.data() + offsets[k], static_cast<std::size_t>(offsets[k + 1] - offsets[k])};
   }
+  void clear() {
+    point.clear();
+    indices.clear();
+    offsets.assign(1, 0);
+  }
+  /// Appends point i's row (after the rows of lower points).
+  template <class Row>
+  void add(Index i, const Row& row) {
+    point.push_back(i);
+    indices.insert(indices.end(), row.begin(), row.end());
+    offsets.push_back(static_cast<Index>(indices.size()));
+  }
 };
 
 /// A kept candidate list for a first set of many points of which few are near the second (a
