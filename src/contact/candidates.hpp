@@ -96,28 +96,22 @@ class CrossCandidates {
   neighbors::CrossIndex<D> b_index_;          // b_.x bucketed, at the first keep_rows of a build
 };
 
-/// The candidates of the points of a first set that are near the second, in compressed rows:
-/// row k is point[k]'s, the points ascending, each row ascending. Points with no candidate have
-/// no row.
+/// The candidates of the points of a first set that are near the second: row k is point[k]'s,
+/// the points ascending, each row ascending. Points with no candidate have no row. The rows
+/// are views of the lists that hold them, valid until the next search.
 struct NearRows {
   std::vector<Index> point;
-  std::vector<Index> offsets;  // point.size() + 1 entries
-  std::vector<Index> indices;
+  std::vector<std::span<const Index>> rows;
 
-  std::span<const Index> of(std::size_t k) const {
-    return {indices.data() + offsets[k], static_cast<std::size_t>(offsets[k + 1] - offsets[k])};
-  }
+  std::span<const Index> of(std::size_t k) const { return rows[k]; }
   void clear() {
     point.clear();
-    indices.clear();
-    offsets.assign(1, 0);
+    rows.clear();
   }
   /// Appends point i's row (after the rows of lower points).
-  template <class Row>
-  void add(Index i, const Row& row) {
+  void add(Index i, std::span<const Index> row) {
     point.push_back(i);
-    indices.insert(indices.end(), row.begin(), row.end());
-    offsets.push_back(static_cast<Index>(indices.size()));
+    rows.push_back(row);
   }
 };
 

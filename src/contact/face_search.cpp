@@ -53,54 +53,61 @@ std::vector<FaceHit<D>> face_tests(const parts::ContactPoints<D>& pts,
   const std::vector<Vec<D>>& centre = fc.centre;
   const Real reach_sq = reach * reach;  // the test of a list built for `reach`
   std::vector<FaceHit<D>> found(near.size());
-  parallel::for_each(
-      static_cast<Index>(near.size()),
-      [&](Index k) {
-        const Index i = near[at(k)];
-        const Vec<D>& x = (*pts.position)[at(i)];
-        const Real r = (*pts.radius)[at(i)];
-        FaceHit<D> best;
-        best.body = i;
-        for (Index f : row(k)) {
-          const Real d2 = search_distance_sq<D>(centre[at(f)], x);
-          if (d2 > reach_sq) continue;  // a kept list's margin
-          // A face the particle overlaps has its closest point within r of the centre and
-          // within the face's own half size of its centre: the others cannot be the hit
-          // (their overlap is not positive), so they are passed over before that work (the
-          // factor covers the rounding of the distances).
-          const Real own = (fc.half[at(f)] + r) * Real(1 + 1e-9);
-          if (d2 > own * own) continue;
-          std::array<Vec<D>, kF> fx;
-          for (int q = 0; q < kF; ++q)
-            fx[at(q)] = xn[at(faces[at(f)][at(q)])];
-          const FacePoint<D> fp = closest_on_face<D>(x, fx);
-          const Vec<D> nf_out = face_normal<D>(fx);
-          const Vec<D> d = x - fp.point;
-          const Real s = d.dot(nf_out);
-          // Behind the face's plane but beside the face (a particle resting on a plate's top
-          // next to its edge is behind the side face's plane) the centre has not crossed the
-          // face: the particle meets its edge or corner from outside, as in front of it.
-          const bool crossed = s < 0 && (d - s * nf_out).norm() <= kBesideFace * r;
-          if (crossed && s <= -r)
-            continue;  // beyond the reach of this face (e.g. the other side of a plate)
-          Real overlap = 0;
-          Vec<D> n;
-          if (!crossed) {
-            const Real dist = d.norm();
-            overlap = r - dist;
-            n = dist > 0 ? Vec<D>(d / dist) : nf_out;
-          } else {
-            overlap = r - s;
-            n = nf_out;
-          }
-          if (overlap > best.overlap) {
-            best.face = f;
-            best.overlap = overlap;
-            best.where = fp;
-            best.n = n;
-          }
-        }
-        found[at(k)] = best;
+  auto test = [&](Index k) {
+    const Index i = near[at(k)];
+    const Vec<D>& x = (*pts.position)[at(i)];
+    const Real r = (*pts.radius)[at(i)];
+    FaceHit<D> best;
+    best.body = i;
+    for (Index f : row(k)) {
+      const Real d2 = search_distance_sq<D>(centre[at(f)], x);
+      if (d2 > reach_sq) continue;  // a kept list's margin
+      // A face the particle overlaps has its closest point within r of the centre and
+      // within the face's own half size of its centre: the others cannot be the hit
+      // (their overlap is not positive), so they are passed over before that work (the
+      // factor covers the rounding of the distances).
+      const Real own = (fc.half[at(f)] + r) * Real(1 + 1e-9);
+      if (d2 > own * own) continue;
+      std::array<Vec<D>, kF> fx;
+      for (int q = 0; q < kF; ++q)
+        fx[at(q)] = xn[at(faces[at(f)][at(q)])];
+      const FacePoint<D> fp = closest_on_face<D>(x, fx);
+      const Vec<D> nf_out = face_normal<D>(fx);
+      const Vec<D> d = x - fp.point;
+      const Real s = d.dot(nf_out);
+      // Behind the face's plane but beside the face (a particle resting on a plate's top
+      // next to its edge is behind the side face's plane) the centre has not crossed the
+      // face: the particle meets its edge or corner from outside, as in front of it.
+      const bool crossed = s < 0 && (d - s * nf_out).norm() <= kBesideFace * r;
+      if (crossed && s <= -r)
+        continue;  // beyond the reach of this face (e.g. the other side of a plate)
+      Real overlap = 0;
+      Vec<D> n;
+      if (!crossed) {
+        const Real dist = d.norm();
+        overlap = r - dist;
+        n = dist > 0 ? Vec<D>(d / dist) : nf_out;
+      } else {
+        overlap = r - s;
+        n = nf_out;
+      }
+      if (overlap > best.overlap) {
+        best.face = f;
+        best.overlap = overlap;
+        best.where = fp;
+        best.n = n;
+      }
+    }
+    found[at(k)] = best;
+  };
+  // Dealt out in blocks as threads come free: the points near the surface, with many candidate
+  // faces, come in runs of the points' order.
+  constexpr Index kBlock = 16;
+  parallel::for_each_block(
+      static_cast<Index>(near.size()), kBlock,
+      [&](Index first, Index last) {
+        for (Index k = first; k < last; ++k)
+          test(k);
       },
       parallel::Cost::heavy);
   const std::vector<Index> touching = parallel::select(

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <stdexcept>
 
@@ -58,15 +59,34 @@ void Pairing<D>::limit_by_summed_springs(StepSearch& search, const BodyLoads& lo
                                          const std::vector<Real>& mass, const char* what,
                                          const std::vector<std::int64_t>* id) const {
   // Bodies are named by id (a particle's index moves at each re-sort; a node's is its id), and
-  // on equal steps the smallest id wins (StepSearch).
-  for (Index i : load.loaded()) {
-    if (at(i) >= mass.size() || !(load[at(i)] > 0) || !(mass[at(i)] > 0)) continue;
+  // on equal steps the smallest id wins (StepSearch), whatever order the bodies come in. The
+  // step falls as k/m grows (spring_step is a function of sqrt(k/m) alone), so the search
+  // takes the largest ratio first, then the step of the bodies whose ratio is close enough
+  // to it that their steps may round to the same value; only the winner's reason is written.
+  auto usable = [&](Index i) { return at(i) < mass.size() && load[at(i)] > 0 && mass[at(i)] > 0; };
+  Real q_max = 0;
+  for (const Index i : load.bodies())
+    if (usable(i)) q_max = std::max(q_max, load[at(i)] / mass[at(i)]);
+  if (!(q_max > 0)) return;
+  // A ratio 1e-9 below the largest gives a step 5e-10 longer, far more than a rounding.
+  const Real q_near = q_max * (1 - Real(1e-9));
+  Real best = std::numeric_limits<Real>::infinity();
+  Index best_body = -1, best_i = -1;
+  for (const Index i : load.bodies()) {
+    if (!usable(i) || !(load[at(i)] / mass[at(i)] >= q_near)) continue;
+    const Real dt = spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio);
     const Index body = id && at(i) < id->size() ? (*id)[at(i)] : i;
-    search.consider(spring_step(load[at(i)], mass[at(i)], settings_.damping_ratio), body, [&] {
-      return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m", name_,
-                         what, body, load[at(i)]);
-    });
+    if (dt < best || (dt == best && body < best_body)) {
+      best = dt;
+      best_body = body;
+      best_i = i;
+    }
   }
+  if (best_i < 0) return;
+  search.consider(best, best_body, [&] {
+    return fmt::format("contact '{}': {} {} held by penalty springs summing to {:.3g} N/m", name_,
+                       what, best_body, load[at(best_i)]);
+  });
 }
 
 template <int D>

@@ -135,7 +135,9 @@ class BodyLoads {
     if (v == 0 && k != 0) loaded_.push_back(i);
     v += k;
   }
-  /// The bodies with a nonzero sum, ascending.
+  /// The bodies with a nonzero sum, in the order they were loaded.
+  const std::vector<Index>& bodies() const { return loaded_; }
+  /// The same, ascending.
   const std::vector<Index>& loaded() const {
     std::sort(loaded_.begin(), loaded_.end());
     return loaded_;

@@ -201,7 +201,7 @@ template <int D>
 void expect_near_holds_every_pair(const NearRows& rows, const std::vector<Vec<D>>& a,
                                   const std::vector<Vec<D>>& b, Real reach) {
   ASSERT_TRUE(std::is_sorted(rows.point.begin(), rows.point.end()));
-  ASSERT_EQ(rows.offsets.size(), rows.point.size() + 1);
+  ASSERT_EQ(rows.rows.size(), rows.point.size());
   neighbors::NeighborList all;
   all.offsets.assign(a.size() + 1, 0);
   std::size_t k = 0;
