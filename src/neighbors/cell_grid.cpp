@@ -20,9 +20,6 @@ namespace {
 // their magnitude (at most ~4e8 cells per axis here), far below this margin.
 constexpr Real kCellMargin = 1e-6;
 
-// Below this size the OpenMP fork costs more than the loop.
-constexpr Index kParallelMin = 16384;
-
 std::string to_string_g(Real v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.9g", v);
@@ -46,7 +43,7 @@ GridSpec<D> make_grid_spec(std::span<const Vec<D>> x, Real cell_size) {
   Vec<D> lo = Vec<D>::Constant(inf);
   Vec<D> hi = Vec<D>::Constant(-inf);
   Index bad = n;  // first point with a non-finite coordinate
-#pragma omp parallel if (n >= kParallelMin)
+#pragma omp parallel if (parallel::forks(n))
   {
     Vec<D> tlo = Vec<D>::Constant(inf);
     Vec<D> thi = Vec<D>::Constant(-inf);
@@ -121,30 +118,42 @@ void bucket_by_cell(std::span<const Vec<D>> x, const GridSpec<D>& grid,
   const Index ncell = grid.cell_count();
   cell.resize(static_cast<std::size_t>(n));
   order.resize(static_cast<std::size_t>(n));
-  cell_start.assign(static_cast<std::size_t>(ncell + 1), 0);
-
-#pragma omp parallel for schedule(static) if (n >= kParallelMin)
-  for (Index i = 0; i < n; ++i) {
-    cell[static_cast<std::size_t>(i)] = grid.cell_index(x[static_cast<std::size_t>(i)]);
-  }
-  // Counting sort, serial: it is a small part of the build and stays trivially stable.
+  cell_start.resize(static_cast<std::size_t>(ncell + 1));
   Index* start = cell_start.data();
+  parallel::for_each(ncell + 1, [&](Index c) { start[c] = 0; });
+  parallel::for_each(n, [&](Index i) {
+    cell[static_cast<std::size_t>(i)] = grid.cell_index(x[static_cast<std::size_t>(i)]);
+  });
+  // Counting sort: each cell's count at its own entry, their running sum (the end of each
+  // cell; in blocks of cells, in parallel: a sparse bed's grid has many more cells than
+  // points), then the points scattered backwards from each end, so that each entry ends at its
+  // cell's start and each cell holds its points ascending.
   const Index* ci = cell.data();
   for (Index i = 0; i < n; ++i) {
-    ++start[ci[i] + 1];
+    ++start[ci[i]];
   }
-  for (Index c = 0; c < ncell; ++c) {
-    start[c + 1] += start[c];
-  }
+  constexpr Index kScanBlock = 4096;
+  const Index blocks = (ncell + 1 + kScanBlock - 1) / kScanBlock;
+  std::vector<Index> before(static_cast<std::size_t>(blocks) + 1, 0);
+  parallel::for_each_block(ncell + 1, kScanBlock, [&](Index first, Index last) {
+    Index sum = 0;
+    for (Index c = first; c < last; ++c)
+      sum += start[c];
+    before[static_cast<std::size_t>(first / kScanBlock) + 1] = sum;
+  });
+  for (std::size_t b = 0; b < static_cast<std::size_t>(blocks); ++b)
+    before[b + 1] += before[b];
+  parallel::for_each_block(ncell + 1, kScanBlock, [&](Index first, Index last) {
+    Index sum = before[static_cast<std::size_t>(first / kScanBlock)];
+    for (Index c = first; c < last; ++c) {
+      sum += start[c];
+      start[c] = sum;
+    }
+  });
   Index* ord = order.data();
-  for (Index i = 0; i < n; ++i) {
-    ord[start[ci[i]]++] = i;
+  for (Index i = n - 1; i >= 0; --i) {
+    ord[--start[ci[i]]] = i;
   }
-  // The scatter advanced each start to the next cell's start; shift back.
-  for (Index c = ncell; c > 0; --c) {
-    start[c] = start[c - 1];
-  }
-  start[0] = 0;
 }
 
 }  // namespace detail
