@@ -307,21 +307,33 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
     mesh.internal_force[at(node)] = f;
   });
 
-  // One pass for the sums (each summed in the same fixed order as alone: the same bits).
+  // One pass for the sums (each summed in the same fixed order as alone: the same bits) and
+  // the first element of smallest step, the first inverted and the first mass-scaled (the sums
+  // join the lower elements' on the left, so the first of a tie stays).
   struct Sums {
     Real internal = 0, hourglass = 0, added = 0;
     Index eroded = 0;
+    Real dt = std::numeric_limits<Real>::infinity();
+    Index dt_at = -1, inverted_at = -1, scaled_at = -1;
     Sums& operator+=(const Sums& o) {
       internal += o.internal;
       hourglass += o.hourglass;
       added += o.added;
       eroded += o.eroded;
+      if (o.dt < dt) {
+        dt = o.dt;
+        dt_at = o.dt_at;
+      }
+      if (inverted_at < 0) inverted_at = o.inverted_at;
+      if (scaled_at < 0) scaled_at = o.scaled_at;
       return *this;
     }
   };
   const Sums sums = parallel::deterministic_sum<Sums>(ne, [&](Index e) {
     return Sums{results.internal_energy_j[at(e)], results.hourglass_energy_j[at(e)],
-                results.added_mass_kg[at(e)], static_cast<Index>(results.eroded_now[at(e)])};
+                results.added_mass_kg[at(e)],     static_cast<Index>(results.eroded_now[at(e)]),
+                results.stable_dt_s[at(e)],       e,
+                results.inverted[at(e)] ? e : -1, results.added_mass_kg[at(e)] > 0 ? e : -1};
   });
   ForceReport report;
   report.internal_energy_increment_j = sums.internal;
@@ -348,19 +360,10 @@ ForceReport compute_internal_forces(ExplicitMesh<D>& mesh, const SolidMaterial& 
           return given_up;
         });
   }
-  report.stable_dt_s = std::numeric_limits<Real>::infinity();
-  for (Index e = 0; e < ne; ++e) {
-    if (results.stable_dt_s[at(e)] < report.stable_dt_s) {
-      report.stable_dt_s = results.stable_dt_s[at(e)];
-      report.limiting_element = e;
-    }
-    if (results.inverted[at(e)] && report.inverted_element < 0) {
-      report.inverted_element = e;
-    }
-    if (results.added_mass_kg[at(e)] > 0 && report.first_mass_scaled_element < 0) {
-      report.first_mass_scaled_element = e;
-    }
-  }
+  report.stable_dt_s = sums.dt;
+  if (sums.dt_at >= 0) report.limiting_element = sums.dt_at;
+  report.inverted_element = sums.inverted_at;
+  report.first_mass_scaled_element = sums.scaled_at;
   return report;
 }
 
