@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <stdexcept>
@@ -121,26 +122,38 @@ parts::StableStep SphPart<D>::stable_step() const {
   parts::StableStep s;
   s.dt_s = kInf;
   const Real mu = cfg_.viscosity_pa_s;
-  for (Index i = 0; i < f_.size(); ++i) {
-    if (ghost(i)) continue;
+  auto limits = [&](Index i) {
     const Real an = a_[i].norm();
     const Real dt_f = an > 0 ? std::sqrt(h_[i] / an) : kInf;
     const Real dt_v = mu > 0 ? Real(0.125) * h_[i] * h_[i] * rho_[i] / mu : kInf;
-    const Real dt_i = std::min(cfg_.cfl * std::min(dt_f, dt_cv_[i]), dt_v);
+    return std::array<Real, 4>{std::min(cfg_.cfl * std::min(dt_f, dt_cv_[i]), dt_v), dt_f, dt_v,
+                               an};
+  };
+  Index limiting = -1;
+  for (Index i = 0; i < f_.size(); ++i) {
+    if (ghost(i)) continue;
+    const Real dt_i = limits(i)[0];
     if (dt_i < s.dt_s || (dt_i == s.dt_s && id_[i] < s.entity_id)) {  // ties: smallest id
       s.dt_s = dt_i;
       s.entity_id = id_[i];
-      s.reason = dt_i == dt_v ? fmt::format("viscous limit, mu = {:.3g} Pa s", mu)
-                 : dt_f < dt_cv_[i]
-                     ? fmt::format("force criterion, |a| = {:.3g} m/s^2", an)
-                     : fmt::format("CFL {} with sound speed {:.4g} m/s", cfg_.cfl, c_[i]);
+      limiting = i;
     }
+  }
+  // The reason of the limiting particle alone (a string per particle would cost more than
+  // the search).
+  if (limiting >= 0) {
+    const auto [dt_i, dt_f, dt_v, an] = limits(limiting);
+    s.reason = dt_i == dt_v ? fmt::format("viscous limit, mu = {:.3g} Pa s", mu)
+               : dt_f < dt_cv_[limiting]
+                   ? fmt::format("force criterion, |a| = {:.3g} m/s^2", an)
+                   : fmt::format("CFL {} with sound speed {:.4g} m/s", cfg_.cfl, c_[limiting]);
   }
   return spread_.active() ? parts::smallest_step(spread_.comm(), s) : s;
 }
 
 template <int D>
 void SphPart<D>::compute_forces(Real t) {
+  ++state_epoch_;
   time_s_ = t;
   // On ranks the ghosts' state comes from their owners, before anything reads it.
   if (spread_.active()) spread_.refresh(f_, kHalo);
@@ -190,6 +203,7 @@ std::optional<parts::Fault> SphPart<D>::check() const {
 // evaluated with predicted v, rho, e of that time (Springel 2005 uses the same prediction).
 template <int D>
 void SphPart<D>::advance(Real /*t*/, Real dt) {
+  ++state_epoch_;
   const Real half = 0.5 * dt;
   const bool sum_rho = summation();  // the force stage sums the density of t + dt
   const bool gravity = gravity_.squaredNorm() > 0;
@@ -212,6 +226,7 @@ void SphPart<D>::advance(Real /*t*/, Real dt) {
 
 template <int D>
 void SphPart<D>::finish_step(Real dt) {
+  ++state_epoch_;
   const Real half = 0.5 * dt;
   const bool sum_rho = summation();
   parallel::for_each(f_.size(), [&](Index i) {
@@ -226,9 +241,12 @@ void SphPart<D>::finish_step(Real dt) {
 
 template <int D>
 std::optional<parts::ContactPoints<D>> SphPart<D>::contact_points() const {
-  contact_radius_.resize(static_cast<std::size_t>(f_.size()));
-  parallel::for_each(
-      f_.size(), [&](Index i) { contact_radius_[i] = Real(0.5) * dth_root<D>(m_[i] / rho_[i]); });
+  if (radius_epoch_ != state_epoch_ || static_cast<Index>(contact_radius_.size()) != f_.size()) {
+    contact_radius_.resize(static_cast<std::size_t>(f_.size()));
+    parallel::for_each(
+        f_.size(), [&](Index i) { contact_radius_[i] = Real(0.5) * dth_root<D>(m_[i] / rho_[i]); });
+    radius_epoch_ = state_epoch_;
+  }
   return parts::ContactPoints<D>{.position = lagged_.view(x_),
                                  .velocity = &v_,
                                  .mass = &m_,
@@ -416,6 +434,7 @@ void SphPart<D>::save_state(parts::StateWriter& w) const {
 
 template <int D>
 void SphPart<D>::load_state(parts::StateReader& r) {
+  ++state_epoch_;
   archive(r, *this, f_, skin_, reflections_, max_penetration_, wall_.rho);
   if (skin_.radius() > 0) build_lists();
 }

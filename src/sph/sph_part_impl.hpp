@@ -298,6 +298,11 @@ class SphPart final : public parts::Part<D> {
   std::vector<Real>& surface_overlap_;  // parts::ContactPoints::surface_overlap
   std::vector<Real>& work_external_;    // done on it by gravity [J], since t = 0
   mutable std::vector<Real> contact_radius_;
+  // What changes the particles' masses or densities (advance, compute_forces, finish_step,
+  // load_state, distribute) moves state_epoch_ on; contact_points() measures the radii again
+  // only then (the contacts ask for them several times a step).
+  std::uint64_t state_epoch_ = 0;
+  mutable std::uint64_t radius_epoch_ = ~std::uint64_t{0};
   parts::ContactWork contact_;  // work of the contact forces on the part
 
   // Fixed wall particles (not part of the FieldSet: they are not entities of the part).

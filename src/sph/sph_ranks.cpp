@@ -26,6 +26,7 @@ namespace crater::sph::detail {
 
 template <int D>
 void SphPart<D>::distribute(const parallel::Comm& comm) {
+  ++state_epoch_;
   if (spread_.active()) throw std::logic_error("sph: distribute() twice");
   if (skin_.radius() > 0 && skin_.positions().size() == static_cast<std::size_t>(f_.size())) {
     spread_ = fields::Spread<D>();
