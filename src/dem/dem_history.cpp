@@ -17,17 +17,21 @@
 namespace crater::dem::detail {
 namespace {
 
-// Moves the `slots` slots of each grain with it (empty vectors: models that are off).
+// Moves the `slots` slots of each grain with it (empty vectors: models that are off), through
+// `scratch`, which then holds the old order (kept for its storage: no copy, no allocation).
 template <int Slots, class T>
-void permute_blocks(std::vector<T>& slots, std::span<const Index> order) {
+void permute_blocks(std::vector<T>& slots, std::vector<T>& scratch, std::span<const Index> order) {
   if (slots.empty()) return;
-  const std::vector<T> copy = slots;
+  scratch.resize(slots.size());
   parallel::for_each(static_cast<Index>(order.size()), [&](Index i) {
     const auto to = static_cast<std::size_t>(i) * Slots;
     const auto from = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]) * Slots;
     for (std::size_t k = 0; k < static_cast<std::size_t>(Slots); ++k)
-      slots[to + k] = copy[from + k];
+      scratch[to + k] = slots[from + k];
   });
+  for (std::size_t k = order.size() * Slots; k < slots.size(); ++k)
+    scratch[k] = slots[k];  // slots of no grain in `order` (none, as called) stay
+  slots.swap(scratch);
 }
 
 }  // namespace
@@ -265,11 +269,12 @@ int DemPart<D>::find_slot(Index owner, std::int64_t partner) const {
 
 template <int D>
 void DemPart<D>::permute_slots(std::span<const Index> order) {
-  permute_blocks<kMaxContacts>(partner_, order);
-  permute_blocks<kMaxContacts>(xi_, order);
-  permute_blocks<kMaxContacts>(roll_, order);
-  permute_blocks<kMaxContacts>(bond_partner_, order);
-  permute_blocks<kMaxContacts>(bond_, order);
+  permute_blocks<kMaxContacts>(partner_, scratch_ids_, order);
+  permute_blocks<kMaxContacts>(xi_, scratch_xi_, order);
+  permute_blocks<kMaxContacts>(roll_, scratch_roll_, order);
+  permute_blocks<kMaxContacts>(bond_partner_, scratch_ids_, order);
+  std::vector<ParallelBondState<D>> bonds;
+  permute_blocks<kMaxContacts>(bond_, bonds, order);
 }
 
 #define CRATER_DEM_HISTORY(D)                                                              \

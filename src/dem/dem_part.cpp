@@ -232,6 +232,7 @@ void DemPart<D>::place_grains(const std::vector<Vec<D>>& pts, const std::vector<
   f_.resize(n);
   std::fill(surface_offset_.begin(), surface_offset_.end(), Real(-1));  // not touching
   r_min_ = std::numeric_limits<Real>::infinity();
+  step_at_ = -1;
   for (Index i = 0; i < n; ++i) {
     const Real r = radii[static_cast<std::size_t>(i)];
     id_[i] = i;
@@ -252,6 +253,8 @@ void DemPart<D>::place_grains(const std::vector<Vec<D>>& pts, const std::vector<
 
 template <int D>
 parts::StableStep DemPart<D>::stable_step() const {
+  // On one rank the limit changes only with the grains (load_state, remove_outflow): kept.
+  if (!comm_ && step_at_ == f_.size()) return step_;
   parts::StableStep s;
   // The smallest grain of smallest id (r_min_ is the whole bed's, on every rank): the same
   // entity named on any rank count.
@@ -301,6 +304,10 @@ parts::StableStep DemPart<D>::stable_step() const {
   }
   if (comm_) smallest = comm_->min_with_id({s.dt_s, smallest}).id;
   if (smallest != std::numeric_limits<std::int64_t>::max()) s.entity_id = smallest;
+  if (!comm_) {
+    step_ = s;
+    step_at_ = f_.size();
+  }
   return s;
 }
 

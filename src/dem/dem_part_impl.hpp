@@ -676,6 +676,10 @@ class DemPart final : public parts::Part<D> {
   std::vector<std::int64_t> partner_;
   std::vector<Vec<D>> xi_;
   std::vector<AngularVec<D>> roll_;  // rolling moments (empty when mu_r = 0)
+  // The slots' storage before the last re-sort (permute_slots), kept for its capacity.
+  std::vector<std::int64_t> scratch_ids_;
+  std::vector<Vec<D>> scratch_xi_;
+  std::vector<AngularVec<D>> scratch_roll_;
   bool packed_ = true;
   // ... and while the list stands: per owned pair and per grain and wall (cfg_.walls order).
   std::vector<Vec<D>> pair_xi_, wall_xi_;
@@ -732,6 +736,10 @@ class DemPart final : public parts::Part<D> {
   // at this grain count (-1: none since the grains last changed: load_state, remove_outflow).
   mutable Index contact_extremes_at_ = -1;
   mutable Real contact_lightest_kg_ = 0, contact_largest_m_ = 0;
+  // On one rank, stable_step()'s limit as measured at this grain count (-1: none since the
+  // grains last changed, as above).
+  mutable Index step_at_ = -1;
+  mutable parts::StableStep step_;
   Index rebalances_ = 0;  // on ranks: how often the cuts were made again
   Real load_ratio_ = 1;   // on ranks: heaviest rank over the mean (last rebuild)
   Index arrivals_ = 0;    // on ranks: grains received from another owner

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <algorithm>
+#include <array>
 #include <span>
 #include <type_traits>
 #include <utility>
@@ -85,16 +86,22 @@ Real DemPart<D>::total(Term&& term, Real extra) const {
 // any rank count once the grains are spread over ranks (collective then).
 template <int D>
 parts::Energies DemPart<D>::energies() const {
+  // The five sums in one pass over the grains, each with the bits total() gives it.
+  const std::array<Real, 5> extra{0, 0, contact_dissipated_, local_dissipated_, external_work_};
+  const std::array<Real, 5> sum = parallel::reproducible_sums<5>(
+      comm_, f_.size(), [&](Index i) { return !ghost(i); },
+      [&](Index i) {
+        return std::array<Real, 5>{
+            0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]), elastic_[i],
+            work_contact_[i], work_damping_[i], work_external_[i]};
+      },
+      &extra);
   parts::Energies en;
-  en.kinetic_j = total([&](Index i) {
-    return 0.5 * m_[i] * v_[i].squaredNorm() + angular_kinetic<D>(inertia_[i], w_[i]);
-  });
+  en.kinetic_j = sum[0];
   // Stored in the springs + lost in contacts, minus the work of contacts with other parts.
-  en.contact_j = total([&](Index i) { return elastic_[i]; }) +
-                 total([&](Index i) { return work_contact_[i]; }, contact_dissipated_) -
-                 contact_.work_j;
-  en.damping_j = total([&](Index i) { return work_damping_[i]; }, local_dissipated_);
-  en.external_work_j = total([&](Index i) { return work_external_[i]; }, external_work_);
+  en.contact_j = sum[1] + sum[2] - contact_.work_j;
+  en.damping_j = sum[3];
+  en.external_work_j = sum[4];
   en.eroded_j = outflow_.energy_j();
   return en;
 }
@@ -287,6 +294,7 @@ void DemPart<D>::compact_survivors() {
   clear_wall_slots();
   skin_.compacted(outflow_.survivors());
   contact_extremes_at_ = -1;
+  step_at_ = -1;
   contact_layout_builds_ = -1;  // the whole bed has fewer grains
 }
 
@@ -388,6 +396,7 @@ void DemPart<D>::load_state(parts::StateReader& r) {
   r.tag("dem");
   moved_sq_ = -1;  // measured again at the next force stage
   contact_extremes_at_ = -1;
+  step_at_ = -1;
   f_.load(r);
   r.vector(partner_);
   r.vector(xi_);

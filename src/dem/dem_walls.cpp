@@ -265,6 +265,7 @@ void DemPart<D>::init_absorbing_walls(const PartSettings& settings) {
   const Real cs = cfg_.absorbing_s_wave_speed_m_s > 0 ? cfg_.absorbing_s_wave_speed_m_s
                                                       : cp * std::sqrt((1 - 2 * nu) / (2 - 2 * nu));
   absorbing_ = AbsorbingWallParams{.normal_impedance = rho * cp, .tangential_impedance = rho * cs};
+  step_at_ = -1;  // the walls' dashpots limit the step
   add_diagnostic("absorbing_wall_density_kg_m3", rho);
   add_diagnostic("absorbing_wall_p_wave_speed_m_s", cp);
   add_diagnostic("absorbing_wall_s_wave_speed_m_s", cs);

@@ -140,10 +140,18 @@ inline Real reproducible_sum(const Comm& comm, std::span<const Real> terms) {
 /// thread count, and without `comm` (one rank) as on any number of ranks. One ReproducibleSum
 /// per quantity, made with the bounds of the whole set: three collectives (the maxima, the
 /// count, the exact levels) whatever K. Every rank calls it, with or without indices.
+/// `extra`, when given: one more term of each quantity from every rank (a part's running
+/// total), counted and bounded as the others are.
 template <std::size_t K, class Adds, class Term>
-std::array<Real, K> reproducible_sums(const Comm* comm, Index n, Adds&& adds, Term&& term) {
+std::array<Real, K> reproducible_sums(const Comm* comm, Index n, Adds&& adds, Term&& term,
+                                      const std::array<Real, K>* extra = nullptr) {
   std::array<Real, K> bound{};
   std::int64_t count = 0;
+  if (extra) {
+    count = 1;
+    for (std::size_t q = 0; q < K; ++q)
+      if (std::isfinite((*extra)[q])) bound[q] = std::abs((*extra)[q]);
+  }
 #pragma omp parallel if (n >= parallel_min())
   {
     std::array<Real, K> b{};
@@ -185,6 +193,9 @@ std::array<Real, K> reproducible_sums(const Comm* comm, Index n, Adds&& adds, Te
     for (std::size_t q = 0; q < K; ++q)
       total[q].merge(local[q]);
   }
+  if (extra)
+    for (std::size_t q = 0; q < K; ++q)
+      total[q].add((*extra)[q]);
   std::array<Real, K> out{};
   if (comm) {
     constexpr std::size_t kWords = ReproducibleSum::kLevels + 1;
