@@ -6,8 +6,10 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <cstdlib>
+#include <exception>
 #include <utility>
 #include <vector>
 
@@ -38,6 +40,9 @@ inline int max_threads() {
 }
 inline void set_threads(int n) {
   if (n > 0) omp_set_num_threads(n);
+  // A region inside a region runs on its one thread (alongside() relies on it): the default of
+  // libgomp, made explicit against OMP_NESTED / OMP_MAX_ACTIVE_LEVELS in the environment.
+  omp_set_max_active_levels(1);
 }
 
 /// What one index of a loop costs, against an update of an array entry or two (`light`). A
@@ -70,6 +75,52 @@ void for_each_block(Index n, Index block, F&& f, Cost cost = Cost::light) {
 #pragma omp parallel for schedule(dynamic, 4) if (forks(n, cost))
   for (Index b = 0; b < blocks; ++b)
     f(b * block, std::min(n, (b + 1) * block));
+}
+
+/// main() on the calling thread while the team's other threads run block(b) for the b in
+/// [0, blocks), dealt out `chunk` at a time as threads come free; the calling thread takes its
+/// share of what remains once main() returns. What main() itself forks runs on the calling
+/// thread alone (a region inside a region has one thread), so main() must not wait for the
+/// blocks, nor a block for main(), and neither may write what the other reads. Every block runs
+/// once, on some thread: what each computes does not depend on which, nor on the thread count.
+/// An exception from main() or a block is rethrown once all have returned (main()'s first).
+template <class Main, class Block>
+void alongside(Index blocks, Index chunk, Main&& main, Block&& block) {
+  std::exception_ptr main_error, block_error;
+  auto run_main = [&] {
+    try {
+      main();
+    } catch (...) {
+      main_error = std::current_exception();
+    }
+  };
+  auto run_block = [&](Index b) {
+    try {
+      block(b);
+    } catch (...) {
+#pragma omp critical(crater_alongside)
+      if (!block_error) block_error = std::current_exception();
+    }
+  };
+  if (blocks <= 0 || max_threads() == 1 || omp_in_parallel()) {
+    run_main();
+    for (Index b = 0; b < blocks; ++b)
+      run_block(b);
+  } else {
+    std::atomic<Index> next{0};
+#pragma omp parallel
+    {
+      if (omp_get_thread_num() == 0) run_main();
+      for (;;) {
+        const Index first = next.fetch_add(chunk, std::memory_order_relaxed);
+        if (first >= blocks) break;
+        for (Index b = first; b < std::min(blocks, first + chunk); ++b)
+          run_block(b);
+      }
+    }
+  }
+  if (main_error) std::rethrow_exception(main_error);
+  if (block_error) std::rethrow_exception(block_error);
 }
 
 /// Sum of f(i) over the i in [0, n) with keep(i), in deterministic_sum's fixed association
