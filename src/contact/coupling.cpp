@@ -102,6 +102,12 @@ void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForce
 
 template <int D>
 void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
+  compute(parts, dt_s);
+  hand_over(parts);
+}
+
+template <int D>
+void Coupling<D>::compute(const PartList<D>& parts, Real dt_s) {
   if (pairings_.empty()) return;
   // Forces per part in any contact: per particle, or per node of a surface.
   ContactForces<D>& out = forces_;
@@ -114,8 +120,14 @@ void Coupling<D>::apply(const PartList<D>& parts, Real dt_s) {
   for (auto& p : pairings_)
     p->apply(on, dt_s, out);
   finish(on, all_);
+}
+
+template <int D>
+void Coupling<D>::hand_over(const PartList<D>& parts) {
+  if (pairings_.empty()) return;
+  const PartList<D>& on = seen(parts);
   for (std::size_t k : involved_)
-    on[k]->add_contact_forces(out.force[k], out.torque[k]);
+    on[k]->add_contact_forces(forces_.force[k], forces_.torque[k]);
   if (spread_) spread_->hand_back(parts);
 }
 

@@ -126,6 +126,14 @@ class Coupling {
   /// Forces of the current state, handed to every part in a contact (after compute_forces);
   /// dt_s is the step just taken (0 for the initial state).
   void apply(const PartList<D>& parts, Real dt_s);
+  /// apply() in two calls: the forces (collective on ranks), then handed to the parts. Between
+  /// them the contacts' parts may finish their own force stage (Part::end_forces), which writes
+  /// nothing a contact reads.
+  void compute(const PartList<D>& parts, Real dt_s);
+  void hand_over(const PartList<D>& parts);
+  /// Whether the contacts run over ranks' views (spread_coupling.hpp): their calls are then
+  /// collective, made by every rank's main thread at the same point of the step.
+  bool on_ranks() const { return spread_ != nullptr; }
 
   /// The contacts in scenario order: how many, the parts of contact c (its first part, then
   /// its second), and each one's step limits apart (pairing.hpp's PairLimits).

@@ -25,22 +25,44 @@ thread_local std::array<Candidate, N> scan_candidates;
 
 template <int D>
 void DemPart<D>::compute_forces(Real t) {
+  begin_forces(t);
+  parallel::for_each_block(f_.size(), kPairBlock,
+                           [&](Index first, Index /*last*/) { force_block(first / kPairBlock); });
+  end_forces();
+}
+
+template <int D>
+Index DemPart<D>::begin_forces(Real t) {
   time_s_ = t;
   if (comm_) refresh_ghosts();
   update_neighbors();
   const Index n = f_.size();
-  const Real dt = contact_.last_dt_s;  // the step just taken
   overflow_ = n;
   bond_lost_ = n;
   unhealthy_ = n;
   // A frame's stress reads every pair's force from the pair cache, which one thread otherwise
-  // leaves unwritten (scatter_: the same forces, bit for bit).
-  const bool scatter = scatter_;
+  // leaves unwritten (scatter_: the same forces, bit for bit); end_forces() restores it.
+  scatter_kept_ = scatter_;
   if (stress_step_) scatter_ = false;
+  return (n + kPairBlock - 1) / kPairBlock;
+}
+
+// Owned pairs of the grains [b kPairBlock, (b + 1) kPairBlock): their forces, the grains' tallies.
+template <int D>
+void DemPart<D>::force_block(Index block) {
+  const Index first = block * kPairBlock;
+  const Index last = std::min(f_.size(), first + kPairBlock);
+  const Real dt = contact_.last_dt_s;  // the step just taken
+  std::visit([&]<class Law>(const LawPair<Law>& laws) { pair_pass<Law>(first, last, dt, laws); },
+             laws_);
+}
+
+template <int D>
+void DemPart<D>::end_forces() {
+  const Index n = f_.size();
+  const Real dt = contact_.last_dt_s;
   std::visit(
       [&]<class Law>(const LawPair<Law>& laws) {
-        parallel::for_each_block(
-            n, kPairBlock, [&](Index first, Index last) { pair_pass<Law>(first, last, dt, laws); });
         // A frame's stage sums the walls' stress moments in an instance of grain_pass of its
         // own: the other steps' has no trace of them.
         // Ghosts are their owners' to move.
@@ -64,7 +86,7 @@ void DemPart<D>::compute_forces(Real t) {
       },
       laws_);
   measure_walls();
-  scatter_ = scatter;
+  scatter_ = scatter_kept_;
   if (stress_step_) grain_stresses();
   stress_current_ = std::exchange(stress_step_, false);
   // Bonds of this step become last step's (contact histories are updated in place).
@@ -532,5 +554,11 @@ inline void DemPart<D>::clear_wall(std::uint32_t& live, std::size_t w, std::size
 
 template void DemPart<2>::compute_forces(Real);
 template void DemPart<3>::compute_forces(Real);
+template Index DemPart<2>::begin_forces(Real);
+template Index DemPart<3>::begin_forces(Real);
+template void DemPart<2>::force_block(Index);
+template void DemPart<3>::force_block(Index);
+template void DemPart<2>::end_forces();
+template void DemPart<3>::end_forces();
 
 }  // namespace crater::dem::detail

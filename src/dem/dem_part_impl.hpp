@@ -186,6 +186,10 @@ class DemPart final : public parts::Part<D> {
   Real mass_kg() const override;  // dem_state.cpp
   parts::StableStep stable_step() const override;
   void compute_forces(Real t) override;  // dem_pair_loop.cpp
+  // The same in three calls (parts::Part): the lists, then the pairs by blocks, then the grains.
+  Index begin_forces(Real t) override;
+  void force_block(Index block) override;
+  void end_forces() override;
   void expect_frame() override {
     stress_step_ = true;
     frame_step_ = true;
@@ -706,6 +710,7 @@ class DemPart final : public parts::Part<D> {
   std::vector<Index> recv_begin_, recv_pair_;  // pairs (j, i) that grain i receives, likewise
   PairCache cache_;                            // per owned pair: the contact's results (pair_pass)
   bool scatter_ = false;                       // one thread: received shares summed in pair_pass
+  bool scatter_kept_ = false;                  // scatter_ while a frame's force stage sets it aside
   std::vector<Received> received_;             // per grain, with scatter_
   // The largest squared displacement since the list's build, measured by advance; -1: unknown.
   Real moved_sq_ = -1;

@@ -163,6 +163,19 @@ class Part {
   virtual StableStep stable_step() const = 0;
   /// Stage "force": internal forces and rates for the current state at time t.
   virtual void compute_forces(Real t_s) = 0;
+  /// compute_forces() in three calls, so that a part's heaviest loop can share the threads with
+  /// the contact stage (solver/step.hpp): begin_forces() does what the contacts read (lists,
+  /// re-sorts, ghosts) and returns how many blocks of work remain; force_block(b) for every b
+  /// in [0, blocks), on any thread, in any order, concurrently with each other and with the
+  /// contacts, writes only the part's own force fields, which no contact reads; end_forces()
+  /// finishes the stage. The three give compute_forces()'s bits. By default the whole stage is
+  /// begin_forces() and no block remains.
+  virtual Index begin_forces(Real t_s) {
+    compute_forces(t_s);
+    return 0;
+  }
+  virtual void force_block(Index /*block*/) {}
+  virtual void end_forces() {}
   /// The state of the next compute_forces() is one a frame writes: a part with output fields
   /// that only the force stage can derive, and that no step needs (the DEM grains' stress),
   /// computes them in that stage alone.

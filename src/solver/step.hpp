@@ -4,6 +4,7 @@
 #pragma once
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <limits>
@@ -16,6 +17,7 @@
 #include "core/error.hpp"
 #include "io/scenario/config.hpp"
 #include "parallel/comm.hpp"
+#include "parallel/parallel.hpp"
 #include "solver/part_names.hpp"
 
 namespace crater::solver {
@@ -113,19 +115,77 @@ void advance_stage(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t, R
     StageClock::time(StageClock::part_of(clock, k), [&] { parts[k]->advance(t, dt); });
 }
 
+/// The forces of the new state part by part and the contacts between parts (finish_step_stages).
+/// The parts' heaviest loops (Part::begin_forces' blocks) share the threads with the contacts,
+/// which read nothing the blocks write: the main thread evaluates the contacts while the other
+/// threads take the blocks, then joins them (parallel::alongside); every part then ends its
+/// stage, and the contacts' forces are handed over. The same bits as the parts' whole force
+/// stages one after the other, then the contacts. On ranks the contacts' calls are collective,
+/// made by each rank's main thread: the blocks run first, then the contacts. A part's time on
+/// `clock` is its own calls' and, of the time shared with the contacts, its blocks' share of
+/// what the contacts did not take.
+template <int D>
+void force_stages(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                  contact::Coupling<D>& coupling, Real t_new, Real dt,
+                  StageClock* clock = nullptr) {
+  auto part_clock = [&](std::size_t k) { return StageClock::part_of(clock, k); };
+  StageClock::Tally* contacts = clock ? &clock->contacts : nullptr;
+  // first[k]: part k's first block in the numbering over all parts.
+  std::vector<Index> first(parts.size() + 1, 0);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    Index blocks = 0;
+    StageClock::time(part_clock(k), [&] { blocks = parts[k]->begin_forces(t_new); });
+    first[k + 1] = first[k] + blocks;
+  }
+  const Index blocks = first.back();
+  auto block = [&](Index b) {
+    const auto k = static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), b) -
+                                            first.begin() - 1);
+    parts[k]->force_block(b - first[k]);
+  };
+  // A block is a few dozen pairs: worth a fork from parallel_min() / 16 of them (Cost::heavy).
+  if (coupling.on_ranks() || !parallel::forks(blocks, parallel::Cost::heavy)) {
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      StageClock::time(part_clock(k), [&] {
+        parallel::for_each_block(
+            first[k + 1] - first[k], 1, [&](Index b, Index) { block(first[k] + b); },
+            parallel::Cost::heavy);
+      });
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      StageClock::time(part_clock(k), [&] { parts[k]->end_forces(); });
+    StageClock::time(contacts, [&] { coupling.apply(parts, dt); });
+    return;
+  }
+  double shared_s = 0, contacts_s = 0;
+  const double mpi_s = parallel::Comm::world().seconds_in_mpi();
+  StageClock::time(shared_s, [&] {
+    parallel::alongside(
+        blocks, 4, [&] { StageClock::time(contacts_s, [&] { coupling.compute(parts, dt); }); },
+        block);
+  });
+  if (clock) {
+    clock->contacts.s += contacts_s;
+    clock->contacts.mpi_s += parallel::Comm::world().seconds_in_mpi() - mpi_s;
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      clock->part(k).s += (shared_s - contacts_s) * static_cast<double>(first[k + 1] - first[k]) /
+                          static_cast<double>(blocks);
+  }
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    StageClock::time(part_clock(k), [&] { parts[k]->end_forces(); });
+  StageClock::time(contacts, [&] { coupling.hand_over(parts); });
+}
+
 /// The rest of the step, at t_new = t + dt (given, so that a step lands exactly on an output
-/// time): the forces of the new state part by part, the contacts between parts, every part
-/// checked (a fault throws NumericalError naming the first failing part, before any part
-/// finishes the step), then every part finishes the step (second half kick). Parts in scenario
-/// order at every stage.
+/// time): the forces of the new state part by part, the contacts between parts (force_stages),
+/// every part checked (a fault throws NumericalError naming the first failing part, before any
+/// part finishes the step), then every part finishes the step (second half kick). Parts in
+/// scenario order at every stage.
 template <int D>
 void finish_step_stages(const std::vector<std::unique_ptr<Part<D>>>& parts,
                         contact::Coupling<D>& coupling, Real t_new, Real dt,
                         StageClock* clock = nullptr) {
   auto part_clock = [&](std::size_t k) { return StageClock::part_of(clock, k); };
-  for (std::size_t k = 0; k < parts.size(); ++k)
-    StageClock::time(part_clock(k), [&] { parts[k]->compute_forces(t_new); });
-  StageClock::time(clock ? &clock->contacts : nullptr, [&] { coupling.apply(parts, dt); });
+  force_stages(parts, coupling, t_new, dt, clock);
   for (std::size_t k = 0; k < parts.size(); ++k)
     StageClock::time(part_clock(k), [&] {
       if (auto fault = parts[k]->check())
