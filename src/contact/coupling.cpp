@@ -76,7 +76,8 @@ std::vector<PairLimits> Coupling<D>::limits(const PartList<D>& parts) const {
 }
 
 template <int D>
-void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const {
+void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out,
+                           bool track) const {
   // One view of the part (an SPH part's view computes its particles' contact radii).
   Index n = 0;
   const auto pts = parts[k]->contact_points();
@@ -87,17 +88,40 @@ void Coupling<D>::size_for(const PartList<D>& parts, std::size_t k, ContactForce
   const bool spins = pts && pts->angular_velocity;
   std::vector<Vec<D>>& force = out.force[k];
   std::vector<AxialVec<D>>& torque = out.torque[k];
-  // The buffers are kept from call to call: zeroed in one parallel pass, reallocated when the
-  // count changes.
+  // A particle part's particles given a force are tracked in Coupling's own buffers (out's
+  // marks sized for the part): then only those are zeroed again.
+  std::vector<std::uint8_t>* marks = k < out.marked.size() ? &out.marked[k] : nullptr;
+  const bool tracked = track && pts && marks;
+  auto restart_marks = [&] {
+    if (!marks) return;
+    if (tracked)
+      marks->assign(at(n), 0);
+    else
+      marks->clear();
+    out.touched[k].clear();
+  };
+  // The buffers are kept from call to call: zeroed where written, or in one parallel pass,
+  // reallocated when the count changes.
   if (static_cast<Index>(force.size()) != n || (spins && static_cast<Index>(torque.size()) != n)) {
     force.assign(at(n), Vec<D>::Zero());
     if (spins) torque.assign(at(n), axial_zero<D>());
+    restart_marks();
+    return;
+  }
+  if (tracked && marks->size() == at(n)) {
+    for (const Index i : out.touched[k]) {
+      force[at(i)] = Vec<D>::Zero();
+      if (spins) torque[at(i)] = axial_zero<D>();
+      (*marks)[at(i)] = 0;
+    }
+    out.touched[k].clear();
     return;
   }
   parallel::for_each(n, [&](Index i) {
     force[at(i)] = Vec<D>::Zero();
     if (spins) torque[at(i)] = axial_zero<D>();
   });
+  restart_marks();
 }
 
 template <int D>
@@ -113,10 +137,13 @@ void Coupling<D>::compute(const PartList<D>& parts, Real dt_s) {
   ContactForces<D>& out = forces_;
   out.force.resize(parts.size());
   out.torque.resize(parts.size());
+  out.touched.resize(parts.size());
+  out.marked.resize(parts.size());
   // On ranks, every contact over whole views of its parts; each part then takes its own share.
+  // On one rank the particles given a force are tracked (hand_over() hands those over).
   const PartList<D>& on = spread_ ? spread_->refresh(parts) : parts;
   for (std::size_t k : involved_)
-    size_for(on, k, out);
+    size_for(on, k, out, !spread_);
   for (auto& p : pairings_)
     p->apply(on, dt_s, out);
   finish(on, all_);
@@ -126,8 +153,15 @@ template <int D>
 void Coupling<D>::hand_over(const PartList<D>& parts) {
   if (pairings_.empty()) return;
   const PartList<D>& on = seen(parts);
-  for (std::size_t k : involved_)
-    on[k]->add_contact_forces(forces_.force[k], forces_.torque[k]);
+  for (std::size_t k : involved_) {
+    if (forces_.marked[k].empty()) {
+      on[k]->add_contact_forces(forces_.force[k], forces_.torque[k]);
+      continue;
+    }
+    std::vector<Index>& touched = forces_.touched[k];
+    std::sort(touched.begin(), touched.end());
+    on[k]->add_touched_contact_forces(forces_.force[k], forces_.torque[k], touched);
+  }
   if (spread_) spread_->hand_back(parts);
 }
 
@@ -169,7 +203,7 @@ void Coupling<D>::evaluate(const PartList<D>& parts, const std::vector<std::size
     out[c].force.resize(parts.size());
     out[c].torque.resize(parts.size());
     for (std::size_t k : sides(c)) {
-      size_for(on, k, out[c]);
+      size_for(on, k, out[c], false);
       if (std::find(touched.begin(), touched.end(), k) == touched.end()) touched.push_back(k);
     }
     pairings_[c]->apply(on, dt_s[c], out[c]);

@@ -183,8 +183,9 @@ class Coupling {
   /// The totals of the contacts `which` from their pairs (on ranks collective).
   void finish(const PartList<D>& on, const std::vector<std::size_t>& which);
 
-  /// Sizes out's zeroed forces (and torques, for rotating particles) for part k's bodies.
-  void size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out) const;
+  /// Sizes out's zeroed forces (and torques, for rotating particles) for part k's bodies;
+  /// `track`: out is forces_ on one rank, whose particle parts' touched particles are kept.
+  void size_for(const PartList<D>& parts, std::size_t k, ContactForces<D>& out, bool track) const;
 };
 
 }  // namespace crater::contact

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -60,6 +61,21 @@ template <int D>
 struct ContactForces {
   std::vector<std::vector<Vec<D>>> force;
   std::vector<std::vector<AxialVec<D>>> torque;
+  /// Coupling's own buffers keep, per particle part, the particles given a force since the
+  /// buffers were last zeroed (`marked` flags them; `touched` lists them, first write first),
+  /// so that zeroing them and handing them over need not visit every particle. Empty for a
+  /// part not tracked (a surface's nodes; buffers that are not Coupling's).
+  std::vector<std::vector<Index>> touched;
+  std::vector<std::vector<std::uint8_t>> marked;
+
+  /// Notes that particle i of part k is given a force (a no-op for an untracked part).
+  void touch(std::size_t k, Index i) {
+    if (k >= marked.size() || marked[k].empty()) return;
+    std::uint8_t& m = marked[k][at(i)];
+    if (m) return;
+    m = 1;
+    touched[k].push_back(i);
+  }
 };
 
 /// What a contact reports of its last apply() (or one direction of it). The sums over the pairs

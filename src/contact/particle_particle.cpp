@@ -146,6 +146,8 @@ void ParticleParticle<D>::apply(const PartList<D>& parts, Real /*dt_s*/, Contact
       this->last_.add(pp.overlap, pf.normal, -pf.force);
     f_a[at(pp.a)] += pf.force;
     f_b[at(pp.b)] -= pf.force;
+    out.touch(this->points_, pp.a);
+    out.touch(this->other_, pp.b);
     if (!t_b.empty()) t_b[at(pp.b)] += moment_of<D>(pf.arm_b, Vec<D>(-pf.force));
     add_load(b, pp);
   }

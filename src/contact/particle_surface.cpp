@@ -158,6 +158,7 @@ void ParticleSurface<D>::apply(const PartList<D>& parts, Real dt_s, ContactForce
     const Push<D>& f = push[q];
     if (parts::counts_here(*pts, i)) this->last_.add(h.overlap, f.normal, -f.force);
     f_points[at(i)] += f.force;
+    out.touch(this->points_, i);
     // The arm -r n from the centre to the contact point; only the tangential part of the
     // force has a moment about the centre.
     if (!t_points.empty())

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -319,23 +320,47 @@ void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
   if (static_cast<Index>(force.size()) != f_.size() ||
       static_cast<Index>(torque.size()) != f_.size())
     throw std::logic_error("dem: contact forces for another grain count");
+  held_known_ = false;
   // One pass: the power of the contact forces over the advance just taken (the old forces and
   // these, ContactWork::settle), then the new forces in.
   const bool booking = contact_.begin(f_.size());
   const Real half_dt = contact_.half_dt();
   std::vector<Real>& power = contact_.powers();
   parallel::for_each(f_.size(), [&](Index i) {
-    if (booking)
-      power[at(i)] = !ghost(i) ? half_dt * (v_[i].dot(contact_force_[i] + force[i]) +
-                                            angular_dot<D>(w_[i], contact_torque_[i] + torque[i]))
-                               : Real(0);
-    contact_force_[i] = force[i];
-    contact_torque_[i] = torque[i];
-    force_[i] += force[i];
-    torque_[i] += torque[i];
-    note_health(i);
+    take_contact_force(i, force[at(i)], torque[at(i)], booking, half_dt, power);
   });
   contact_.book(comm_ ? *comm_ : parallel::Comm{}, f_.size());
+}
+
+template <int D>
+void DemPart<D>::add_touched_contact_forces(const std::vector<Vec<D>>& force,
+                                            const std::vector<AngularVec<D>>& torque,
+                                            std::span<const Index> touched) {
+  // Only the grains the new forces touch and those the old ones touched can change: the others
+  // have zero forces before and after, and their power is zero. Unless the grains moved in
+  // their arrays since the last call (a re-sort, an outflow, a load), which the full pass
+  // takes.
+  if (!held_known_ || held_epoch_ != f_.layout_epoch() || comm_) {
+    add_contact_forces(force, torque);
+  } else {
+    if (static_cast<Index>(force.size()) != f_.size() ||
+        static_cast<Index>(torque.size()) != f_.size())
+      throw std::logic_error("dem: contact forces for another grain count");
+    visit_.clear();
+    std::set_union(held_.begin(), held_.end(), touched.begin(), touched.end(),
+                   std::back_inserter(visit_));
+    const bool booking = contact_.begin(f_.size());
+    const Real half_dt = contact_.half_dt();
+    std::vector<Real>& power = contact_.powers();
+    parallel::for_each(static_cast<Index>(visit_.size()), [&](Index q) {
+      const Index i = visit_[at(q)];
+      take_contact_force(i, force[at(i)], torque[at(i)], booking, half_dt, power);
+    });
+    contact_.book_set(parallel::Comm{}, visit_);
+  }
+  held_.assign(touched.begin(), touched.end());
+  held_epoch_ = f_.layout_epoch();
+  held_known_ = true;
 }
 
 template <int D>
@@ -384,14 +409,16 @@ void DemPart<D>::finish_step(Real dt) {
   if (outflow_remove_) remove_outflow();
 }
 
-#define CRATER_DEM_PART(D)                                                         \
-  template void DemPart<D>::add_bed_measures(const PartSettings&);                 \
-  template DemPart<D>::DemPart(const PartSettings&, const std::vector<Grain<D>>*,  \
-                               std::optional<Real>);                               \
-  template parts::StableStep DemPart<D>::stable_step() const;                      \
-  template void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>&,         \
-                                               const std::vector<AngularVec<D>>&); \
-  template void DemPart<D>::advance(Real, Real);                                   \
+#define CRATER_DEM_PART(D)                                                                    \
+  template void DemPart<D>::add_bed_measures(const PartSettings&);                            \
+  template DemPart<D>::DemPart(const PartSettings&, const std::vector<Grain<D>>*,             \
+                               std::optional<Real>);                                          \
+  template parts::StableStep DemPart<D>::stable_step() const;                                 \
+  template void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>&,                    \
+                                               const std::vector<AngularVec<D>>&);            \
+  template void DemPart<D>::add_touched_contact_forces(                                       \
+      const std::vector<Vec<D>>&, const std::vector<AngularVec<D>>&, std::span<const Index>); \
+  template void DemPart<D>::advance(Real, Real);                                              \
   template void DemPart<D>::finish_step(Real);
 CRATER_DEM_PART(2)
 CRATER_DEM_PART(3)

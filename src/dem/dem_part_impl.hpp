@@ -225,6 +225,9 @@ class DemPart final : public parts::Part<D> {
   }
   void add_contact_forces(const std::vector<Vec<D>>& force,
                           const std::vector<AngularVec<D>>& torque) override;
+  void add_touched_contact_forces(const std::vector<Vec<D>>& force,
+                                  const std::vector<AngularVec<D>>& torque,
+                                  std::span<const Index> touched) override;
   void set_contact_lag(Real lag_s) override {
     lagged_.set(x_, lag_s, [&](Index i) { return v_[i]; });  // v_: v^{n+1/2} until finish_step
   }
@@ -638,8 +641,29 @@ class DemPart final : public parts::Part<D> {
   parts::ContactWork contact_;                // work of those forces on the grains
   parts::LaggedPositions<D> lagged_;          // positions the contacts see (multi-rate stepping)
   parts::NextContactForces<D> next_contact_;  // for the next step's first half kick
+  // The grains whose contact force or torque may be nonzero (ascending), while held_known_ and
+  // the grains have not moved in their arrays since (held_epoch_, f_'s layout epoch): those
+  // the last add_touched_contact_forces() was told of. visit_: its scratch.
+  std::vector<Index> held_, visit_;
+  std::uint64_t held_epoch_ = 0;
+  bool held_known_ = false;
+  // One grain's share of the contact forces' hand-over (add_contact_forces): the power of the
+  // old and new forces, the new forces in, the grain's health.
+  void take_contact_force(Index i, const Vec<D>& force, const AngularVec<D>& torque, bool booking,
+                          Real half_dt, std::vector<Real>& power) {
+    if (booking)
+      power[at(i)] = !ghost(i) ? half_dt * (v_[i].dot(contact_force_[i] + force) +
+                                            angular_dot<D>(w_[i], contact_torque_[i] + torque))
+                               : Real(0);
+    contact_force_[i] = force;
+    contact_torque_[i] = torque;
+    force_[i] += force;
+    torque_[i] += torque;
+    note_health(i);
+  }
   /// Multi-rate: the next step starts with other contact forces than the last one ended with.
   void take_contact(const std::vector<Vec<D>>& force, const std::vector<AngularVec<D>>& torque) {
+    held_known_ = false;
     parallel::for_each(f_.size(), [&](Index i) {
       force_[i] += force[at(i)] - contact_force_[i];
       torque_[i] += torque[at(i)] - contact_torque_[i];

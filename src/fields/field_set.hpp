@@ -67,6 +67,10 @@ class FieldSet {
                               std::vector<SymTensor>>;
 
   Index size() const { return size_; }
+  /// Counts the changes of which entity sits where (resize, permute, compact, load, unpack):
+  /// a part that keeps indices into its fields across steps (e.g. the entities its last
+  /// contact forces touched) knows them stale when this moved.
+  std::uint64_t layout_epoch() const { return layout_epoch_; }
 
   std::vector<Real>& add_scalar(std::string name, std::string unit, unsigned roles) {
     return std::get<std::vector<Real>>(add(std::move(name), std::move(unit), roles,
@@ -91,6 +95,7 @@ class FieldSet {
 
   /// Resizes every field; new entries are zero.
   void resize(Index n) {
+    ++layout_epoch_;
     for (auto& c : columns_)
       std::visit(
           [n](auto& v) {
@@ -105,6 +110,7 @@ class FieldSet {
   void permute(std::span<const Index> order) {
     if (static_cast<Index>(order.size()) != size_)
       throw std::logic_error("FieldSet::permute: order has the wrong size");
+    ++layout_epoch_;
     for (auto& c : columns_)
       std::visit(
           [&](auto& v) {
@@ -123,6 +129,7 @@ class FieldSet {
   Index compact(std::span<const std::uint8_t> keep) {
     if (static_cast<Index>(keep.size()) != size_)
       throw std::logic_error("FieldSet::compact: keep mask has the wrong size");
+    ++layout_epoch_;
     for (auto& c : columns_)
       std::visit(
           [&](auto& v) {
@@ -153,6 +160,7 @@ class FieldSet {
   template <class Reader>
   void load(Reader& r) {
     r.tag("fields");
+    ++layout_epoch_;
     if (r.template value<std::uint64_t>() != columns_.size())
       r.fail("it holds another set of fields");
     bool first = true;
@@ -219,6 +227,7 @@ class FieldSet {
   void unpack_into(std::span<const Index> which, std::span<const std::byte> in, unsigned roles) {
     if (in.size() != which.size() * packed_bytes(roles))
       throw std::logic_error("FieldSet::unpack_into: the bytes do not match the entities");
+    ++layout_epoch_;
     std::size_t at = 0;
     for (auto& c : columns_) {
       if (!takes(c.info.roles, roles)) continue;
@@ -300,6 +309,7 @@ class FieldSet {
 
   std::deque<Entry> columns_;  // deque: references handed out stay valid as fields are added
   Index size_ = 0;
+  std::uint64_t layout_epoch_ = 0;
 };
 
 }  // namespace crater::fields

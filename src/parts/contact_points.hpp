@@ -58,10 +58,19 @@ struct ContactWork {
     if (booking_) {
       const std::vector<Index> nonzero =
           parallel::select(n, [&](Index i) { return power_[at(i)] != 0; });
-      std::vector<Real> terms(nonzero.size());
-      for (std::size_t q = 0; q < terms.size(); ++q)
-        terms[q] = power_[at(nonzero[q])];
-      work_j += parallel::reproducible_sum(comm, std::span<const Real>(terms));
+      add_terms(comm, nonzero);
+    }
+    booking_ = false;
+    pending = false;
+  }
+  /// book() when the pass set powers()[i] for the entities `set` (ascending) alone, every other
+  /// entity's power being zero: the same nonzero terms, so the same bits.
+  void book_set(const parallel::Comm& comm, std::span<const Index> set) {
+    if (booking_) {
+      std::vector<Index> nonzero;
+      for (const Index i : set)
+        if (power_[at(i)] != 0) nonzero.push_back(i);
+      add_terms(comm, nonzero);
     }
     booking_ = false;
     pending = false;
@@ -70,6 +79,13 @@ struct ContactWork {
  private:
   std::vector<Real> power_;  // settle()'s scratch
   bool booking_ = false;     // between begin() and book()
+
+  void add_terms(const parallel::Comm& comm, std::span<const Index> nonzero) {
+    std::vector<Real> terms(nonzero.size());
+    for (std::size_t q = 0; q < terms.size(); ++q)
+      terms[q] = power_[at(nonzero[q])];
+    work_j += parallel::reproducible_sum(comm, std::span<const Real>(terms));
+  }
 };
 
 /// A particle or solid part's positions as the contacts see them under multi-rate stepping

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -270,6 +271,15 @@ class Part {
                                   const std::vector<AxialVec<D>>& /*torque*/) {
     throw std::runtime_error(std::string("part '") + name() + "' (" + method() +
                              ") does not take part in contacts");
+  }
+  /// add_contact_forces() told where the forces can be nonzero: `touched` (ascending) holds
+  /// every body given a force or torque by this evaluation; elsewhere both are zero. A part may
+  /// then visit those and the bodies its previous contact forces touched, not all of its
+  /// bodies, with the same results. The default is the call above.
+  virtual void add_touched_contact_forces(const std::vector<Vec<D>>& force,
+                                          const std::vector<AxialVec<D>>& torque,
+                                          std::span<const Index> /*touched*/) {
+    add_contact_forces(force, torque);
   }
   /// A spread part in contacts (docs/distributed.md, "Contacts on ranks"): where the entities
   /// of contact_points() (particles) or contact_surface() (a solid's nodes) sit in the whole

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -104,6 +105,16 @@ class StubPart final : public parts::Part<D> {
                           const std::vector<AxialVec<D>>& t) override {
     force = f;
     torque = t;
+    touched_known = false;
+  }
+  // The last add_touched_contact_forces()' list (touched_known), else unknown.
+  std::vector<Index> touched;
+  bool touched_known = false;
+  void add_touched_contact_forces(const std::vector<Vec<D>>& f, const std::vector<AxialVec<D>>& t,
+                                  std::span<const Index> which) override {
+    add_contact_forces(f, t);
+    touched.assign(which.begin(), which.end());
+    touched_known = true;
   }
 
  private:
@@ -413,6 +424,46 @@ TEST(ContactSurfaceSurface, NoForceWhenInFront) {
 }
 
 // ---- particle-particle (sph-dem) ----------------------------------------------------------
+
+// Coupling keeps its force buffers from step to step and zeroes only the particles it gave a
+// force (pairing.hpp, ContactForces::touch): after particles move in and out of contact, what it
+// hands over is what a new Coupling hands over for the same state, and the particles it says it
+// touched (ascending) include every one with a force.
+TEST(ContactCoupling, KeptBuffersHandOverWhatAFreshCouplingDoesAsParticlesComeAndGo) {
+  const Real r = 0.1, delta = 1e-3;
+  // Four balls over the plate: 0 and 2 touch it; 1 and 3 hover.
+  auto parts = ball_and_plate({Vec<3>(0.2, 0.2, r - delta), Vec<3>(0.4, 0.4, r + 0.05),
+                               Vec<3>(0.6, 0.6, r - delta), Vec<3>(0.8, 0.8, r + 0.05)},
+                              r, 2.0);
+  Coupling<3> c({settings(0, 1, 0.1, 0.4)}, parts);
+  auto& balls = stub(parts, 1);
+  c.apply(parts, 0);
+  ASSERT_TRUE(balls.touched_known);
+  EXPECT_EQ(balls.touched, (std::vector<Index>{0, 2}));
+  // 0 lifts off, 3 lands, 2 stays: the buffers' entry of 0 must be zero again.
+  balls.x[0].z() = r + 0.05;
+  balls.x[3].z() = r - 2 * delta;
+  c.apply(parts, 0);
+  const std::vector<Vec<3>> kept = balls.force;
+  ASSERT_TRUE(balls.touched_known);
+  EXPECT_EQ(balls.touched, (std::vector<Index>{2, 3}));
+  Coupling<3> fresh({settings(0, 1, 0.1, 0.4)}, parts);
+  fresh.apply(parts, 0);
+  ASSERT_EQ(kept.size(), balls.force.size());
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    EXPECT_EQ(kept[i], balls.force[i]) << "ball " << i;
+  EXPECT_EQ(kept[0], Vec<3>::Zero());
+  EXPECT_GT(kept[3].z(), 0);
+  // A particle more: the buffers are sized again, and the new one has its force.
+  balls.x.push_back(Vec<3>(0.5, 0.5, r - delta));
+  balls.v.push_back(Vec<3>::Zero());
+  balls.m.push_back(2.0);
+  balls.r.push_back(r);
+  balls.w.push_back(Vec<3>::Zero());
+  c.apply(parts, 0);
+  EXPECT_EQ(balls.touched, (std::vector<Index>{2, 3, 4}));
+  EXPECT_GT(balls.force[4].z(), 0);
+}
 
 TEST(ContactParticleParticle, StiffnessIsSpERadiusOfTheGrainIn3D) {
   // Grain (r_2 = 0.02 m) at the origin, listed first; SPH particle (r_1 = 0.01 m) at 0.025 m
