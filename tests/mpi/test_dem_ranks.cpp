@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "../unit/dem/bursting_bed.hpp"
 #include "dem/dem_part_impl.hpp"
 #include "io/scenario/load.hpp"
 #include "parallel/comm.hpp"
@@ -29,55 +30,6 @@
 
 namespace crater::dem::detail {
 namespace {
-
-// 3D: 6 x 12 x 6 lattice sites in a 3.6 x 7.2 x 3.6 cm box; 2D: 16 x 24 in 6.4 x 9.6 cm.
-std::string scenario(int dim) {
-  const bool three = dim == 3;
-  std::string s = R"([scenario]
-name = "dem-ranks"
-dimension = )" + std::to_string(dim) +
-                  R"(
-end_time_s = 1.0
-
-[domain]
-)";
-  s += three ? "min_m = [0.0, 0.0, 0.0]\nmax_m = [0.054, 0.108, 0.054]\n"
-             : "min_m = [0.0, 0.0]\nmax_m = [0.144, 0.216]\n";
-  s += three ? "gravity_m_s2 = [0.0, -9.81, 0.0]\n" : "gravity_m_s2 = [0.0, -9.81]\n";
-  s += R"(
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 2650.0
-shear_modulus_pa = 2.0e8
-poisson_ratio = 0.25
-friction = 0.5
-restitution = 0.9
-
-[[parts]]
-name = "bed"
-method = "dem"
-material = "sand"
-spacing_m = 0.006
-)";
-  s += three ? "region = { type = \"box\", min_m = [0.0, 0.0, 0.0], max_m = [0.054, 0.054, "
-               "0.054] }\n"
-             : "region = { type = \"box\", min_m = [0.0, 0.0], max_m = [0.144, 0.108] }\n";
-  s += R"(
-[parts.dem]
-radius_min_m = 0.0021
-radius_max_m = 0.0029
-rolling_friction = 0.1
-local_damping = 0.0
-)";
-  s += three ? "walls = [\"left\", \"right\", \"bottom\", \"top\", \"back\", \"front\"]\n"
-             : "walls = [\"left\", \"right\", \"bottom\", \"top\"]\n";
-  s += R"(
-[parts.packing]
-agitation_m_s = 6.0
-)";
-  return s;
-}
 
 // Moving walls: the top wall starts a little above the bed and comes down at 0.5 m/s, the
 // right one holds 20 kPa by its servo; the bursting grains load both from the first
@@ -91,7 +43,8 @@ std::vector<std::string> moving_walls() {
 
 template <int D>
 std::unique_ptr<DemPart<D>> make_bed(const std::vector<std::string>& overrides) {
-  const io::Config config = io::load_scenario_text(scenario(D), "dem-ranks.toml", overrides);
+  const io::Config config = io::load_scenario_text(test::bursting_bed_scenario(D, "dem-ranks"),
+                                                   "dem-ranks.toml", overrides);
   return std::make_unique<DemPart<D>>(solver::dem_settings(config, config.parts.at(0)));
 }
 

@@ -3,11 +3,11 @@
 // and contact work, bit for bit, as the full hand-over (add_contact_forces), while the grains
 // touched change from step to step and the bed re-sorts its grains in its arrays.
 //
-// A box of grains, a touching lattice agitated at 6 m/s per component (restitution 0.9): the
-// block bursts into the empty half, so the neighbour lists are built again and the grains
-// re-sorted many times. Every step each bed takes a contact force and torque on a changing set
-// of grains (chosen by id, a fifth of them, the set moving every 7 steps; a few of them given
-// exactly zero), the reference through the full pass, the other through the touched ones.
+// The bed of bursting_bed.hpp bursts into the empty half of its box, so its neighbour lists
+// are built again and its grains re-sorted many times. Every step each of two such beds takes
+// a contact force and torque on a changing set of grains (chosen by id, a fifth of them, the
+// set moving every 7 steps; a few of them given exactly zero), the reference through the full
+// pass, the other through the touched ones.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bursting_bed.hpp"
 #include "dem/dem_part_impl.hpp"
 #include "io/scenario/load.hpp"
 #include "solver/assembly.hpp"
@@ -22,48 +23,10 @@
 namespace crater::dem::detail {
 namespace {
 
-std::string scenario(int dim) {
-  const bool three = dim == 3;
-  std::string s = "[scenario]\nname = \"handover\"\ndimension = " + std::to_string(dim) +
-                  "\nend_time_s = 1.0\n\n[domain]\n";
-  s += three ? "min_m = [0.0, 0.0, 0.0]\nmax_m = [0.054, 0.108, 0.054]\n"
-               "gravity_m_s2 = [0.0, -9.81, 0.0]\n"
-             : "min_m = [0.0, 0.0]\nmax_m = [0.144, 0.216]\ngravity_m_s2 = [0.0, -9.81]\n";
-  s += R"(
-[[materials]]
-name = "sand"
-model = "granular"
-rho0_kg_m3 = 2650.0
-shear_modulus_pa = 2.0e8
-poisson_ratio = 0.25
-friction = 0.5
-restitution = 0.9
-
-[[parts]]
-name = "bed"
-method = "dem"
-material = "sand"
-spacing_m = 0.006
-)";
-  s += three ? "region = { type = \"box\", min_m = [0.0, 0.0, 0.0], max_m = [0.054, 0.054, "
-               "0.054] }\n"
-             : "region = { type = \"box\", min_m = [0.0, 0.0], max_m = [0.144, 0.108] }\n";
-  s += R"(
-[parts.dem]
-radius_min_m = 0.0021
-radius_max_m = 0.0029
-rolling_friction = 0.1
-local_damping = 0.0
-)";
-  s += three ? "walls = [\"left\", \"right\", \"bottom\", \"top\", \"back\", \"front\"]\n"
-             : "walls = [\"left\", \"right\", \"bottom\", \"top\"]\n";
-  s += "\n[parts.packing]\nagitation_m_s = 6.0\n";
-  return s;
-}
-
 template <int D>
 std::unique_ptr<DemPart<D>> make_bed() {
-  const io::Config config = io::load_scenario_text(scenario(D), "handover.toml", {});
+  const io::Config config =
+      io::load_scenario_text(test::bursting_bed_scenario(D, "handover"), "handover.toml", {});
   return std::make_unique<DemPart<D>>(solver::dem_settings(config, config.parts.at(0)));
 }
 
