@@ -317,9 +317,7 @@ parts::StableStep DemPart<D>::stable_step() const {
 template <int D>
 void DemPart<D>::add_contact_forces(const std::vector<Vec<D>>& force,
                                     const std::vector<AngularVec<D>>& torque) {
-  if (static_cast<Index>(force.size()) != f_.size() ||
-      static_cast<Index>(torque.size()) != f_.size())
-    throw std::logic_error("dem: contact forces for another grain count");
+  expect_grain_count(force, torque);
   held_known_ = false;
   // One pass: the power of the contact forces over the advance just taken (the old forces and
   // these, ContactWork::settle), then the new forces in.
@@ -343,9 +341,7 @@ void DemPart<D>::add_touched_contact_forces(const std::vector<Vec<D>>& force,
   if (!held_known_ || held_epoch_ != f_.layout_epoch() || comm_) {
     add_contact_forces(force, torque);
   } else {
-    if (static_cast<Index>(force.size()) != f_.size() ||
-        static_cast<Index>(torque.size()) != f_.size())
-      throw std::logic_error("dem: contact forces for another grain count");
+    expect_grain_count(force, torque);
     visit_.clear();
     std::set_union(held_.begin(), held_.end(), touched.begin(), touched.end(),
                    std::back_inserter(visit_));

@@ -647,6 +647,12 @@ class DemPart final : public parts::Part<D> {
   std::vector<Index> held_, visit_;
   std::uint64_t held_epoch_ = 0;
   bool held_known_ = false;
+  void expect_grain_count(const std::vector<Vec<D>>& force,
+                          const std::vector<AngularVec<D>>& torque) const {
+    if (static_cast<Index>(force.size()) != f_.size() ||
+        static_cast<Index>(torque.size()) != f_.size())
+      throw std::logic_error("dem: contact forces for another grain count");
+  }
   // One grain's share of the contact forces' hand-over (add_contact_forces): the power of the
   // old and new forces, the new forces in, the grain's health.
   void take_contact_force(Index i, const Vec<D>& force, const AngularVec<D>& torque, bool booking,
