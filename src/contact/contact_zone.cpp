@@ -1,6 +1,8 @@
 // The cells of a contact zone; see contact_zone.hpp.
 #include "contact/contact_zone.hpp"
 
+#include "contact/face_search.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -107,7 +109,28 @@ bool ZoneCells<D>::near(const Vec<D>& x) const {
   return bitmap_[static_cast<std::size_t>(i)] != 0;
 }
 
+template <int D>
+bool ZoneCells<D>::marks(const Vec<D>& x) const {
+  if (!usable_ || !x.allFinite() || (x.array().abs() / cell_m_).maxCoeff() > Real(1e15))
+    return false;
+  return std::binary_search(occupied_.begin(), occupied_.end(), key_of(x));
+}
+
+template <int D>
+bool faces_in_marked_cells(const parts::ContactSurface<D>& surface,
+                           const std::vector<Vec<D>>& node_position, const ZoneCells<D>& cells) {
+  parts::ContactSurface<D> then = surface;
+  then.node_position = &node_position;
+  const FaceCentres<D> c = face_centres(then);
+  return std::all_of(c.centre.begin(), c.centre.end(),
+                     [&](const Vec<D>& x) { return cells.marks(x); });
+}
+
 template class ZoneCells<2>;
 template class ZoneCells<3>;
+template bool faces_in_marked_cells<2>(const parts::ContactSurface<2>&, const std::vector<Vec<2>>&,
+                                       const ZoneCells<2>&);
+template bool faces_in_marked_cells<3>(const parts::ContactSurface<3>&, const std::vector<Vec<3>>&,
+                                       const ZoneCells<3>&);
 
 }  // namespace crater::contact

@@ -50,6 +50,8 @@ class ZoneCells {
   /// Whether a particle at x may be within the reach of a marked point (a non-finite position
   /// is: the pairing then meets it as it would on one rank).
   bool near(const Vec<D>& x) const;
+  /// Whether x lies in a marked cell itself (after seal; a non-finite x does not).
+  bool marks(const Vec<D>& x) const;
 
  private:
   Key key_of(const Vec<D>& x) const;
@@ -64,5 +66,16 @@ class ZoneCells {
   std::vector<Key> dilated_;
   bool dense_ = false;
 };
+
+/// Whether a zone found for a surface still holds after its faces were listed again (an
+/// erosion; the same nodes): every face of `surface`, placed at `node_position` (the nodes'
+/// positions when the zone was found), lies in a cell that `cells` (the zone's, sealed) marks.
+/// A particle within the reach of such a face now was within the reach plus twice the
+/// displacement since of that place, so it is in the zone, as for the faces the zone was found
+/// with (the caller's test of the displacement covers both); faces gone from the list only
+/// leave the zone larger.
+template <int D>
+bool faces_in_marked_cells(const parts::ContactSurface<D>& surface,
+                           const std::vector<Vec<D>>& node_position, const ZoneCells<D>& cells);
 
 }  // namespace crater::contact

@@ -127,9 +127,16 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
     Real mass;
   };
   std::vector<NodeRecord> mine;
+  // Which whole nodes travel, as flags (made again when the list is another).
+  if (needed_of_ != *needed || needed_flag_.size() != whole) {
+    needed_of_ = *needed;
+    needed_flag_.assign(whole, 0);
+    for (const Index w : *needed)
+      needed_flag_[at(w)] = 1;
+  }
   for (const Index i : layout.owned) {
     const Index w = layout.whole_of_local[at(i)];
-    if (!std::binary_search(needed->begin(), needed->end(), w)) continue;
+    if (!needed_flag_[at(w)]) continue;
     NodeRecord& r = mine.emplace_back();
     r.node = w;
     for (int d = 0; d < D; ++d) {
@@ -155,16 +162,26 @@ void WholePart<D>::assemble(const parallel::Comm& comm, const parts::Part<D>& pa
 template <int D>
 void WholePart<D>::hand_back(parts::Part<D>& part, const parts::WholeLayout& layout) const {
   if (zone_) {
+    // Forces for the entities in the view alone (the part is told which: the others' are
+    // zero). Torques for rotating particles even when the view is empty (no torque buffer then).
     const std::size_t n = view_of_local_.size();
-    std::vector<Vec<D>> force(n, Vec<D>::Zero());
-    // Torques for rotating particles even when the view is empty (no torque buffer then).
-    std::vector<AxialVec<D>> torque(points_.spins ? n : 0, axial_zero<D>());
-    for (std::size_t i = 0; i < n; ++i)
-      if (const Index k = view_of_local_[i]; k >= 0) {
-        force[i] = force_[at(k)];
-        if (!torque_.empty()) torque[i] = torque_[at(k)];
+    const std::size_t n_torque = points_.spins ? n : 0;
+    if (hand_force_.size() != n || hand_torque_.size() != n_torque) {
+      hand_force_.assign(n, Vec<D>::Zero());
+      hand_torque_.assign(n_torque, axial_zero<D>());
+    } else {
+      for (const Index i : handed_) {
+        hand_force_[at(i)] = Vec<D>::Zero();
+        if (n_torque) hand_torque_[at(i)] = axial_zero<D>();
       }
-    part.add_contact_forces(force, torque);
+    }
+    for (const Index i : in_view_) {
+      const Index k = view_of_local_[at(i)];
+      hand_force_[at(i)] = force_[at(k)];
+      if (n_torque && !torque_.empty()) hand_torque_[at(i)] = torque_[at(k)];
+    }
+    handed_ = in_view_;
+    part.add_touched_contact_forces(hand_force_, hand_torque_, in_view_);
     if (!points_.offsets) return;
     const auto local = part.contact_points();
     for (std::size_t i = 0; i < n; ++i)

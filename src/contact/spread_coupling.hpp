@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "contact/candidates.hpp"
+#include "contact/contact_zone.hpp"
 #include "contact/pairing.hpp"
 #include "contact/surface_filter.hpp"
 #include "parallel/comm.hpp"
@@ -120,11 +121,19 @@ class WholePart final : public parts::Part<D> {
     std::vector<Vec<D>> position, velocity;
     std::vector<Real> mass;
   } nodes_;
+  std::vector<Index> needed_of_;   // the surface's nodes that travel (Part::whole_surface_nodes)
+  std::vector<char> needed_flag_;  // the same, per whole node
   std::optional<parts::ContactSurface<D>> surface_;
   // A contact zone's view: per local entity its place in the view (-1: not in it), and what
   // the view reports of the whole part.
   bool zone_ = false;
   std::vector<Index> view_of_local_;
+  std::vector<Index> in_view_;  // the local entities in the view, ascending
+  // hand_back's forces per local entity: zero but for the entities of `handed_`, the last
+  // in_view_ handed back (kept so that a step zeroes those instead of every entity).
+  mutable std::vector<Vec<D>> hand_force_;
+  mutable std::vector<AxialVec<D>> hand_torque_;
+  mutable std::vector<Index> handed_;
   std::vector<Index> view_whole_;  // per particle of the view, its place in the whole part
   Index whole_count_ = 0;
   Real whole_lightest_kg_ = 0, whole_largest_radius_m_ = 0;
@@ -201,9 +210,10 @@ class SpreadContacts {
   bool zoned_view(const PartList<D>& parts, std::size_t k) const;
   /// Part k's own entities in its contact zone, per local entity (collective); r_max: its
   /// largest contact radius. The zone is found for a quarter more than each contact's reach and
-  /// kept while no layout or surface has changed and every pair within reach now was within
-  /// that then (each side has moved by less than the margin since): the view then keeps its
-  /// particles, and the pairings their candidate lists (candidates.hpp).
+  /// kept while no layout or surface has changed (a surface whose faces were listed again keeps
+  /// it when they lie in its marked cells, faces_in_marked_cells) and every pair within reach
+  /// now was within that then (each side has moved by less than the margin since): the view
+  /// then keeps its particles, and the pairings their candidate lists (candidates.hpp).
   const std::vector<char>& zone_of(const PartList<D>& parts, std::size_t k, Real r_max);
   /// Of part k's own particles in its zone (`in_zone`, per local entity), the ranks each must
   /// go to (Zone::to): the search of each contact, run by this rank over its own particles
@@ -225,6 +235,7 @@ class SpreadContacts {
       std::vector<Index> whole_of_local, owned;  // a particle part's layout
       std::vector<Vec<D>> x;                     // its own positions, or the whole surface's nodes
       Real reach = 0;                            // the reach the zone was found for
+      std::optional<ZoneCells<D>> cells;         // a surface's marked cells
     };
     std::vector<Other> others;               // per contact of the part, in order
     std::vector<CrossCandidates<D>> search;  // touching_of's lists, per contact of the part

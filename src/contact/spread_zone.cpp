@@ -129,8 +129,11 @@ void WholePart<D>::assemble_zone(const parallel::Comm& comm, const parts::Part<D
     view_whole_[q] = static_cast<Index>(sorted[q]);
   }
   view_of_local_.resize(layout.whole_of_local.size());
-  for (std::size_t i = 0; i < view_of_local_.size(); ++i)
+  in_view_.clear();
+  for (std::size_t i = 0; i < view_of_local_.size(); ++i) {
     view_of_local_[i] = view_of_whole[at(layout.whole_of_local[i])];
+    if (view_of_local_[i] >= 0) in_view_.push_back(static_cast<Index>(i));
+  }
 }
 
 template <int D>
@@ -195,9 +198,12 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
       layout.owned == z.owned) {
     since = moved(*pts->position, z.x, &layout.owned);
     for (std::size_t c = 0; c < need.size() && std::isfinite(since); ++c) {
-      const typename Zone::Other& o = z.others[c];
+      typename Zone::Other& o = z.others[c];
       if (need[c].surface) {
         const auto& xn = *need[c].surface->node_position;
+        if (need[c].surface->revision != o.revision && xn.size() == o.x.size() && o.cells &&
+            faces_in_marked_cells(*need[c].surface, o.x, *o.cells))
+          o.revision = need[c].surface->revision;
         if (need[c].surface->revision != o.revision || xn.size() != o.x.size()) {
           since = kInf;
           break;
@@ -229,7 +235,6 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
   z.owned = layout.owned;
   z.x = *pts->position;
   z.others.assign(need.size(), {});
-  z.search.clear();
   z.search.resize(need.size());
   auto mark = [&](const ZoneCells<D>& cells) {
     for (const Index i : layout.owned)
@@ -245,6 +250,7 @@ const std::vector<char>& SpreadContacts<D>::zone_of(const PartList<D>& parts, st
       for (const Vec<D>& centre : need[c].centres.centre)
         cells.occupy(centre);
       cells.seal(nullptr);  // every rank holds the whole surface
+      o.cells = cells;
     } else {
       // The other part's particles are spread over the ranks: the cells of every rank's own.
       const auto other = parts[need[c].part]->contact_points();

@@ -336,9 +336,10 @@ void DemPart<D>::add_touched_contact_forces(const std::vector<Vec<D>>& force,
                                             std::span<const Index> touched) {
   // Only the grains the new forces touch and those the old ones touched can change: the others
   // have zero forces before and after, and their power is zero. Unless the grains moved in
-  // their arrays since the last call (a re-sort, an outflow, a load), which the full pass
-  // takes.
-  if (!held_known_ || held_epoch_ != f_.layout_epoch() || comm_) {
+  // their arrays since the last call (a re-sort, an outflow, a load, a migration or new
+  // ghosts), which the full pass takes. On ranks the work is booked over the ranks as the
+  // full pass books it (a ghost's power is zero).
+  if (!held_known_ || held_epoch_ != f_.layout_epoch()) {
     add_contact_forces(force, torque);
   } else {
     expect_grain_count(force, torque);
@@ -352,7 +353,7 @@ void DemPart<D>::add_touched_contact_forces(const std::vector<Vec<D>>& force,
       const Index i = visit_[at(q)];
       take_contact_force(i, force[at(i)], torque[at(i)], booking, half_dt, power);
     });
-    contact_.book_set(parallel::Comm{}, visit_);
+    contact_.book_set(comm_ ? *comm_ : parallel::Comm{}, visit_);
   }
   held_.assign(touched.begin(), touched.end());
   held_epoch_ = f_.layout_epoch();
