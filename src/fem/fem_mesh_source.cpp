@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
 
 #include "core/error.hpp"
@@ -32,7 +33,7 @@ const std::vector<std::vector<int>>& local_faces() {
 
 /// Outward normal x area of a face of element e.
 template <int D>
-Vec<D> face_area_vector(const ExplicitMesh<D>& mesh, Index e, const std::vector<Index>& nodes,
+Vec<D> face_area_vector(const ExplicitMesh<D>& mesh, Index e, std::span<const Index> nodes,
                         const std::vector<Vec<D>>& x) {
   Vec<D> a = numbered_face_area<D>(x, nodes);
   // Orient it away from the element's centre.
@@ -142,8 +143,8 @@ void add_surface_face(const ExplicitMesh<D>& mesh, Index e, int f, SurfaceFaces<
   std::array<Index, kF> nodes;
   for (int k = 0; k < kF; ++k)
     nodes[at(k)] = mesh.elements[at(e)][at(faces[at(f)][at(k)])];
-  std::vector<Index> as_vector(nodes.begin(), nodes.end());
-  const Vec<D> outward = face_area_vector(mesh, e, as_vector, mesh.position);
+  const std::array<Index, kF> numbered = nodes;  // the element's order, before any reversal
+  const Vec<D> outward = face_area_vector<D>(mesh, e, numbered, mesh.position);
   // The numbering's own normal, reversed when it points inward.
   const Vec<D> own = numbered_face_area<D>(mesh.position, nodes);
   if (own.dot(outward) < 0) {
@@ -157,7 +158,7 @@ void add_surface_face(const ExplicitMesh<D>& mesh, Index e, int f, SurfaceFaces<
   out.element.push_back(e);
   out.area.push_back(outward.norm());
   out.reference_area.push_back(
-      face_area_vector(mesh, e, as_vector, mesh.reference_position).norm());
+      face_area_vector<D>(mesh, e, numbered, mesh.reference_position).norm());
 }
 
 bool live(const std::vector<std::uint8_t>& eroded, Index e) {

@@ -247,12 +247,14 @@ std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(
     whole_face_stiffness_ = face_stiffness(sf, whole_mesh_);
     ++whole_revision_;
     whole_relist_ = false;
-    std::vector<Index> on_faces;
+    // The faces' nodes, ascending, each once: by a flag per node.
+    std::vector<char> on(at(whole_mesh_.node_count()), 0);
     for (const auto& face : whole_faces_)
-      on_faces.insert(on_faces.end(), face.begin(), face.end());
-    std::sort(on_faces.begin(), on_faces.end());
-    on_faces.erase(std::unique(on_faces.begin(), on_faces.end()), on_faces.end());
-    whole_surface_nodes_ = std::move(on_faces);
+      for (const Index n : face)
+        on[at(n)] = 1;
+    whole_surface_nodes_.clear();
+    for (Index n = 0; n < whole_mesh_.node_count(); ++n)
+      if (on[at(n)]) whole_surface_nodes_.push_back(n);
   }
   parts::ContactSurface<D> s;
   s.faces = &whole_faces_;
