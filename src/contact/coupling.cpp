@@ -50,6 +50,11 @@ std::optional<ViewCounts> Coupling<D>::view_counts() const {
 }
 
 template <int D>
+std::vector<std::size_t> Coupling<D>::zoned_parts() const {
+  return spread_ ? spread_->zoned() : std::vector<std::size_t>{};
+}
+
+template <int D>
 parts::StableStep Coupling<D>::stable_step(const PartList<D>& parts) const {
   StepSearch search;
   for (const PairLimits& l : limits(parts))

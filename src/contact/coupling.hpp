@@ -134,6 +134,9 @@ class Coupling {
   /// Whether the contacts run over ranks' views (spread_coupling.hpp): their calls are then
   /// collective, made by every rank's main thread at the same point of the step.
   bool on_ranks() const { return spread_ != nullptr; }
+  /// On ranks: the parts whose contact view at the last evaluation was their contact zone
+  /// (owner-computed, spread_coupling.hpp), ascending; none on one rank.
+  std::vector<std::size_t> zoned_parts() const;
 
   /// The contacts in scenario order: how many, the parts of contact c (its first part, then
   /// its second), and each one's step limits apart (pairing.hpp's PairLimits).

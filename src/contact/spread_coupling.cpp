@@ -240,7 +240,8 @@ const PartList<D>& SpreadContacts<D>::refresh(const PartList<D>& parts) {
   }
   // The whole views first (surfaces, and the particle parts that are the smaller side of a
   // particle contact), then the contact zones, which read the surfaces' whole views.
-  std::vector<std::size_t> zoned;
+  std::vector<std::size_t>& zoned = zoned_;
+  zoned.clear();
   owner_computed_ = false;
   for (const std::size_t k : involved_) {
     if (zoned_view(parts, k)) {

@@ -179,6 +179,8 @@ class SpreadContacts {
   /// touch them (a contact zone's, which differs from rank to rank): then the contacts' sums
   /// and step limits are over the ranks (Coupling::finish, agree()).
   bool owner_computed() const { return owner_computed_; }
+  /// The parts whose view at the last refresh was their contact zone, ascending.
+  const std::vector<std::size_t>& zoned() const { return zoned_; }
   const parallel::Comm& comm() const { return comm_; }
   /// Each contact's limits, the smallest over the ranks (collective): on equal steps the
   /// smallest id, then the lowest rank, as StepSearch decides between bodies. `extra` (if
@@ -200,6 +202,7 @@ class SpreadContacts {
   std::vector<std::array<const SurfaceFilter<D>*, 2>> filters_;  // per contact, of each side
   bool zones_allowed_;
   bool owner_computed_ = false;
+  std::vector<std::size_t> zoned_;  // the parts viewed by their zone at the last refresh
   PartList<D> whole_;
   /// Per part in a contact: this rank's own entities in its contact zone (per local entity), or
   /// nullopt when its view is whole (a surface, or a particle part that is the smaller side of

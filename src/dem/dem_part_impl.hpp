@@ -284,6 +284,7 @@ class DemPart final : public parts::Part<D> {
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
   Real load_ratio() const override { return load_ratio_; }
+  fields::BusyClock* busy_clock() override { return comm_ ? &busy_ : nullptr; }
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
   /// The grains in this rank's arrays: its own and, on ranks, the ghosts.
@@ -775,9 +776,10 @@ class DemPart final : public parts::Part<D> {
   // grains last changed, as above).
   mutable Index step_at_ = -1;
   mutable parts::StableStep step_;
-  Index rebalances_ = 0;  // on ranks: how often the cuts were made again
-  Real load_ratio_ = 1;   // on ranks: heaviest rank over the mean (last rebuild)
-  Index arrivals_ = 0;    // on ranks: grains received from another owner
+  Index rebalances_ = 0;    // on ranks: how often the cuts were made again
+  Real load_ratio_ = 1;     // on ranks: heaviest rank over the mean (last rebuild)
+  Index arrivals_ = 0;      // on ranks: grains received from another owner
+  fields::BusyClock busy_;  // on ranks: the measured load since the cuts (domain.balance)
   parallel::RcbTree<D> cuts_;
   std::vector<std::uint8_t> ghost_;
   std::vector<std::vector<Index>> halo_send_, halo_recv_;

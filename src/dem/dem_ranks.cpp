@@ -327,10 +327,10 @@ void DemPart<D>::redistribute(Real reach) {
   keep_grains(keep);
 
   // 2. Grains now in another rank's box move there; the cuts are made again first if the ranks'
-  // grain counts part by more than fields::kRebalanceTolerance.
+  // grain counts, or their measured times (domain.balance), part (fields/balance.hpp).
   const std::vector<Real> weight(static_cast<std::size_t>(f_.size()), 1.0);
   if (auto cuts = fields::rebalanced_cuts<D>(comm, std::span<const Vec<D>>(x_.data(), x_.size()),
-                                             std::span<const Real>(weight), &load_ratio_)) {
+                                             std::span<const Real>(weight), &load_ratio_, &busy_)) {
     cuts_ = std::move(*cuts);
     ++rebalances_;
   }

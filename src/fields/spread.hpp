@@ -3,8 +3,9 @@
 // an entity's state is its fields alone (the SPH part; the DEM part, whose grains also carry
 // their contact histories, has its own, src/dem/dem_ranks.cpp):
 // - the cuts, a recursive coordinate bisection of the whole set at the start (every rank holds
-//   all of it then), by count; made again at a rebuild when one rank carries more than
-//   kRebalanceTolerance above the mean of a weight the part gives (rebalanced_cuts);
+//   all of it then), by count; made again at a rebuild when one rank carries more than a
+//   tolerance above the mean of a weight the part gives or of its measured time (balance.hpp,
+//   rebalanced_cuts);
 // - at each rebuild of the part's lists: the ghosts go, the entities whose position lies in
 //   another rank's box move there with every field, and each rank receives copies of the other
 //   ranks' entities within a reach of its own (ghosts, every field), appended after its own;
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "core/types.hpp"
+#include "fields/balance.hpp"
 #include "fields/exchange.hpp"
 #include "fields/field_set.hpp"
 #include "parallel/comm.hpp"
@@ -30,37 +32,52 @@
 
 namespace crater::fields {
 
-/// A rank's load above the mean beyond which the cuts are made again (rebalanced_cuts).
-inline constexpr Real kRebalanceTolerance = 0.10;
-
-/// New cuts when the ranks' loads part: each rank's entities `x` with their weights `w` (its own
-/// entities only); when the heaviest rank's summed weight exceeds the mean by more than
-/// kRebalanceTolerance, the cuts of an RCB of every rank's entities (all-gathered in rank order),
-/// else nothing. Every rank decides alike from the same gathered sums. Collective. `load_ratio`,
-/// if given: the heaviest rank's summed weight over the mean (1 for none).
+/// New cuts when the ranks' loads part: each rank's entities `x` with their model weights `w`
+/// (its own entities only). The load of a rank is its summed weight, or, `busy` by time
+/// (balance.hpp), its measured time since the window began. When the busiest rank exceeds the
+/// mean by more than kRebalanceTolerance, the cuts of an RCB of every rank's entities
+/// (all-gathered in rank order), each weighted by its model weight, times, by time, its rank's
+/// seconds per unit of model weight; else nothing. By
+/// time, a window shorter than kTimeWindowSteps decides nothing, and a longer one is started again
+/// after deciding. Every rank decides alike from the same gathered sums. Collective. `load_ratio`,
+/// if given: the heaviest rank's load over the mean (1 for none; unchanged when nothing was
+/// decided).
 template <int D>
 std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
                                                     std::span<const Vec<D>> x,
                                                     std::span<const Real> w,
-                                                    Real* load_ratio = nullptr) {
-  Real mine = 0;
+                                                    Real* load_ratio = nullptr,
+                                                    BusyClock* busy = nullptr) {
+  const bool timed = busy && busy->by_time;
+  Real mine[2] = {0, timed ? static_cast<Real>(busy->busy_s) : Real(0)};
   for (const Real v : w)
-    mine += v;
-  const std::vector<Real> load = parallel::all_gather(comm, std::span<const Real>(&mine, 1));
-  Real sum = 0, most = 0;
-  for (const Real v : load) {
-    sum += v;
-    most = std::max(most, v);
+    mine[0] += v;
+  // By time, the window's length decides alike on every rank (the steps are every rank's).
+  if (timed && busy->steps < kTimeWindowSteps) return std::nullopt;
+  const std::vector<Real> load = parallel::all_gather(comm, std::span<const Real>(mine, 2));
+  const std::size_t ranks = load.size() / 2, at = timed ? 1 : 0;
+  Real sum = 0, most = 0, least = load[at];
+  for (std::size_t r = 0; r < ranks; ++r) {
+    sum += load[2 * r + at];
+    most = std::max(most, load[2 * r + at]);
+    least = std::min(least, load[2 * r + at]);
   }
-  const Real mean = sum / static_cast<Real>(load.size());
+  if (timed) busy->restart();
+  const Real mean = sum / static_cast<Real>(ranks);
+  // A rank that measured no time (a clock's resolution) leaves the cuts to the next window.
+  if (timed && !(least > 0)) return std::nullopt;
   if (load_ratio) *load_ratio = mean > 0 ? most / mean : Real(1);
   if (!(most > (1 + kRebalanceTolerance) * mean)) return std::nullopt;
-  std::vector<Real> coords(x.size() * D);
+  // By time: this rank's seconds per unit of model weight scales its entities' weights.
+  const Real scale = timed && mine[0] > 0 ? mine[1] / mine[0] : Real(1);
+  std::vector<Real> coords(x.size() * D), scaled(w.begin(), w.end());
+  for (Real& v : scaled)
+    v *= scale;
   for (std::size_t i = 0; i < x.size(); ++i)
     for (int d = 0; d < D; ++d)
       coords[i * D + static_cast<std::size_t>(d)] = x[i][d];
   const std::vector<Real> all = parallel::all_gather(comm, std::span<const Real>(coords));
-  const std::vector<Real> all_w = parallel::all_gather(comm, w);
+  const std::vector<Real> all_w = parallel::all_gather(comm, std::span<const Real>(scaled));
   std::vector<Vec<D>> all_x(all_w.size());
   for (std::size_t i = 0; i < all_x.size(); ++i)
     for (int d = 0; d < D; ++d)
@@ -111,6 +128,8 @@ class Spread {
   Real load_ratio() const { return load_ratio_; }
   /// How many entities arrived at this rank from another owner at rebuilds (migrations).
   Index arrivals() const { return arrivals_; }
+  /// The part's measured load for cuts by time (balance.hpp).
+  BusyClock& busy() { return busy_; }
 
   /// Cuts the whole set (every rank holds all of it, in the same order) by RCB of the positions
   /// x (a field of `set`), every entity weighted 1, and keeps this rank's entities, in their
@@ -148,7 +167,7 @@ class Spread {
     set.compact(keep);
     if (auto cuts = rebalanced_cuts<D>(
             comm, std::span<const Vec<D>>(x.data(), static_cast<std::size_t>(set.size())),
-            own_weight, &load_ratio_)) {
+            own_weight, &load_ratio_, &busy_)) {
       cuts_ = std::move(*cuts);
       ++rebalances_;
     }
@@ -281,6 +300,7 @@ class Spread {
   Index rebalances_ = 0;
   Real load_ratio_ = 1;
   Index arrivals_ = 0;
+  BusyClock busy_;
 };
 
 }  // namespace crater::fields

@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/index.hpp"
 #include "core/types.hpp"
+#include "fields/balance.hpp"
 #include "fields/field_set.hpp"
 #include "parallel/comm.hpp"
 #include "parts/gathered_points.hpp"
@@ -242,6 +243,11 @@ class Part {
   /// with) when the part last looked at its cuts: a particle part at its last list rebuild, a
   /// mesh part at its cut. The same on every rank, no communication; 1 on one rank.
   virtual Real load_ratio() const { return 1; }
+  /// On ranks, a part whose cuts may be made again: its measured load since they were last
+  /// made (fields/balance.hpp), to which the time loop adds each step's compute seconds, and
+  /// whether the cuts go by it (domain.balance = "time"). nullptr: the cuts stay (one rank, a
+  /// mesh part).
+  virtual fields::BusyClock* busy_clock() { return nullptr; }
 
   /// Checkpoints: everything the part needs to continue bit for bit after load_state() on a
   /// part freshly built from the same scenario (fields, accumulators, contact histories, and

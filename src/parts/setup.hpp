@@ -59,6 +59,9 @@ struct Domain {
   // images, DEM frictionless walls without rolling resistance, FEM nodes on the plane held
   // normal to it. A quarter model is two of them.
   std::vector<Face> symmetry_planes;
+  // On several MPI ranks, what the particle parts' cuts weigh when they are made again
+  // ([domain] balance, fields/balance.hpp): each rank's measured time, or the cost model.
+  bool balance_by_time = true;
 };
 
 /// Whether `face` is one of the domain's planes of symmetry.

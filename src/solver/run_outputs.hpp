@@ -453,7 +453,11 @@ void write_summary(const io::Config& c, const SummaryInputs& in,
   // Everything above is identical for any thread count; this block is not.
   j.key("run").begin_object();
   j.field("wall_time_s", r.wall_s).field("threads", r.threads);
-  if (r.ranks > 1) j.field("ranks", r.ranks);
+  if (r.ranks > 1) {
+    j.field("ranks", r.ranks);
+    // What the particle parts' cuts weigh when made again (domain.balance).
+    j.field("balance", c.domain.balance_by_time ? "time" : "count");
+  }
   if (!shares.empty()) {
     // Each spread part's share among the ranks (Part::rank_figures).
     j.key("ranks_by_part").begin_object();

@@ -255,10 +255,35 @@ class Run {
   // by the root as one rank would (Part::save_state gathers): they resume on one rank.
   void spread() {
     if (comm_.size() == 1) return;
-    for (auto& p : parts_)
+    for (auto& p : parts_) {
       p->distribute(comm_);
+      if (fields::BusyClock* busy = p->busy_clock()) busy->by_time = c_.domain.balance_by_time;
+    }
     // Multi-rate stepping keeps per-particle sums over a part's step: whole views only.
     coupling_.spread(comm_, parts_, /*zones=*/!c_.time.multi_rate);
+  }
+
+  // On ranks, cuts by measured time (domain.balance, fields/balance.hpp): each spread part's
+  // compute seconds of the step just taken (its stages less the time in MPI's calls), and the
+  // contacts' in equal shares to the parts viewed by their contact zone, whose own particles
+  // there are this rank's share of the contacts' work. Every rank adds one step to every part.
+  void note_busy() {
+    if (comm_.size() == 1 || !c_.domain.balance_by_time) return;
+    auto compute = [](const StageClock::Tally& t) { return t.s - t.mpi_s; };
+    const double contacts = compute(clock_.contacts) - busy_seen_contacts_s_;
+    busy_seen_contacts_s_ += contacts;
+    const std::vector<std::size_t> zoned = coupling_.zoned_parts();
+    busy_seen_s_.resize(parts_.size(), 0.0);
+    for (std::size_t k = 0; k < parts_.size(); ++k) {
+      double s = 0;
+      if (k < clock_.parts.size()) {
+        s = compute(clock_.parts[k]) - busy_seen_s_[k];
+        busy_seen_s_[k] += s;
+      }
+      if (std::find(zoned.begin(), zoned.end(), k) != zoned.end())
+        s += contacts / static_cast<double>(zoned.size());
+      if (fields::BusyClock* busy = parts_[k]->busy_clock()) busy->add(s);
+    }
   }
 
   // The energies at t = 0 (the balance's reference, each part's for the energy guard), the
@@ -302,6 +327,7 @@ class Run {
           st_.steps = r_.steps;
           finish_step_stages(parts_, coupling_, st_.t, dt, &clock_);
         }
+        note_busy();
         StageClock::time(probes_s_, [&] { probes_.after_step(parts_, st_.t, spread_over()); });
         const bool last = st_.t >= c_.end_time_s - t_eps;
         StageClock::time(output_s_, [&] {
@@ -546,8 +572,11 @@ class Run {
   double last_checkpoint_s_ = 0;
   MultiRate<D> multi_rate_;  // time.multi_rate: each part at its own step
   StageClock clock_;         // the parts' stages and the contacts, for run.time_by_part_s
-  double probes_s_ = 0;      // the probes after each step
-  double output_s_ = 0;      // history rows, frames, progress, checkpoints
+  // The compute seconds of clock_ already added to the parts' BusyClocks (note_busy).
+  std::vector<double> busy_seen_s_;
+  double busy_seen_contacts_s_ = 0;
+  double probes_s_ = 0;  // the probes after each step
+  double output_s_ = 0;  // history rows, frames, progress, checkpoints
 };
 
 template <int D>

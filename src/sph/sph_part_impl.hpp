@@ -125,6 +125,7 @@ class SphPart final : public parts::Part<D> {
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
   Real load_ratio() const override { return spread_.load_ratio(); }
+  fields::BusyClock* busy_clock() override { return spread_.active() ? &spread_.busy() : nullptr; }
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;
 

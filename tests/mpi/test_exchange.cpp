@@ -9,7 +9,10 @@
 //   entities in ascending id;
 // - the ghosts: exactly the other ranks' entities within the reach of the rank's box (brute
 //   force over the reference), the halo fields copied bit for bit and the others zero;
-// - sums over the ranks with the same bits as one sum over the whole reference in id order.
+// - sums over the ranks with the same bits as one sum over the whole reference in id order;
+// - cuts made again by measured time (fields::rebalanced_cuts, domain.balance = "time"): entities
+//   whose cost depends on where they are end up spread so that each rank's summed cost (by
+//   brute force over the reference) is within the tolerance of the mean.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,6 +26,7 @@
 
 #include "fields/exchange.hpp"
 #include "fields/field_set.hpp"
+#include "fields/spread.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/rcb.hpp"
 
@@ -267,6 +271,83 @@ TEST(Ranks, MigrationAndGhosts3D) {
 
 TEST(Ranks, MigrationAndGhosts2D) {
   check_rounds<2>(2000, 0.05);
+}
+
+// Entities along a strip of the unit square, the left quarter four times as costly per entity
+// as the rest (grains near a charge, with more contacts); every rank measures the summed cost
+// of its own as its busy time. Cuts by count leave the rank holding the costly quarter the
+// busiest; cuts remade by time from the ranks' measurements converge to equal costs.
+TEST(Ranks, CutsByMeasuredTimeEvenTheRanksCosts) {
+  const Comm& comm = Comm::world();
+  const Index n = 1200;
+  std::vector<Vec<2>> x(static_cast<std::size_t>(n));
+  for (Index j = 0; j < n; ++j)
+    x[static_cast<std::size_t>(j)] = {(static_cast<Real>(j) + 0.5) / static_cast<Real>(n),
+                                      0.1 * static_cast<Real>(j % 7) / 7.0};
+  auto cost = [](const Vec<2>& p) { return p[0] < 0.25 ? 4.0 : 1.0; };
+  const std::vector<Real> one(x.size(), 1.0);
+  RcbTree<2> cuts =
+      rcb_tree<2>(std::span<const Vec<2>>(x), std::span<const Real>(one), comm.size());
+  // Each rank's summed cost under `cuts`, by brute force over the reference.
+  auto costs = [&] {
+    std::vector<Real> c(static_cast<std::size_t>(comm.size()), 0.0);
+    for (const auto& p : x)
+      c[static_cast<std::size_t>(cuts.owner(p))] += cost(p);
+    return c;
+  };
+  auto imbalance = [](const std::vector<Real>& c) {
+    Real sum = 0, most = 0;
+    for (const Real v : c) {
+      sum += v;
+      most = std::max(most, v);
+    }
+    return most / (sum / static_cast<Real>(c.size()));
+  };
+  const Real by_count = imbalance(costs());
+  if (comm.size() > 1) {
+    EXPECT_GT(by_count, 1.2);
+  }
+  fields::BusyClock busy;
+  busy.by_time = true;
+  int remade = 0;
+  for (int window = 0; window < 12; ++window) {
+    std::vector<Vec<2>> mine;
+    for (const auto& p : x)
+      if (cuts.owner(p) == comm.rank()) mine.push_back(p);
+    const std::vector<Real> w(mine.size(), 1.0);
+    // A window too short decides nothing and goes on.
+    busy.busy_s = 1.0;
+    busy.steps = fields::kTimeWindowSteps - 1;
+    EXPECT_FALSE(
+        fields::rebalanced_cuts<2>(comm, std::span<const Vec<2>>(mine), w, nullptr, &busy));
+    EXPECT_EQ(busy.steps, fields::kTimeWindowSteps - 1);
+    busy.steps = fields::kTimeWindowSteps;
+    busy.busy_s = costs()[static_cast<std::size_t>(comm.rank())];
+    Real ratio = 0;
+    auto again = fields::rebalanced_cuts<2>(comm, std::span<const Vec<2>>(mine), w, &ratio, &busy);
+    EXPECT_EQ(busy.steps, 0);  // a new window
+    EXPECT_NEAR(ratio, imbalance(costs()), 1e-12);
+    if (!again) break;
+    cuts = std::move(*again);
+    ++remade;
+  }
+  const Real by_time = imbalance(costs());
+  EXPECT_LE(by_time, 1 + fields::kRebalanceTolerance) << "after " << remade << " cuts";
+  if (comm.size() > 1) {
+    EXPECT_GE(remade, 1);
+    // By count the same measurements decide nothing: the counts are even.
+    std::vector<Vec<2>> mine;
+    RcbTree<2> even =
+        rcb_tree<2>(std::span<const Vec<2>>(x), std::span<const Real>(one), comm.size());
+    for (const auto& p : x)
+      if (even.owner(p) == comm.rank()) mine.push_back(p);
+    fields::BusyClock model;
+    model.busy_s = 1e3 * (comm.rank() + 1);
+    model.steps = fields::kTimeWindowSteps;
+    const std::vector<Real> w(mine.size(), 1.0);
+    EXPECT_FALSE(
+        fields::rebalanced_cuts<2>(comm, std::span<const Vec<2>>(mine), w, nullptr, &model));
+  }
 }
 
 TEST(Ranks, MigrationRefusesANonRank) {

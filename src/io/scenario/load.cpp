@@ -219,6 +219,7 @@ void Builder::read_top(Config& c, const SourceLocation& top) {
   c.domain.gravity_m_s2 = vec3(dt, "gravity_m_s2");
   c.domain.outflow = str(dt, "outflow") == "remove" ? Outflow::Remove : Outflow::Stop;
   c.domain.outflow_batch_steps = dt.get("outflow_batch_steps")->as_integer()->get();
+  c.domain.balance_by_time = str(dt, "balance") == "time";
   const auto& sym = *dt.get("symmetry_planes")->as_array();
   c.domain.symmetry_planes =
       read_faces(sym, loc(dt, "symmetry_planes", top), "domain.symmetry_planes", dim);

@@ -192,6 +192,22 @@ TableSchema make_domain() {
                    1),
           "1"),
       with_default(
+          choice("balance", {"time", "count"},
+                 "On several MPI ranks (docs/distributed.md, \"The decomposition\"): what "
+                 "a DEM or SPH part's cuts weigh when they are made again at a rebuild of its "
+                 "lists. \"time\": each rank's measured compute time for the part since its "
+                 "cuts were last made (its stages, less the time in MPI's calls, and a share "
+                 "of the contacts' when its contact view is a zone), over windows of at least "
+                 "100 steps; each grain or particle then weighs its model weight (below) times "
+                 "its rank's time per unit of it. "
+                 "\"count\": the cost model alone, a grain weighs 1 and an SPH particle 1 + "
+                 "its pairs. The cuts are made again when the busiest rank exceeds the mean by "
+                 "10 %. Either way the results are the "
+                 "same bits (the cuts decide only which rank computes what); by time the cuts "
+                 "follow the machine's clock and may differ from run to run. On one rank: "
+                 "nothing."),
+          "\"time\""),
+      with_default(
           choice_list(
               "symmetry_planes", {"left", "right", "bottom", "top", "back", "front"},
               "Domain faces that are planes of symmetry for every part, so that half a "
