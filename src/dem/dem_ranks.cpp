@@ -329,8 +329,9 @@ void DemPart<D>::redistribute(Real reach) {
   // 2. Grains now in another rank's box move there; the cuts are made again first if the ranks'
   // grain counts, or their measured times (domain.balance), part (fields/balance.hpp).
   const std::vector<Real> weight(static_cast<std::size_t>(f_.size()), 1.0);
-  if (auto cuts = fields::rebalanced_cuts<D>(comm, std::span<const Vec<D>>(x_.data(), x_.size()),
-                                             std::span<const Real>(weight), &load_ratio_, &busy_)) {
+  if (auto cuts =
+          fields::rebalanced_cuts<D>(comm, std::span<const Vec<D>>(x_.data(), x_.size()),
+                                     std::span<const Real>(weight), &load_ratio_, &busy_, &cuts_)) {
     cuts_ = std::move(*cuts);
     ++rebalances_;
   }

@@ -47,7 +47,8 @@ std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
                                                     std::span<const Vec<D>> x,
                                                     std::span<const Real> w,
                                                     Real* load_ratio = nullptr,
-                                                    BusyClock* busy = nullptr) {
+                                                    BusyClock* busy = nullptr,
+                                                    const parallel::RcbTree<D>* before = nullptr) {
   const bool timed = busy && busy->by_time;
   Real mine[2] = {0, timed ? static_cast<Real>(busy->busy_s) : Real(0)};
   for (const Real v : w)
@@ -83,7 +84,7 @@ std::optional<parallel::RcbTree<D>> rebalanced_cuts(const parallel::Comm& comm,
     for (int d = 0; d < D; ++d)
       all_x[i][d] = all[i * D + static_cast<std::size_t>(d)];
   return parallel::rcb_tree<D>(std::span<const Vec<D>>(all_x), std::span<const Real>(all_w),
-                               comm.size());
+                               comm.size(), before);
 }
 
 /// After a compaction of a spread part's local entities (keep[i] != 0: entity i is kept; the kept
@@ -167,7 +168,7 @@ class Spread {
     set.compact(keep);
     if (auto cuts = rebalanced_cuts<D>(
             comm, std::span<const Vec<D>>(x.data(), static_cast<std::size_t>(set.size())),
-            own_weight, &load_ratio_, &busy_)) {
+            own_weight, &load_ratio_, &busy_, &cuts_)) {
       cuts_ = std::move(*cuts);
       ++rebalances_;
     }

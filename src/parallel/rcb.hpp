@@ -4,9 +4,10 @@
 // The entities of a set are cut across the longest side of their bounding box, at the point
 // where the weight on the lower side first reaches its share: the set's weight times the ranks
 // given to that side over the set's ranks (a set of r ranks gives floor(r / 2) to the lower
-// side). Each side is cut again until one rank remains. An entity's weight is its method's
-// measured cost per step (run.time_by_part_s over the part's entities), so that a rank's box
-// holds about the same work, not the same count.
+// side). Each side is cut again until one rank remains. An entity's weight is its cost (a
+// part's cost model times its rank's measured time per unit of it, fields/balance.hpp), so that
+// a rank's box holds about the same work, not the same count. Cuts made again keep the axes of
+// the cuts before where the box allows (kKeepAxis).
 //
 // Along a cut, entities are ordered by the coordinate and then by their index, and the weights
 // are summed in that order, so the owners depend only on the positions, weights and rank count:
@@ -58,14 +59,21 @@ struct RcbTree {
   }
 };
 
+/// Cuts made again keep a node's axis of the cuts before (rcb_tree's `before`) while that side
+/// of the box is at least this fraction of its longest: a bed as wide as it is long would
+/// otherwise swap axes between two cuts for a grain thrown a little further one way, and send
+/// half its entities to another rank instead of the few a moved cut sends.
+inline constexpr Real kKeepAxis = 0.9;
+
 namespace detail {
 
 // Bisects entities ids[first, last) among ranks [rank0, rank0 + ranks); records its cuts in
-// `tree` (if given) and returns the node it made there (-1 without a tree).
+// `tree` (if given) and returns the node it made there (-1 without a tree). `before`: the tree
+// of the cuts made before (or null), whose node at the same place lends its axis (kKeepAxis).
 template <int D>
 int bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Index>& ids,
            std::size_t first, std::size_t last, int rank0, int ranks, std::vector<int>& owner,
-           std::vector<RcbNode>* tree = nullptr) {
+           std::vector<RcbNode>* tree = nullptr, const std::vector<RcbNode>* before = nullptr) {
   const int node = tree ? static_cast<int>(tree->size()) : -1;
   if (tree) tree->push_back(RcbNode{.rank = rank0});
   if (ranks == 1 || last - first <= 1) {
@@ -83,6 +91,11 @@ int bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Index
   int axis = 0;  // the longest side; the lowest axis on ties
   for (int a = 1; a < D; ++a)
     if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  if (before && node >= 0 && static_cast<std::size_t>(node) < before->size()) {
+    const int kept = (*before)[static_cast<std::size_t>(node)].axis;
+    if (kept >= 0 && kept < D && hi[kept] - lo[kept] >= kKeepAxis * (hi[axis] - lo[axis]))
+      axis = kept;
+  }
   const auto begin = ids.begin() + static_cast<std::ptrdiff_t>(first);
   const auto end = ids.begin() + static_cast<std::ptrdiff_t>(last);
   std::sort(begin, end, [&](Index a, Index b) {
@@ -115,9 +128,9 @@ int bisect(std::span<const Vec<D>> x, std::span<const Real> w, std::vector<Index
   // The cut at the first upper entity's coordinate (entities sharing it go upper); read before
   // the sides are sorted again.
   const Real at = x[static_cast<std::size_t>(ids[cut])][axis];
-  const int lower = bisect<D>(x, w, ids, first, cut, rank0, lower_ranks, owner, tree);
-  const int upper =
-      bisect<D>(x, w, ids, cut, last, rank0 + lower_ranks, ranks - lower_ranks, owner, tree);
+  const int lower = bisect<D>(x, w, ids, first, cut, rank0, lower_ranks, owner, tree, before);
+  const int upper = bisect<D>(x, w, ids, cut, last, rank0 + lower_ranks, ranks - lower_ranks, owner,
+                              tree, before);
   if (tree) {
     RcbNode& n = (*tree)[static_cast<std::size_t>(node)];
     n.axis = axis;
@@ -153,16 +166,19 @@ Decomposition rcb(std::span<const Vec<D>> x, std::span<const Real> w, int ranks)
   return d;
 }
 
-/// The tree of the cuts RCB makes for these entities (RcbTree).
+/// The tree of the cuts RCB makes for these entities (RcbTree). `before`: the cuts these
+/// replace (the same rank count), whose axes are kept where the box allows (kKeepAxis).
 template <int D>
-RcbTree<D> rcb_tree(std::span<const Vec<D>> x, std::span<const Real> w, int ranks) {
+RcbTree<D> rcb_tree(std::span<const Vec<D>> x, std::span<const Real> w, int ranks,
+                    const RcbTree<D>* before = nullptr) {
   if (ranks < 1) throw std::invalid_argument("rcb: the rank count must be at least 1");
   if (x.size() != w.size()) throw std::invalid_argument("rcb: one weight per entity is needed");
   RcbTree<D> t;
   std::vector<int> owner(x.size(), 0);
   std::vector<Index> ids(x.size());
   std::iota(ids.begin(), ids.end(), Index{0});
-  detail::bisect<D>(x, w, ids, 0, ids.size(), 0, ranks, owner, &t.nodes);
+  detail::bisect<D>(x, w, ids, 0, ids.size(), 0, ranks, owner, &t.nodes,
+                    before ? &before->nodes : nullptr);
   return t;
 }
 

@@ -209,4 +209,48 @@ TEST(Rcb, TreeGivesTheOwnersOfRcb) {
   }
 }
 
+// A square bed cut once across x; a grain thrown a little beyond its side makes the box 2 %
+// longer in y. Cuts made afresh swap to y and move about half the bed to the other rank; made
+// again from the cuts before, they keep x (parallel::kKeepAxis) and move none. A box 20 % longer
+// in y is cut across y either way.
+TEST(Rcb, CutsMadeAgainKeepTheirAxisWhileTheBoxAllows) {
+  using crater::parallel::rcb_tree;
+  using crater::parallel::RcbTree;
+  std::vector<Vec<2>> x;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j)
+      x.push_back({(i + 0.5) / 40.0, (j + 0.5) / 40.0});
+  std::vector<Real> w(x.size(), 1.0);
+  const RcbTree<2> first = rcb_tree<2>(x, w, 2);
+  ASSERT_EQ(first.nodes[0].axis, 0);  // the lowest axis on a tie
+  auto moved = [&](const RcbTree<2>& a, const RcbTree<2>& b) {
+    int n = 0;
+    for (const auto& p : x)
+      n += a.owner(p) != b.owner(p);
+    return n;
+  };
+  for (const auto& [stretch, axis] : {std::pair{1.02, 0}, std::pair{1.2, 1}}) {
+    std::vector<Vec<2>> y = x;
+    y.push_back({0.5, stretch});  // the thrown grain
+    std::vector<Real> wy(y.size(), 1.0);
+    const RcbTree<2> afresh = rcb_tree<2>(y, wy, 2);
+    const RcbTree<2> again = rcb_tree<2>(y, wy, 2, &first);
+    EXPECT_EQ(afresh.nodes[0].axis, 1) << stretch;
+    EXPECT_GT(moved(first, afresh), 700) << stretch;
+    EXPECT_EQ(again.nodes[0].axis, axis) << stretch;
+    if (axis == 0) {
+      EXPECT_LE(moved(first, again), 40) << stretch;
+    }
+  }
+  // More ranks: every node keeps its own axis (the tree's shape is the rank count's).
+  const RcbTree<2> four = rcb_tree<2>(x, w, 4);
+  std::vector<Vec<2>> y = x;
+  y.push_back({0.5, 1.02});
+  std::vector<Real> wy(y.size(), 1.0);
+  const RcbTree<2> again = rcb_tree<2>(y, wy, 4, &four);
+  ASSERT_EQ(again.nodes.size(), four.nodes.size());
+  for (std::size_t k = 0; k < four.nodes.size(); ++k)
+    EXPECT_EQ(again.nodes[k].axis, four.nodes[k].axis) << k;
+}
+
 }  // namespace
