@@ -59,9 +59,11 @@ std::vector<Grain<D>> dense_grains(const PartSettings& settings, DensePackingRep
 /// lattice or placed grains), until the grains have had the time to fall the column's height and
 /// their mean kinetic energy is below settle_kinetic_ratio x m g r. Returns the grains at rest
 /// with their contacts (less those with the fixed bodies); throws InputError if a grain fails
-/// or they do not settle within settle_max_time_s.
+/// or they do not settle within settle_max_time_s. `spread` (several ranks, every one calling
+/// with the same grains): the bed is spread over them while it settles, with one rank's bits,
+/// and the settled grains come back whole on the root alone (empty elsewhere).
 template <int D>
 SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<Grain<D>>* grains,
-                                PackingReport& report);
+                                PackingReport& report, const parallel::Comm* spread = nullptr);
 
 }  // namespace crater::dem

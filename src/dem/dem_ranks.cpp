@@ -95,9 +95,8 @@ struct Reader {
 template <int D>
 void DemPart<D>::distribute(const parallel::Comm& comm) {
   if (comm_) throw std::logic_error("dem: distribute() twice");
-  // A packing is settled by rank 0 alone, around the parts it is carved around, before the bed
-  // is spread (solver/assembly.cpp): a settling part is never spread.
-  if (!bodies_.empty()) throw std::logic_error("dem: a settling part spread over ranks");
+  // A settling bed (dem::settle_grains on ranks) is spread too: its fixed bodies (the regions
+  // carved around) take wall slots, whose histories travel with the grains as the walls' do.
   comm_ = &comm;
   // The part's books of grains removed are the root's: energies() and diagnostics() add every
   // rank's (every rank has just built, or restored, the whole part's).

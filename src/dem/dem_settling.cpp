@@ -140,7 +140,7 @@ std::vector<Grain<D>> dense_grains(const PartSettings& settings, DensePackingRep
 // the unbalanced force is below settle_unbalanced_ratio of the weight (static equilibrium).
 template <int D>
 SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<Grain<D>>* grains,
-                                PackingReport& report) {
+                                PackingReport& report, const parallel::Comm* spread) {
   const parts::PartSetup& pc = settings.part;
   const auto& k = settings.packing;
   const std::string key_name = fmt::format("parts[{}].packing", pc.name);
@@ -153,8 +153,13 @@ SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<
     hi = std::max(hi, q.x.dot(g) / g.norm());
   }
   const Real t_fall = deposited ? 0 : std::sqrt(2 * std::max(hi - lo, 0.0) / g.norm());
-  spdlog::info("part '{}': settling {} grains under gravity (at least {:.3g} s)", pc.name,
-               part.count(), t_fall);
+  // On ranks the bed is spread as a run's is (every rank built it whole), and settles with the
+  // bits of one rank: the stable step, the checks and the measures are over the whole part.
+  const bool ranks = spread && spread->size() > 1;
+  spdlog::info("part '{}': settling {} grains under gravity (at least {:.3g} s){}", pc.name,
+               part.count(), t_fall,
+               ranks ? fmt::format(", spread over {} ranks", spread->size()) : std::string());
+  if (ranks) part.distribute(*spread);
   Real t = 0;
   long long steps = 0;
   auto next_report = std::chrono::steady_clock::now() + std::chrono::seconds(30);
@@ -172,7 +177,9 @@ SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<
     ++steps;
     if (steps % 200 != 0) continue;
     // A large bed settles for many minutes: say where it stands every half minute.
-    const bool tell = std::chrono::steady_clock::now() >= next_report;
+    bool tell = std::chrono::steady_clock::now() >= next_report;
+    // The root's clock decides for every rank: the measures below are collective.
+    if (ranks) tell = spread->max(tell && spread->root() ? Real(1) : Real(0)) > 0;
     if (t < t_fall && !tell) continue;
     const auto [ke, scale] = part.settling_measure();
     const Real unbalanced = deposited ? part.unbalanced_ratio() : 0;
@@ -201,7 +208,16 @@ SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<
   }
   report.settle_time_s = t;
   report.settle_steps = steps;
-  return {part.grains(), part.contact_history()};
+  if (!ranks) return {part.grains(), part.contact_history()};
+  // The settled bed whole on the root, as one rank holds it: the bytes of a checkpoint of the
+  // spread part (gathered there), read into a part built whole. The other ranks get nothing.
+  parts::StateWriter w;
+  part.save_state(w);
+  if (!spread->root()) return {};
+  detail::DemPart<D> whole(settings, grains, k.settle_damping);
+  parts::StateReader r(w.bytes(), fmt::format("part '{}': the settled packing", pc.name));
+  whole.load_state(r);
+  return {whole.grains(), whole.contact_history()};
 }
 
 #define CRATER_DEM_SETTLING(D)                                                                   \
@@ -209,7 +225,7 @@ SettledPacking<D> settle_grains(const PartSettings& settings, const std::vector<
   template std::vector<Grain<D>> random_grains<D>(const PartSettings&);                          \
   template std::vector<Grain<D>> dense_grains<D>(const PartSettings&, DensePackingReport&);      \
   template SettledPacking<D> settle_grains<D>(const PartSettings&, const std::vector<Grain<D>>*, \
-                                              PackingReport&);
+                                              PackingReport&, const parallel::Comm*);
 CRATER_DEM_SETTLING(2)
 CRATER_DEM_SETTLING(3)
 #undef CRATER_DEM_SETTLING

@@ -130,18 +130,17 @@ std::vector<Grain<D>> DemPart<D>::grains() const {
 
 template <int D>
 std::pair<Real, Real> DemPart<D>::settling_measure() const {
-  const Index n = f_.size();
-  const Real k = energies().kinetic_j / static_cast<Real>(std::max<Index>(n, 1));
-  const Real m = mass_kg() / static_cast<Real>(std::max<Index>(n, 1));
-  const Real r = parallel::deterministic_sum<Real>(n, [&](Index i) { return r_[i]; }) /
-                 static_cast<Real>(std::max<Index>(n, 1));
+  // Over the whole part (collective on ranks), each sum with the bits of one rank.
+  const auto n = static_cast<Real>(std::max<Index>(count(), 1));
+  const Real k = energies().kinetic_j / n;
+  const Real m = mass_kg() / n;
+  const Real r = total([&](Index i) { return r_[i]; }) / n;
   return {k, m * gravity_.norm() * r};
 }
 
 template <int D>
 Real DemPart<D>::unbalanced_ratio() const {
-  const Index n = f_.size();
-  const Real f = parallel::deterministic_sum<Real>(n, [&](Index i) { return force_[i].norm(); });
+  const Real f = total([&](Index i) { return force_[i].norm(); });
   return f / (mass_kg() * gravity_.norm());
 }
 

@@ -138,6 +138,83 @@ bool try_save_packing(const std::filesystem::path& file, std::uint64_t key,
   }
 }
 
+// Where a packing is cached: the scenario's cache_dir, and the user's cache.
+struct PackingPlaces {
+  std::uint64_t key = 0;
+  std::filesystem::path file, user_dir;
+  std::string file_name;
+};
+template <int D>
+PackingPlaces packing_places(const dem::PartSettings& settings) {
+  PackingPlaces p;
+  p.key = fnv1a(dem::packing_key_text<D>(settings));
+  p.file_name = fmt::format("{}-{:016x}.pack", settings.part.name, p.key);
+  p.file = std::filesystem::path(settings.packing.cache_dir) / p.file_name;
+  p.user_dir = user_packing_cache();
+  return p;
+}
+
+// The part from a cached packing of these settings, or nullptr when no cache holds one.
+template <int D>
+std::unique_ptr<Part<D>> cached_dem_part(const dem::PartSettings& settings, std::string& used,
+                                         dem::PackingReport& report) {
+  const PackingPlaces at = packing_places<D>(settings);
+  std::vector<std::filesystem::path> places = {at.file};
+  if (!at.user_dir.empty()) places.push_back(at.user_dir / at.file_name);
+  for (const auto& f : places) {
+    std::string bytes = read_packing_file(f.string());
+    if (auto cached = packing_from_bytes<D>(bytes, at.key)) {
+      report.reused = true;
+      spdlog::info("part '{}': settled packing of {} grains reused from {}", settings.part.name,
+                   cached->grains.size(), f.string());
+      used = std::move(bytes);
+      return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
+    }
+  }
+  return nullptr;
+}
+
+// The grains settled under gravity (dem::settle_grains; spread over the ranks of `spread` if
+// given, every rank calling), saved in the cache, and the part from what was saved: so a run that
+// settled starts from exactly what a reuse would. On ranks the root alone saves and builds
+// (nullptr elsewhere).
+template <int D>
+std::unique_ptr<Part<D>> settled_dem_part(const dem::PartSettings& settings, std::string& used,
+                                          dem::PackingReport& report,
+                                          const parallel::Comm* spread = nullptr) {
+  const std::string& name = settings.part.name;
+  const bool laid = settings.packing.method != dem::PackingMethod::Lattice;
+  std::vector<dem::Grain<D>> grains;
+  if (laid) grains = laid_grains<D>(settings);
+  const dem::SettledPacking<D> settled =
+      dem::settle_grains<D>(settings, laid ? &grains : nullptr, report, spread);
+  if (spread && !spread->root()) return nullptr;
+  const PackingPlaces at = packing_places<D>(settings);
+  std::filesystem::path saved = at.file;
+  std::string why;
+  if (!try_save_packing<D>(at.file, at.key, settled, why)) {
+    std::string why_user = "neither XDG_CACHE_HOME nor HOME is set";
+    if (at.user_dir.empty() ||
+        !try_save_packing<D>(at.user_dir / at.file_name, at.key, settled, why_user))
+      throw std::runtime_error(fmt::format(
+          "part '{}': the settled packing could be saved neither in [parts.packing] cache_dir "
+          "({}) nor in the user's cache ({}); set cache_dir to a writable directory",
+          name, why, why_user));
+    spdlog::warn(
+        "part '{}': cache_dir {} cannot be written ({}); the packing goes to the user's "
+        "cache {}",
+        name, settings.packing.cache_dir, why, at.user_dir.string());
+    saved = at.user_dir / at.file_name;
+  }
+  spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
+               report.settle_steps, saved.string());
+  // Read back what was saved, so this run starts from exactly what a reuse would.
+  used = read_packing_file(saved.string());
+  if (auto back = packing_from_bytes<D>(used, at.key))
+    return dem::make_dem_part<D>(settings, &back->grains, report, &back->contacts);
+  throw std::runtime_error("could not read back the settled packing " + saved.string());
+}
+
 // A packed DEM part: its grains from the cache if it holds this packing, else generated (and
 // settled under gravity with the domain's walls, then saved). The run starts from the saved
 // state (positions and radii, grains at rest, and the contacts' springs) in both cases, so a
@@ -148,86 +225,46 @@ bool try_save_packing(const std::filesystem::path& file, std::uint64_t key,
 template <int D>
 std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling,
                                          std::string& used, dem::PackingReport& report) {
-  const dem::PackingSettings& k = settings.packing;
-  const std::string& name = settings.part.name;
-  if (!k.settle) {
+  if (!settings.packing.settle) {
     const std::vector<dem::Grain<D>> grains = laid_grains<D>(settings);
     return dem::make_dem_part<D>(settings, &grains, report);
   }
-  const std::uint64_t key = fnv1a(dem::packing_key_text<D>(settings));
-  const std::string file_name = fmt::format("{}-{:016x}.pack", name, key);
-  const std::filesystem::path file = std::filesystem::path(k.cache_dir) / file_name;
-  const std::filesystem::path user_dir = user_packing_cache();
-  std::vector<std::filesystem::path> places = {file};
-  if (!user_dir.empty()) places.push_back(user_dir / file_name);
-  for (const auto& f : places) {
-    std::string bytes = read_packing_file(f.string());
-    if (auto cached = packing_from_bytes<D>(bytes, key)) {
-      report.reused = true;
-      spdlog::info("part '{}': settled packing of {} grains reused from {}", name,
-                   cached->grains.size(), f.string());
-      used = std::move(bytes);
-      return dem::make_dem_part<D>(settings, &cached->grains, report, &cached->contacts);
-    }
-  }
-  const bool laid = k.method != dem::PackingMethod::Lattice;
-  std::vector<dem::Grain<D>> grains;
-  if (laid) grains = laid_grains<D>(settings);
+  if (auto part = cached_dem_part<D>(settings, used, report)) return part;
   if (settling == Settling::CachedOnly) {
     // The same grains (count, radii: the same solid fraction and stable step) before settling.
     report.unsettled = true;
+    const bool laid = settings.packing.method != dem::PackingMethod::Lattice;
+    std::vector<dem::Grain<D>> grains;
+    if (laid) grains = laid_grains<D>(settings);
     return dem::make_dem_part<D>(settings, laid ? &grains : nullptr, report);
   }
-  const dem::SettledPacking<D> settled =
-      dem::settle_grains<D>(settings, laid ? &grains : nullptr, report);
-  std::filesystem::path saved = file;
-  std::string why;
-  if (!try_save_packing<D>(file, key, settled, why)) {
-    std::string why_user = "neither XDG_CACHE_HOME nor HOME is set";
-    if (user_dir.empty() || !try_save_packing<D>(user_dir / file_name, key, settled, why_user))
-      throw std::runtime_error(fmt::format(
-          "part '{}': the settled packing could be saved neither in [parts.packing] cache_dir "
-          "({}) nor in the user's cache ({}); set cache_dir to a writable directory",
-          name, why, why_user));
-    spdlog::warn(
-        "part '{}': cache_dir {} cannot be written ({}); the packing goes to the user's "
-        "cache {}",
-        name, k.cache_dir, why, user_dir.string());
-    saved = user_dir / file_name;
-  }
-  spdlog::info("part '{}': settled in {:.4g} s ({} steps); saved to {}", name, report.settle_time_s,
-               report.settle_steps, saved.string());
-  // Read back what was saved, so this run starts from exactly what a reuse would.
-  used = read_packing_file(saved.string());
-  if (auto back = packing_from_bytes<D>(used, key))
-    return dem::make_dem_part<D>(settings, &back->grains, report, &back->contacts);
-  throw std::runtime_error("could not read back the settled packing " + saved.string());
+  return settled_dem_part<D>(settings, used, report);
 }
 
-// The same on several MPI ranks: rank 0 alone looks in the cache, settles and saves (the
-// settling runs on its own, not spread), and sends the file's bytes with its report to the
-// other ranks, which build the part from them: every rank starts from the same bits, and one
-// process writes the cache.
+// The same on several MPI ranks: rank 0 alone looks in the cache (its finding decides for
+// all); a packing not cached is settled by every rank together, spread as a run's bed is
+// (dem::settle_grains, with one rank's bits), and rank 0 alone saves it. Rank 0 then sends the
+// file's bytes with its report to the other ranks, which build the part from them: every rank
+// starts from the same bits, and one process writes the cache.
 template <int D>
 std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Settling settling) {
   const parallel::Comm& comm = parallel::Comm::world();
   std::string used;
   dem::PackingReport report;
-  if (comm.size() == 1 || !settings.packing.settle)
+  if (comm.size() == 1 || !settings.packing.settle || settling == Settling::CachedOnly)
     return packed_dem_part<D>(settings, settling, used, report);
   std::unique_ptr<Part<D>> part;
+  if (comm.root()) part = cached_dem_part<D>(settings, used, report);
+  if (comm.max(part ? Real(1) : Real(0)) == 0)
+    part = settled_dem_part<D>(settings, used, report, &comm);
   std::string mine;
   if (comm.root()) {
-    part = packed_dem_part<D>(settings, settling, used, report);
-    if (!used.empty()) {
-      mine.assign(reinterpret_cast<const char*>(&report), sizeof(report));
-      mine += used;
-    }
+    mine.assign(reinterpret_cast<const char*>(&report), sizeof(report));
+    mine += used;
   }
   const std::vector<std::byte> got =
       comm.all_gather(std::as_bytes(std::span<const char>(mine.data(), mine.size())));
   if (comm.root()) return part;
-  if (got.empty()) return packed_dem_part<D>(settings, settling, used, report);  // as laid
   if (got.size() < sizeof(report)) throw std::logic_error("packing: short message from rank 0");
   std::memcpy(&report, got.data(), sizeof(report));
   const std::string_view file(reinterpret_cast<const char*>(got.data()) + sizeof(report),

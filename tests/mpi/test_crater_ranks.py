@@ -15,9 +15,12 @@ oversubscribed on 2 cores). Every run must give the reference's files bit for bi
   the order one rank holds it.
 Then the run is resumed from the 2-rank checkpoint of step 1000 on 3 ranks and on 1 (plain):
 every file is again the uninterrupted run's.
-The same bed settled under gravity first ([parts.packing] settle = true): on 2 ranks rank 0
-alone settles it and writes the cache (one file, the plain run's byte for byte), and the run is
-the plain run's bit for bit; on 3 ranks the cached packing is reused, with the same history.
+The same bed settled under gravity first ([parts.packing] settle = true): on 2 ranks the ranks
+settle it together (the bed spread as a run's) and rank 0 writes the cache (one file, the plain
+run's byte for byte), and the run is the plain run's bit for bit; on 3 ranks the cached packing
+is reused, with the same history. A bed carved around a charge and a plate
+(tests/data/contacts_ranks_2d.toml) settles on 2 ranks into the cache file of one rank, byte
+for byte (the carved regions are fixed bodies of the settling bed).
 A bonded block (tests/data/dem_bonded_2d.toml, 800 disks, 1,540 parallel bonds, linear
 springs, rolling resistance, rate-dependent friction) thrown onto a walled floor, run to 20 ms
 (2,684 steps): 901 bonds break, fragments roll, and grains change ranks (188 arrivals on a new
@@ -96,7 +99,7 @@ class CraterRunOnRanks(unittest.TestCase):
         (packed,) = list(cache.iterdir())
         settled_alone = packed.read_bytes()
         shutil.rmtree(cache)
-        # Settled again on 2 ranks (the cache is empty): by rank 0 alone, the same bytes.
+        # Settled again on 2 ranks (the cache is empty): spread over both, the same bytes.
         out = work / "ranks2_threads1"
         p = mpirun(2, "run", SCENE, "--out", out, "--force", "--quiet", "--threads", 1, *sets)
         self.assertEqual(p.returncode, 0, p.stderr)
@@ -109,6 +112,35 @@ class CraterRunOnRanks(unittest.TestCase):
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertEqual((out / "history.csv").read_bytes(), (ref / "history.csv").read_bytes())
         self.assertEqual([f.name for f in cache.iterdir()], [packed.name])
+
+    def test_carved_bed_settled_on_ranks(self):
+        # Settled around the charge and the plate (fixed bodies while it settles), on one rank
+        # and on 2: the same cache file, byte for byte; one step of the run after it.
+        # Gravity 1,000 times the earth's, and settled when the grains' kinetic energy is below
+        # m g r: the column falls in 5 ms (18,400 steps, 1.2 s on one rank; 5 min at 1 g) onto
+        # the plate and around the charge.
+        work = scratch("crater_ranks_carved")
+        scene = SOURCE_DIR / "tests" / "data" / "contacts_ranks_2d.toml"
+        packed = {}
+        for np_ in (1, 2):
+            cache = work / f"cache{np_}"
+            sets = ["--set", "parts.soil.packing.settle=true",
+                    "--set", f'parts.soil.packing.cache_dir="{cache}"',
+                    "--set", "domain.gravity_m_s2=[0.0,-1e4]",
+                    "--set", "parts.soil.packing.settle_kinetic_ratio=1.0",
+                    "--set", "time.max_steps=1", "--set", "output.vtu=false"]
+            out = work / f"ranks{np_}"
+            args = ("run", scene, "--out", out, "--force", "--threads", 1, *sets)
+            p = mpirun(2, *args) if np_ == 2 else plain(*args)
+            self.assertEqual(p.returncode, 0, p.stderr)
+            if np_ == 2:  # rank 0's log: the bed settled spread over the ranks
+                self.assertIn("settling 550 grains under gravity", p.stdout + p.stderr)
+                self.assertIn("spread over 2 ranks", p.stdout + p.stderr)
+            (packed[np_],) = list(cache.iterdir())
+        self.assertEqual(packed[2].name, packed[1].name)
+        self.assertEqual(packed[2].read_bytes(), packed[1].read_bytes())
+        self.assertEqual((work / "ranks2" / "history.csv").read_bytes(),
+                         (work / "ranks1" / "history.csv").read_bytes())
 
     def test_bonded_block_on_ranks(self):
         work = scratch("crater_ranks_bonded")

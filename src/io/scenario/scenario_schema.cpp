@@ -659,8 +659,9 @@ TableSchema make_packing() {
                    "from 0 to 1 (grains are uniform in diameter within each class)."),
               KeyType::RealArray),
       with_default(flag("settle",
-                        "Settle the grains under gravity before the run (on several MPI ranks: by "
-                        "rank 0 alone, which sends the packing to the others)."),
+                        "Settle the grains under gravity before the run (on several MPI ranks: "
+                        "the bed spread over them, with one rank's bits; rank 0 writes the "
+                        "cache and sends the packing to the others)."),
                    "false"),
       with_default(positive(real("settle_kinetic_ratio", "1",
                                  "Settled when the grains' mean kinetic energy is below this x "
