@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <vector>
@@ -138,6 +139,14 @@ bool try_save_packing(const std::filesystem::path& file, std::uint64_t key,
   }
 }
 
+// The grains a packed part settles from: as laid (random, dense), or none for a lattice, which
+// the part lays itself.
+template <int D>
+std::optional<std::vector<dem::Grain<D>>> grains_to_settle(const dem::PartSettings& settings) {
+  if (settings.packing.method == dem::PackingMethod::Lattice) return std::nullopt;
+  return laid_grains<D>(settings);
+}
+
 // Where a packing is cached: the scenario's cache_dir, and the user's cache.
 struct PackingPlaces {
   std::uint64_t key = 0;
@@ -183,11 +192,9 @@ std::unique_ptr<Part<D>> settled_dem_part(const dem::PartSettings& settings, std
                                           dem::PackingReport& report,
                                           const parallel::Comm* spread = nullptr) {
   const std::string& name = settings.part.name;
-  const bool laid = settings.packing.method != dem::PackingMethod::Lattice;
-  std::vector<dem::Grain<D>> grains;
-  if (laid) grains = laid_grains<D>(settings);
+  const auto grains = grains_to_settle<D>(settings);
   const dem::SettledPacking<D> settled =
-      dem::settle_grains<D>(settings, laid ? &grains : nullptr, report, spread);
+      dem::settle_grains<D>(settings, grains ? &*grains : nullptr, report, spread);
   if (spread && !spread->root()) return nullptr;
   const PackingPlaces at = packing_places<D>(settings);
   std::filesystem::path saved = at.file;
@@ -233,10 +240,8 @@ std::unique_ptr<Part<D>> packed_dem_part(const dem::PartSettings& settings, Sett
   if (settling == Settling::CachedOnly) {
     // The same grains (count, radii: the same solid fraction and stable step) before settling.
     report.unsettled = true;
-    const bool laid = settings.packing.method != dem::PackingMethod::Lattice;
-    std::vector<dem::Grain<D>> grains;
-    if (laid) grains = laid_grains<D>(settings);
-    return dem::make_dem_part<D>(settings, laid ? &grains : nullptr, report);
+    const auto grains = grains_to_settle<D>(settings);
+    return dem::make_dem_part<D>(settings, grains ? &*grains : nullptr, report);
   }
   return settled_dem_part<D>(settings, used, report);
 }
