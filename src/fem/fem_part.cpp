@@ -255,6 +255,7 @@ void FemPart<D>::finish_step(Real dt_s) {
   });
   // Multi-rate: the next step may start with other contact forces than this one ended with.
   next_contact_.finished([&](const auto& f, const auto&) { contact_force_ = f; });
+  if (comm_) rebalance();
 }
 
 template <int D>

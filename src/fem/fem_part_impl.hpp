@@ -24,10 +24,12 @@
 #include "fem/fem_mesh_source.hpp"
 #include "fem/mesh_state_layout.hpp"
 #include "fem/settings.hpp"
+#include "fields/balance.hpp"
 #include "fields/field_set.hpp"
 #include "materials/strength/strength.hpp"
 #include "parallel/comm.hpp"
 #include "parallel/parallel.hpp"
+#include "parallel/rcb.hpp"
 #include "parts/contact_points.hpp"
 #include "parts/gathered_points.hpp"
 #include "parts/on_ranks.hpp"
@@ -36,6 +38,9 @@
 #include "parts/whole_layout.hpp"
 
 namespace crater::fem::detail {
+
+template <int D>
+struct Keepers;  // fem_ranks.cpp
 
 template <int D>
 class FemPart final : public parts::Part<D> {
@@ -105,6 +110,7 @@ class FemPart final : public parts::Part<D> {
 
   // fem_ranks.cpp: the part on several ranks.
   void distribute(const parallel::Comm& comm) override;
+  fields::BusyClock* busy_clock() override { return comm_ ? &busy_ : nullptr; }
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
   Real load_ratio() const override { return load_ratio_; }
@@ -147,6 +153,15 @@ class FemPart final : public parts::Part<D> {
 
   void rebuild_surface();
   void build_node_layout(const parallel::Comm& comm);  // fem_ranks.cpp
+  // fem_ranks.cpp: the cuts made again as elements erode, and this rank's share under them.
+  void rebalance();
+  void adopt_cuts(std::vector<int> element_owner, bool moving);
+  void move_entities(const Keepers<D>& keep, const std::vector<Index>& nodes,
+                     const std::vector<Index>& elements);
+  void take_whole_setup(const std::vector<Index>& nodes, const std::vector<Index>& elements,
+                        const std::vector<Index>& local_node,
+                        const std::vector<Index>& local_element);
+  Vec<D> rest_centre(Index whole_element) const;
   // The penalty stiffness K A^2 / V of each face's element, in the reference geometry.
   std::vector<Real> face_stiffness(const SurfaceFaces<D>& sf, const ExplicitMesh<D>& mesh) const;
 
@@ -228,6 +243,21 @@ class FemPart final : public parts::Part<D> {
     a.value(mass_scaled_first);
   }
   void save_gathered(parts::StateWriter& w) const;
+  // Every vector with an entry per node or element that the part carries from step to step,
+  // each(vector, entity): the checkpoint's, those allocated but not saved (the compaction state
+  // of a law without it), and the boundary conditions; a cut made again moves them all.
+  template <class Each>
+  void for_each_carried_vector(Each&& each) {
+    for_each_state_vector(*this, [&](auto& v, MeshEntity entity, const char*) { each(v, entity); });
+    if (!is_hjc()) {
+      each(mesh_.mu_max, MeshEntity::element);
+      each(mesh_.plastic_volumetric_strain, MeshEntity::element);
+    }
+    each(constrained_, MeshEntity::node);
+    each(imposed_velocity_, MeshEntity::node);
+    each(dashpot_of_node_, MeshEntity::node);
+    if (!loads_.empty()) each(load_force_, MeshEntity::node);
+  }
 
   void impose_velocity(std::size_t u) {
     const unsigned c = constrained_[u];
@@ -316,7 +346,16 @@ class FemPart final : public parts::Part<D> {
   /// The owners' values of every ghost node, `bytes` each (collective; fem_ranks.cpp).
   template <class Pack, class Unpack>
   void exchange_ghost_nodes(std::size_t bytes, Pack&& pack, Unpack&& unpack) const;
-  Real load_ratio_ = 1;  // on ranks: the most elements a rank owns over the mean, at the cut
+  // On ranks: the heaviest rank's load over the mean, at the first cut (elements) or the last
+  // look at the cuts (rebalance: live elements, or measured time).
+  Real load_ratio_ = 1;
+  std::vector<int> element_owner_, node_owner_;  // per whole element and node: its rank
+  std::optional<parallel::RcbTree<D>> cuts_;     // the last cuts made again (none: the first)
+  fields::BusyClock busy_;                       // the measured load since the cuts (by time)
+  Index count_window_ = 0;                       // steps since the last look (by count)
+  Index rebalances_ = 0;                         // how often the cuts were made again
+  std::vector<PressureLoad> whole_loads_;        // loads_ in the whole mesh's numbering
+  std::map<std::string, std::vector<Index>> whole_group_nodes_;  // group_nodes_, likewise
   std::vector<std::vector<Index>> send_nodes_;     // per rank: own nodes it holds, ascending
   std::vector<std::vector<Index>> receive_nodes_;  // per rank: its nodes held here, ascending
   Index whole_nodes_ = 0, whole_elements_ = 0;

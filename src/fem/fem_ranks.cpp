@@ -1,6 +1,6 @@
 // The FEM part on several ranks (issue 29, docs/distributed.md, "The FEM part on ranks").
 //
-// The mesh is cut once, before the first step, when every rank has built it whole: the elements
+// The mesh is cut before the first step, when every rank has built it whole: the elements
 // by a recursive coordinate bisection of their centres at rest (each weighing one), a node goes
 // with its lowest-numbered element. A rank keeps its own elements and every element of its own
 // nodes (ghost elements, whose state it computes alike from the same nodes), and the nodes of
@@ -11,8 +11,8 @@
 // (the only exchange of a step); ghosts are never summed nor reported, and what the stages
 // leave in them between drifts is never read. The books are kept per entity and summed over
 // the own ones by the reproducible sum (fem_part.cpp), so they too have the same bits on any
-// rank count. The cuts are not made again: the mesh does not move through space as particles
-// do, and erosion thins the load only where the plate breaks.
+// rank count. The cuts are made again as elements erode (rebalance): erosion thins a rank's
+// load where the plate breaks, and the entities then move to their new ranks with all they hold.
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "fem/fem_part_impl.hpp"
+#include "fields/spread.hpp"
 #include "parallel/rcb.hpp"
 
 namespace crater::fem::detail {
@@ -38,6 +39,16 @@ void keep_entries(std::vector<T>& v, const std::vector<Index>& keep) {
   for (const Index i : keep)
     kept.push_back(v[at(i)]);
   v = std::move(kept);
+}
+
+/// The entries `keep` (ascending indices) of v.
+template <class T>
+std::vector<T> selected(const std::vector<T>& v, const std::vector<Index>& keep) {
+  std::vector<T> out;
+  out.reserve(keep.size());
+  for (const Index i : keep)
+    out.push_back(v[at(i)]);
+  return out;
 }
 
 /// The lowest non-negative number over the ranks, or -1. Collective.
@@ -58,53 +69,139 @@ Real most_over_mean(const std::vector<int>& owner, int ranks) {
 
 }  // namespace
 
+// An element's centre at rest in the whole mesh: what the cuts bisect.
+template <int D>
+Vec<D> FemPart<D>::rest_centre(Index whole_element) const {
+  Vec<D> c = Vec<D>::Zero();
+  for (const Index n : whole_mesh_.elements[at(whole_element)])
+    c += whole_mesh_.reference_position[at(n)] / Real(kElementNodes<D>);
+  return c;
+}
+
 template <int D>
 void FemPart<D>::distribute(const parallel::Comm& comm) {
   if (comm_) throw std::logic_error("fem: distribute() twice");
-  constexpr int kNodes = kElementNodes<D>;
-  const Index ne = mesh_.element_count(), nn = mesh_.node_count();
-  const int me = comm.rank(), ranks = comm.size();
-  whole_mesh_ = mesh_;  // for the contacts' surface of the whole mesh
+  const Index ne = mesh_.element_count();
+  // The mesh as it is before the cut, kept on every rank: the contacts' surface of the whole
+  // mesh, and what the cuts made again select from (with the loads and groups in its numbering).
+  whole_mesh_ = mesh_;
+  whole_loads_ = loads_;
+  whole_group_nodes_ = group_nodes_;
+  whole_nodes_ = mesh_.node_count();
+  whole_elements_ = ne;
+  if (comm.root()) whole_elements_nodes_ = mesh_.elements;
   // The elements' owners: a bisection of their centres at rest (the same on every rank).
-  std::vector<Vec<D>> centre(at(ne), Vec<D>::Zero());
+  std::vector<Vec<D>> centre(at(ne));
   for (Index e = 0; e < ne; ++e)
-    for (const Index n : mesh_.elements[at(e)])
-      centre[at(e)] += mesh_.reference_position[at(n)] / Real(kNodes);
+    centre[at(e)] = rest_centre(e);
   const std::vector<Real> weight(at(ne), 1);
-  const std::vector<int> element_owner =
-      parallel::rcb<D>(std::span<const Vec<D>>(centre), std::span<const Real>(weight), ranks).owner;
-  load_ratio_ = most_over_mean(element_owner, ranks);
-  // A node's: that of its lowest-numbered element (the adjacency is in element order); a node of
-  // no element is the root's.
-  std::vector<int> node_owner(at(nn), 0);
-  for (Index i = 0; i < nn; ++i) {
-    const Index first = mesh_.node_entry_offsets[at(i)];
-    if (first < mesh_.node_entry_offsets[at(i) + 1])
-      node_owner[at(i)] = element_owner[at(mesh_.node_entries[at(first)] / kNodes)];
+  std::vector<int> element_owner =
+      parallel::rcb<D>(std::span<const Vec<D>>(centre), std::span<const Real>(weight), comm.size())
+          .owner;
+  load_ratio_ = most_over_mean(element_owner, comm.size());
+  comm_ = &comm;
+  adopt_cuts(std::move(element_owner), /*moving=*/false);
+}
+
+// The cuts made again as elements erode (docs/distributed.md, "The FEM part on ranks"): every
+// kTimeWindowSteps steps, the ranks' loads over the last window (by measured time, or by their
+// live elements' count, domain.balance) decide through fields::rebalanced_cuts, each element
+// weighing 1 while it lives and 0 once eroded; new cuts bisect the centres at rest so weighted,
+// and the entities go to their new ranks with all they hold (adopt_cuts). Between steps only,
+// and not while a coarser step's lagged positions or kept contact forces are pending
+// (multi-rate stepping). Collective; every rank decides alike.
+template <int D>
+void FemPart<D>::rebalance() {
+  if (lagged_.active || next_contact_.pending) return;
+  if (!busy_.by_time && ++count_window_ < fields::kTimeWindowSteps) return;
+  count_window_ = 0;
+  std::vector<Vec<D>> x;
+  std::vector<Real> w;
+  for (Index e = 0; e < mesh_.element_count(); ++e) {
+    if (ghost_element(e)) continue;
+    x.push_back(rest_centre(element_id_[at(e)]));
+    w.push_back(mesh_.eroded[at(e)] ? Real(0) : Real(1));
   }
-  // The ranks that keep element e: its owner and its nodes' owners.
-  auto keepers = [&](Index e, auto&& add) {
+  std::optional<parallel::RcbTree<D>> cuts =
+      fields::rebalanced_cuts<D>(*comm_, std::span<const Vec<D>>(x), std::span<const Real>(w),
+                                 &load_ratio_, &busy_, cuts_ ? &*cuts_ : nullptr);
+  if (!cuts) return;
+  std::vector<int> element_owner(at(whole_elements_));
+  for (Index e = 0; e < whole_elements_; ++e)
+    element_owner[at(e)] = cuts->owner(rest_centre(e));
+  cuts_ = std::move(cuts);
+  ++rebalances_;
+  adopt_cuts(std::move(element_owner), /*moving=*/true);
+}
+
+// The ranks that keep each element and node under the elements' owners (the whole mesh's
+// numbering): an element's owner and its nodes' owners keep it; a node's owner (that of its
+// lowest-numbered element; the root's for a node of no element) and those of its elements keep
+// the node.
+template <int D>
+struct Keepers {
+  const ExplicitMesh<D>& whole;
+  const std::vector<int>& element_owner;
+  std::vector<int> node_owner;
+
+  Keepers(const ExplicitMesh<D>& mesh, const std::vector<int>& owner)
+      : whole(mesh), element_owner(owner), node_owner(mesh.node_entry_offsets.size() - 1, 0) {
+    for (std::size_t i = 0; i + 1 < whole.node_entry_offsets.size(); ++i) {
+      const Index first = whole.node_entry_offsets[i];
+      if (first < whole.node_entry_offsets[i + 1])
+        node_owner[i] = element_owner[at(whole.node_entries[at(first)] / kElementNodes<D>)];
+    }
+  }
+  template <class Add>
+  void element(Index e, Add&& add) const {
     add(element_owner[at(e)]);
-    for (const Index n : mesh_.elements[at(e)])
+    for (const Index n : whole.elements[at(e)])
       add(node_owner[at(n)]);
-  };
+  }
+  /// Those of node i's elements (not the node's owner).
+  template <class Add>
+  void elements_of_node(Index i, Add&& add) const {
+    for (Index k = whole.node_entry_offsets[at(i)]; k < whole.node_entry_offsets[at(i) + 1]; ++k)
+      element(whole.node_entries[at(k)] / kElementNodes<D>, add);
+  }
+};
+
+// This rank's share under the elements' owners `element_owner` (the whole mesh's numbering,
+// Keepers): its own elements and every element of its own nodes (ghost elements), and the nodes
+// of those (ghost nodes: another rank's), numbered as on one rank but for the gaps. At the first
+// cut (`moving` false) every rank holds the whole part and keeps its share; at a cut made again
+// the entities come from their owners before (move_entities). The mesh's reference geometry,
+// connectivity, loads and groups are taken from the whole mesh's.
+template <int D>
+void FemPart<D>::adopt_cuts(std::vector<int> element_owner, bool moving) {
+  const Keepers<D> keep(whole_mesh_, element_owner);
+  const Index ne = whole_elements_, nn = whole_nodes_;
+  const int me = comm_->rank(), ranks = comm_->size();
   std::vector<Index> elements, nodes;  // kept here, ascending
   std::vector<std::uint8_t> of_kept(at(nn), 0);
   for (Index e = 0; e < ne; ++e) {
     bool kept = false;
-    keepers(e, [&](int r) { kept = kept || r == me; });
+    keep.element(e, [&](int r) { kept = kept || r == me; });
     if (!kept) continue;
     elements.push_back(e);
-    for (const Index n : mesh_.elements[at(e)])
+    for (const Index n : whole_mesh_.elements[at(e)])
       of_kept[at(n)] = 1;
   }
   for (Index i = 0; i < nn; ++i)
-    if (of_kept[at(i)] || node_owner[at(i)] == me) nodes.push_back(i);
+    if (of_kept[at(i)] || keep.node_owner[at(i)] == me) nodes.push_back(i);
   std::vector<Index> local_node(at(nn), -1), local_element(at(ne), -1);
   for (std::size_t k = 0; k < nodes.size(); ++k)
     local_node[at(nodes[k])] = static_cast<Index>(k);
   for (std::size_t k = 0; k < elements.size(); ++k)
     local_element[at(elements[k])] = static_cast<Index>(k);
+  if (moving) {
+    move_entities(keep, nodes, elements);
+  } else {
+    for_each_carried_vector([&](auto& v, MeshEntity entity) {
+      keep_entries(v, entity == MeshEntity::node ? nodes : elements);
+    });
+  }
+  take_whole_setup(nodes, elements, local_node, local_element);
 
   // Each own node goes to every other rank that keeps one of its elements; each ghost node
   // comes from its owner. Both lists ascend in the global numbers, so they pair up.
@@ -112,50 +209,112 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
   receive_nodes_.assign(at(ranks), {});
   std::vector<std::uint8_t> to(at(ranks));
   for (const Index i : nodes) {
-    const int owner = node_owner[at(i)];
+    const int owner = keep.node_owner[at(i)];
     if (owner != me) {
       receive_nodes_[at(owner)].push_back(local_node[at(i)]);
       continue;
     }
     std::fill(to.begin(), to.end(), 0);
-    for (Index k = mesh_.node_entry_offsets[at(i)]; k < mesh_.node_entry_offsets[at(i) + 1]; ++k)
-      keepers(mesh_.node_entries[at(k)] / kNodes, [&](int r) { to[at(r)] = 1; });
+    keep.elements_of_node(i, [&](int r) { to[at(r)] = 1; });
     for (int r = 0; r < ranks; ++r)
       if (r != me && to[at(r)]) send_nodes_[at(r)].push_back(local_node[at(i)]);
   }
-
-  whole_nodes_ = nn;
-  whole_elements_ = ne;
-  if (comm.root()) whole_elements_nodes_ = mesh_.elements;
   ghost_node_.resize(nodes.size());
   for (std::size_t k = 0; k < nodes.size(); ++k)
-    ghost_node_[k] = node_owner[at(nodes[k])] != me ? 1 : 0;
+    ghost_node_[k] = keep.node_owner[at(nodes[k])] != me ? 1 : 0;
   ghost_element_.resize(elements.size());
   for (std::size_t k = 0; k < elements.size(); ++k)
     ghost_element_[k] = element_owner[at(elements[k])] != me ? 1 : 0;
+  node_id_ = std::move(nodes);
+  element_id_ = std::move(elements);
+  node_owner_ = keep.node_owner;
+  element_owner_ = std::move(element_owner);
+  // The surface of the kept elements (the contacts see the whole mesh's instead): listed again,
+  // it is not an erosion the whole surface must follow.
+  const bool synced = surface_revision_ == synced_revision_;
+  rebuild_surface();
+  if (moving && synced) synced_revision_ = surface_revision_;
+  node_layout_ = parts::WholeLayout{};
+  build_node_layout(*comm_);
+}
 
-  // Every vector with an entry per node or element keeps this rank's (what a new one must
-  // join: the checkpoint's vectors, or the list below).
-  for_each_state_vector(*this, [&](auto& v, MeshEntity entity, const char*) {
-    keep_entries(v, entity == MeshEntity::node ? nodes : elements);
+// At a cut made again: each own entity goes, in ascending numbers, to every rank that keeps it
+// now, with every vector it carries (for_each_carried_vector); each entity kept here now comes
+// from its owner before, read in the same order, vector after vector: one all-to-all.
+template <int D>
+void FemPart<D>::move_entities(const Keepers<D>& keep, const std::vector<Index>& nodes,
+                               const std::vector<Index>& elements) {
+  const int ranks = comm_->size();
+  auto ranks_of = [](auto&& keepers) {
+    std::vector<int> to;
+    keepers([&](int r) { to.push_back(r); });
+    std::sort(to.begin(), to.end());
+    to.erase(std::unique(to.begin(), to.end()), to.end());
+    return to;
+  };
+  std::vector<std::vector<int>> to_node(node_id_.size()), to_element(element_id_.size());
+  for (std::size_t k = 0; k < node_id_.size(); ++k)
+    if (!ghost_node(static_cast<Index>(k)))
+      to_node[k] = ranks_of([&](auto&& add) {
+        add(keep.node_owner[at(node_id_[k])]);
+        keep.elements_of_node(node_id_[k], add);
+      });
+  for (std::size_t k = 0; k < element_id_.size(); ++k)
+    if (!ghost_element(static_cast<Index>(k)))
+      to_element[k] = ranks_of([&](auto&& add) { keep.element(element_id_[k], add); });
+  std::vector<std::vector<std::byte>> send(at(ranks));
+  for_each_carried_vector([&](auto& v, MeshEntity entity) {
+    using T = typename std::decay_t<decltype(v)>::value_type;
+    const auto& to = entity == MeshEntity::node ? to_node : to_element;
+    for (std::size_t k = 0; k < to.size(); ++k)
+      for (const int r : to[k]) {
+        auto& out = send[at(r)];
+        const std::size_t b = out.size();
+        out.resize(b + sizeof(T));
+        std::memcpy(out.data() + b, &v[k], sizeof(T));
+      }
   });
-  if (!is_hjc()) {  // allocated, not saved
-    keep_entries(mesh_.mu_max, elements);
-    keep_entries(mesh_.plastic_volumetric_strain, elements);
-  }
-  keep_entries(mesh_.reference_position, nodes);
-  keep_entries(mesh_.reference_volume, elements);
-  keep_entries(mesh_.elements, elements);
-  keep_entries(constrained_, nodes);
-  keep_entries(imposed_velocity_, nodes);
-  keep_entries(dashpot_of_node_, nodes);
-  keep_entries(load_force_, nodes);
+  const std::vector<std::vector<std::byte>> got = comm_->all_to_all(send);
+  std::vector<std::size_t> read(at(ranks), 0);
+  for_each_carried_vector([&](auto& v, MeshEntity entity) {
+    using T = typename std::decay_t<decltype(v)>::value_type;
+    const bool of_nodes = entity == MeshEntity::node;
+    const std::vector<Index>& kept = of_nodes ? nodes : elements;
+    const std::vector<int>& owner_before = of_nodes ? node_owner_ : element_owner_;
+    std::vector<T> moved(kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      const auto r = at(owner_before[at(kept[k])]);
+      if (read[r] + sizeof(T) > got[r].size())
+        throw std::logic_error("fem: rank " + std::to_string(r) +
+                               " sent fewer entities than it owned of those kept here");
+      std::memcpy(static_cast<void*>(&moved[k]), got[r].data() + read[r], sizeof(T));
+      read[r] += sizeof(T);
+    }
+    v = std::move(moved);
+  });
+  for (int r = 0; r < ranks; ++r)
+    if (read[at(r)] != got[at(r)].size())
+      throw std::logic_error("fem: rank " + std::to_string(r) + " sent entities not kept here");
+}
+
+// What a rank's share takes from the whole mesh every rank keeps (whole_mesh_, whole_loads_,
+// whole_group_nodes_): the reference geometry, the connectivity in the local numbering and the
+// node adjacency, the pressure loads' faces of its elements (in their order), the groups' nodes.
+template <int D>
+void FemPart<D>::take_whole_setup(const std::vector<Index>& nodes,
+                                  const std::vector<Index>& elements,
+                                  const std::vector<Index>& local_node,
+                                  const std::vector<Index>& local_element) {
+  mesh_.reference_position = selected(whole_mesh_.reference_position, nodes);
+  mesh_.reference_volume = selected(whole_mesh_.reference_volume, elements);
+  mesh_.elements = selected(whole_mesh_.elements, elements);
   for (auto& element_nodes : mesh_.elements)
     for (Index& n : element_nodes)
       n = local_node[at(n)];
   build_node_adjacency(mesh_);
-  for (PressureLoad& load : loads_) {
-    PressureLoad kept{load.time_s, load.pressure_pa, {}, {}};
+  loads_.clear();
+  for (const PressureLoad& load : whole_loads_) {
+    PressureLoad& kept = loads_.emplace_back(PressureLoad{load.time_s, load.pressure_pa, {}, {}});
     for (std::size_t f = 0; f < load.faces.size(); ++f) {
       const Index e = local_element[at(load.element[f])];
       if (e < 0) continue;
@@ -165,19 +324,13 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
       kept.faces.push_back(face);
       kept.element.push_back(e);
     }
-    load = std::move(kept);
   }
-  for (auto& [group, members] : group_nodes_) {
-    std::vector<Index> kept;
+  group_nodes_.clear();
+  for (const auto& [group, members] : whole_group_nodes_) {
+    std::vector<Index>& kept = group_nodes_[group];
     for (const Index n : members)
       if (local_node[at(n)] >= 0) kept.push_back(local_node[at(n)]);
-    members = std::move(kept);
   }
-  node_id_ = std::move(nodes);
-  element_id_ = std::move(elements);
-  comm_ = &comm;
-  rebuild_surface();  // of the kept elements; the contacts see the whole mesh's instead
-  build_node_layout(comm);
 }
 
 // The nodes as the contacts see them (contact_layout): in their numbering, each sent by its
@@ -443,8 +596,9 @@ std::vector<Vec<D>> FemPart<D>::points_numbered(const std::vector<Index>& number
   return out;
 }
 
-// The elements each rank owns (fewest, most), the ghost nodes and elements it keeps (mean,
-// most), and the bytes of one step's exchange summed over the ranks.
+// The elements each rank owns (fewest, most), of them those not eroded (fewest, most), the ghost
+// nodes and elements it keeps (mean, most), the bytes of one step's exchange summed over the
+// ranks, and how often the cuts were made again.
 template <int D>
 std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const {
   if (!comm_) return {};
@@ -453,16 +607,22 @@ std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const {
     return static_cast<std::int64_t>(std::count(flags.begin(), flags.end(), 1));
   };
   const auto owned = static_cast<Real>(mesh_.element_count() - flagged(ghost_element_));
+  Real live = 0;  // own elements not eroded
+  for (Index e = 0; e < mesh_.element_count(); ++e)
+    if (!ghost_element(e) && !mesh_.eroded[at(e)]) ++live;
   const std::int64_t ghosts = flagged(ghost_node_);
   const auto all_ghosts = static_cast<Real>(comm.sum(ghosts));
   const auto ranks = static_cast<Real>(comm.size());
   return {{"owned_min", comm.min(owned)},
           {"owned_max", comm.max(owned)},
+          {"live_min", comm.min(live)},
+          {"live_max", comm.max(live)},
           {"ghost_nodes_mean", all_ghosts / ranks},
           {"ghost_nodes_max", comm.max(static_cast<Real>(ghosts))},
           {"ghost_elements_max", comm.max(static_cast<Real>(flagged(ghost_element_)))},
           {"ghost_refresh_bytes_per_step", all_ghosts * 2 * sizeof(Vec<D>)},
-          {"load_ratio", load_ratio_}};
+          {"load_ratio", load_ratio_},
+          {"rebalances", static_cast<Real>(rebalances_)}};
 }
 
 // A checkpoint on ranks: every vector gathered on the root from the entities' owners and
@@ -515,6 +675,7 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
   template std::optional<parts::ContactSurface<D>> FemPart<D>::whole_contact_surface(        \
       const std::vector<Vec<D>>&) const;                                                     \
   template void FemPart<D>::distribute(const parallel::Comm&);                               \
+  template void FemPart<D>::rebalance();                                                     \
   template void FemPart<D>::refresh_ghosts();                                                \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const;      \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const;            \

@@ -241,12 +241,12 @@ class Part {
   virtual std::vector<Diagnostic> rank_figures() const { return {}; }
   /// On ranks: the heaviest rank's load over the ranks' mean (by the weights its cuts are made
   /// with) when the part last looked at its cuts: a particle part at its last list rebuild, a
-  /// mesh part at its cut. The same on every rank, no communication; 1 on one rank.
+  /// mesh part at its first cut, then at its last look (every 100 steps). The same on every
+  /// rank, no communication; 1 on one rank.
   virtual Real load_ratio() const { return 1; }
   /// On ranks, a part whose cuts may be made again: its measured load since they were last
   /// made (fields/balance.hpp), to which the time loop adds each step's compute seconds, and
-  /// whether the cuts go by it (domain.balance = "time"). nullptr: the cuts stay (one rank, a
-  /// mesh part).
+  /// whether the cuts go by it (domain.balance = "time"). nullptr: the cuts stay (one rank).
   virtual fields::BusyClock* busy_clock() { return nullptr; }
 
   /// Checkpoints: everything the part needs to continue bit for bit after load_state() on a
