@@ -283,6 +283,7 @@ class DemPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
+  std::optional<parts::OwnNumbers> own_numbers() const override;
   Real load_ratio() const override { return load_ratio_; }
   fields::BusyClock* busy_clock() override { return comm_ ? &busy_ : nullptr; }
   std::vector<parts::Diagnostic> rank_figures() const override;

@@ -455,6 +455,15 @@ std::optional<parts::GatheredPoints<D>> DemPart<D>::own_piece() const {
                                 [&](Index i) { return !ghost(i); });
 }
 
+template <int D>
+std::optional<parts::OwnNumbers> DemPart<D>::own_numbers() const {
+  if (!comm_) return std::nullopt;
+  parts::OwnNumbers n;
+  n.point =
+      parts::own_numbers_of(std::span<const std::int64_t>(id_), [&](Index i) { return ghost(i); });
+  return n;
+}
+
 // The grains each rank owns (fewest, most) and the ghosts it holds (mean, most), the bytes of one
 // refresh of the ghosts' motion summed over the ranks, how often the cuts were made again, and
 // how many grains moved to another rank (arrivals summed over the ranks).
@@ -576,6 +585,7 @@ const parts::WholeLayout* DemPart<D>::contact_layout() const {
   template std::optional<parts::Fault> DemPart<D>::check() const;                           \
   template std::optional<parts::GatheredPoints<D>> DemPart<D>::gathered_points() const;     \
   template std::optional<parts::GatheredPoints<D>> DemPart<D>::own_piece() const;           \
+  template std::optional<parts::OwnNumbers> DemPart<D>::own_numbers() const;                \
   template std::vector<parts::Diagnostic> DemPart<D>::rank_figures() const;
 CRATER_DEM_RANKS(2)
 CRATER_DEM_RANKS(3)

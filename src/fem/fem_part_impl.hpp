@@ -113,6 +113,7 @@ class FemPart final : public parts::Part<D> {
   fields::BusyClock* busy_clock() override { return comm_ ? &busy_ : nullptr; }
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
+  std::optional<parts::OwnNumbers> own_numbers() const override;
   Real load_ratio() const override { return load_ratio_; }
   std::vector<parts::Diagnostic> rank_figures() const override;
   const parts::WholeLayout* contact_layout() const override;

@@ -565,6 +565,17 @@ std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const {
   return g;
 }
 
+template <int D>
+std::optional<parts::OwnNumbers> FemPart<D>::own_numbers() const {
+  if (!comm_) return std::nullopt;
+  parts::OwnNumbers n;
+  n.point = parts::own_numbers_of(std::span<const std::int64_t>(node_id_),
+                                  [&](Index i) { return ghost_node(i); });
+  n.cell = parts::own_numbers_of(std::span<const std::int64_t>(element_id_),
+                                 [&](Index e) { return ghost_element(e); });
+  return n;
+}
+
 // The nodes numbered `numbers` (as on one rank), from their owners, on every rank: each rank
 // sends the positions of those it owns (node_id_ ascends: the local numbering keeps the global
 // order), one small all-gather.
@@ -679,6 +690,7 @@ void FemPart<D>::save_gathered(parts::StateWriter& w) const {
   template void FemPart<D>::refresh_ghosts();                                                \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::gathered_points() const;      \
   template std::optional<parts::GatheredPoints<D>> FemPart<D>::own_piece() const;            \
+  template std::optional<parts::OwnNumbers> FemPart<D>::own_numbers() const;                 \
   template std::vector<parts::Diagnostic> FemPart<D>::rank_figures() const;                  \
   template std::vector<Vec<D>> FemPart<D>::points_numbered(const std::vector<Index>&) const; \
   template void FemPart<D>::save_gathered(parts::StateWriter&) const;

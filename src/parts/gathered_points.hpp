@@ -43,6 +43,21 @@ struct GatheredFields {
 /// The gathered frame of a part: points and point fields in ascending id; for a mesh part also
 /// its cells (VTK connectivity over the points, offsets, cell types) and cell fields in
 /// ascending element id (empty for particles).
+/// A spread part's local entities by their numbers in the whole part (Part::own_numbers): per
+/// local point and per local cell, -1 for a ghost.
+struct OwnNumbers {
+  std::vector<std::int64_t> point, cell;
+};
+
+/// The numbers `id` of a part's local entities, -1 where ghost(i).
+template <class Ghost>
+std::vector<std::int64_t> own_numbers_of(std::span<const std::int64_t> id, Ghost&& ghost) {
+  std::vector<std::int64_t> n(id.begin(), id.end());
+  for (std::size_t i = 0; i < n.size(); ++i)
+    if (ghost(static_cast<Index>(i))) n[i] = -1;
+  return n;
+}
+
 template <int D>
 struct GatheredPoints {
   std::vector<Vec<D>> points;

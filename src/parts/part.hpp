@@ -235,6 +235,12 @@ class Part {
   /// `element_id`). A particle part's needs no communication, a mesh part's is collective (the
   /// values of its elements' nodes that other ranks own). nullopt: the part is whole here.
   virtual std::optional<GatheredPoints<D>> own_piece() const { return std::nullopt; }
+  /// A spread part's local entities by their numbers in the whole part, as its frames name
+  /// them: each local point's (a particle's id, a mesh node's number) and each local cell's (a
+  /// mesh element's number), -1 for a ghost (another rank's entity); the same length as the
+  /// point and cell fields. What the gauges read of their entities alone on ranks (no
+  /// communication). nullopt: the part is whole here.
+  virtual std::optional<OwnNumbers> own_numbers() const { return std::nullopt; }
   /// A spread part's share among the ranks (collective): e.g. the fewest and most entities a
   /// rank owns, the ghosts a rank holds. Empty on one rank. They depend on the rank count, so
   /// they go to summary.json's "run" block, not to the part's diagnostics.

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -10,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "fields/field_set.hpp"
+#include "parallel/comm.hpp"
 #include "parts/setup.hpp"
 
 namespace crater::solver {
@@ -81,6 +83,14 @@ std::vector<std::int64_t> indices_of_ids(const fields::FieldView& ids,
   for (std::int64_t id : wanted)
     out.push_back(at_sorted[std::lower_bound(sorted.begin(), sorted.end(), id) - sorted.begin()]);
   return out;
+}
+
+// The components of entity k of view v, as numbers, into out.
+void value_at(const fields::FieldView& v, std::int64_t k, std::size_t components, Real* out) {
+  for (std::size_t c = 0; c < components; ++c) {
+    const std::size_t i = static_cast<std::size_t>(k) * components + c;
+    out[c] = v.is_integer ? static_cast<Real>(v.integer_data[i]) : v.real_data[i];
+  }
 }
 
 }  // namespace
@@ -177,37 +187,121 @@ std::string Gauges<D>::header() const {
   return s + "\n";
 }
 
+// Read r's values at its entities, entity after entity, each with its components: NaN for an
+// entity the views do not hold (a particle that has left) or a field they lack.
 template <int D>
-std::string Gauges<D>::row(Index step, Real t_s, const PartList& parts) const {
-  std::string s = fmt::format("{},{:.17g}", step, t_s);
+std::vector<Real> Gauges<D>::values_of(const Read& r, const fields::FieldView* v,
+                                       const fields::FieldView* ids) const {
+  const auto n = static_cast<std::size_t>(r.components);
+  std::vector<Real> out(r.entities.size() * n, kNaN);
+  const std::vector<std::int64_t> at = r.by_particle_id && ids
+                                           ? indices_of_ids(*ids, r.entities)
+                                           : std::vector<std::int64_t>(r.entities.size(), -1);
+  for (std::size_t j = 0; j < r.entities.size(); ++j) {
+    const std::int64_t k = r.by_particle_id ? at[j] : r.entities[j];
+    if (v != nullptr && k >= 0 && k < v->size) value_at(*v, k, n, &out[j * n]);
+  }
+  return out;
+}
+
+template <int D>
+std::string Gauges<D>::row(Index step, Real t_s, const PartList& parts,
+                           const parallel::Comm* comm) const {
+  if (comm && comm->size() > 1) return row_on_ranks(step, t_s, parts, *comm);
   // Each gauged part's views once per row (an FEM part evaluates its derived fields for them).
   std::vector<
       std::optional<std::pair<std::vector<fields::FieldView>, std::vector<fields::FieldView>>>>
       views(parts.size());
+  std::vector<std::vector<Real>> values;
   for (const Read& r : reads_) {
     auto& pv = views[r.part];
     if (!pv) pv.emplace(parts[r.part]->point_fields(), parts[r.part]->cell_fields());
-    const fields::FieldView* v = fields::find_field(r.cell ? pv->second : pv->first, r.field);
-    const fields::FieldView* ids = fields::find_field(pv->first, "id");
-    const std::vector<std::int64_t> at = r.by_particle_id && ids
-                                             ? indices_of_ids(*ids, r.entities)
-                                             : std::vector<std::int64_t>(r.entities.size(), -1);
-    std::vector<Real> sum(static_cast<std::size_t>(r.components), 0);
-    for (std::size_t j = 0; j < r.entities.size(); ++j) {
-      const std::int64_t k = r.by_particle_id ? at[j] : r.entities[j];
-      const bool ok = v != nullptr && k >= 0 && k < v->size;
-      for (int c = 0; c < r.components; ++c) {
-        const std::size_t i = static_cast<std::size_t>(k) * static_cast<std::size_t>(r.components) +
-                              static_cast<std::size_t>(c);
-        const Real x = !ok             ? kNaN
-                       : v->is_integer ? static_cast<Real>(v->integer_data[i])
-                                       : v->real_data[i];
+    values.push_back(values_of(r, fields::find_field(r.cell ? pv->second : pv->first, r.field),
+                               fields::find_field(pv->first, "id")));
+  }
+  return formatted(step, t_s, values);
+}
+
+// On ranks: each rank reads the gauged entities it owns (Part::own_numbers: a particle by its
+// id, a node or element by its number) and sends them to the root as (read, entity slot,
+// values) records, one gather a row; the root writes the row from them as one rank would
+// (an entity no rank sent: NaN, a particle that has left). No part is gathered whole.
+template <int D>
+std::string Gauges<D>::row_on_ranks(Index step, Real t_s, const PartList& parts,
+                                    const parallel::Comm& comm) const {
+  struct Found {
+    std::int64_t read, slot;
+    std::array<Real, 6> x;
+  };
+  struct Seen {
+    std::vector<fields::FieldView> point, cell;
+    parts::OwnNumbers numbers;
+  };
+  std::vector<std::optional<Seen>> seen(parts.size());
+  std::vector<Found> mine;
+  for (std::size_t q = 0; q < reads_.size(); ++q) {
+    const Read& r = reads_[q];
+    auto& sv = seen[r.part];
+    if (!sv) {
+      auto numbers = parts[r.part]->own_numbers();
+      if (!numbers)
+        throw std::logic_error("gauges: part '" + parts[r.part]->name() + "' is not spread");
+      sv.emplace(
+          Seen{parts[r.part]->point_fields(), parts[r.part]->cell_fields(), std::move(*numbers)});
+    }
+    const fields::FieldView* v = fields::find_field(r.cell ? sv->cell : sv->point, r.field);
+    if (!v) continue;
+    // The gauged entities' slots by their numbers (a number may be gauged twice).
+    std::vector<std::pair<std::int64_t, std::int64_t>> slot_of;
+    for (std::size_t j = 0; j < r.entities.size(); ++j)
+      slot_of.emplace_back(r.entities[j], static_cast<std::int64_t>(j));
+    std::sort(slot_of.begin(), slot_of.end());
+    const std::vector<std::int64_t>& number = r.cell ? sv->numbers.cell : sv->numbers.point;
+    const auto n = static_cast<std::size_t>(r.components);
+    const std::int64_t local = std::min<std::int64_t>(v->size, std::ssize(number));
+    for (std::int64_t i = 0; i < local; ++i) {
+      const std::int64_t id = number[static_cast<std::size_t>(i)];
+      if (id < 0) continue;
+      auto it =
+          std::lower_bound(slot_of.begin(), slot_of.end(), std::make_pair(id, std::int64_t{0}));
+      for (; it != slot_of.end() && it->first == id; ++it) {
+        Found& f = mine.emplace_back(Found{static_cast<std::int64_t>(q), it->second, {}});
+        value_at(*v, i, n, f.x.data());
+      }
+    }
+  }
+  const std::vector<Found> all = parallel::gather(comm, std::span<const Found>(mine));
+  if (!comm.root()) return {};
+  std::vector<std::vector<Real>> values;
+  for (const Read& r : reads_)
+    values.emplace_back(r.entities.size() * static_cast<std::size_t>(r.components), kNaN);
+  for (const Found& f : all) {
+    const auto n = static_cast<std::size_t>(reads_[static_cast<std::size_t>(f.read)].components);
+    std::copy_n(f.x.begin(), n,
+                values[static_cast<std::size_t>(f.read)].begin() +
+                    static_cast<std::ptrdiff_t>(static_cast<std::size_t>(f.slot) * n));
+  }
+  return formatted(step, t_s, values);
+}
+
+// The row from every read's values (entity after entity, each with its components): one column
+// per value, or, for a sum, per component, summed in entity order.
+template <int D>
+std::string Gauges<D>::formatted(Index step, Real t_s,
+                                 const std::vector<std::vector<Real>>& values) const {
+  std::string s = fmt::format("{},{:.17g}", step, t_s);
+  for (std::size_t q = 0; q < reads_.size(); ++q) {
+    const Read& r = reads_[q];
+    const auto n = static_cast<std::size_t>(r.components);
+    std::vector<Real> sum(n, 0);
+    for (std::size_t j = 0; j < r.entities.size(); ++j)
+      for (std::size_t c = 0; c < n; ++c) {
+        const Real x = values[q][j * n + c];
         if (r.sum)
-          sum[static_cast<std::size_t>(c)] += x;
+          sum[c] += x;
         else
           s += fmt::format(",{:.17g}", x);
       }
-    }
     if (r.sum)
       for (Real x : sum)
         s += fmt::format(",{:.17g}", x);

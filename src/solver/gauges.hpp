@@ -8,9 +8,11 @@
 // FEM `face`: the nodes on that face of the part's bounding box at t = 0) writes one value per
 // field and component, summed over the entities in their order (the resultant of a force field).
 //
-// Cost: a row reads each gauged part's field views once. Stored fields (SPH, DEM, FEM nodal
-// velocity) are views; an FEM part's derived fields (displacement, von Mises, pressure,
-// density) are evaluated over the part for the view, as for a frame: hence the cadence.
+// Cost: a row reads each gauged part's field views once; on several ranks each rank reads its
+// own entities and sends the gauged ones' values to the root (one gather of a few records). Stored
+// fields (SPH, DEM, FEM nodal velocity) are views; an FEM part's derived fields (displacement, von
+// Mises, pressure, density) are evaluated over the part for the view, as for a frame: hence the
+// cadence.
 #pragma once
 
 #include <algorithm>
@@ -19,6 +21,7 @@
 #include <vector>
 
 #include "io/scenario/config.hpp"
+#include "parallel/comm.hpp"
 #include "parts/part.hpp"
 
 namespace crater::solver {
@@ -35,16 +38,10 @@ class Gauges {
   bool empty() const { return columns_.empty(); }
   /// "step,time_s,<columns>\n".
   std::string header() const;
-  /// One row of values at this step.
-  std::string row(Index step, Real t_s, const PartList& parts) const;
-  /// The parts (indices, ascending) a row reads: on several ranks, gathered whole for it.
-  std::vector<std::size_t> parts_read() const {
-    std::vector<std::size_t> k;
-    for (const Read& r : reads_)
-      if (std::find(k.begin(), k.end(), r.part) == k.end()) k.push_back(r.part);
-    std::sort(k.begin(), k.end());
-    return k;
-  }
+  /// One row of values at this step. On several ranks (`comm`; collective) each rank reads
+  /// the gauged entities it owns and the root writes the row (empty on the other ranks).
+  std::string row(Index step, Real t_s, const PartList& parts,
+                  const parallel::Comm* comm = nullptr) const;
 
  private:
   // One field of one gauge at its entities.
@@ -57,6 +54,11 @@ class Gauges {
     int components = 1;
     bool sum = false;  // one value per component: the sum over the entities, in their order
   };
+  std::vector<Real> values_of(const Read& r, const fields::FieldView* v,
+                              const fields::FieldView* ids) const;
+  std::string row_on_ranks(Index step, Real t_s, const PartList& parts,
+                           const parallel::Comm& comm) const;
+  std::string formatted(Index step, Real t_s, const std::vector<std::vector<Real>>& values) const;
   // Columns stem, or stem_x, _y, ... (stem_xx, ... for a tensor).
   void add_columns(const std::string& stem, int components);
 

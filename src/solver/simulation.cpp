@@ -296,10 +296,7 @@ class Run {
     for (const Energies& x : per)
       st_.part_total0_j.push_back(total_energy(x));
     out_->frame(parts_, st_.t, "000000");
-    if (!gauges_.empty())
-      reading(gauges_.parts_read(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
-        out_->gauges(gauges_.row(0, st_.t, parts));
-      });
+    if (!gauges_.empty()) out_->gauges(gauges_.row(0, st_.t, parts_, spread_over()));
     out_->history(0, st_.t, 0, st_.e0, total_energy(st_.e0), st_.err,
                   history_values(per, coupling_, probes_, parts_, spread_over()));
     st_.next_frame_t = frame_time(1);
@@ -476,9 +473,7 @@ class Run {
       guard_energy(c_, st_, per, parts_);
     }
     if (!gauges_.empty() && (r_.steps % c_.output.gauges_every_steps == 0 || at_frame || last))
-      reading(gauges_.parts_read(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
-        out_->gauges(gauges_.row(r_.steps, st_.t, parts));
-      });
+      out_->gauges(gauges_.row(r_.steps, st_.t, parts_, spread_over()));
     if (at_frame) {
       out_->frame(parts_, st_.t, fmt::format("{:06d}", st_.frame));
       ++st_.frame;

@@ -124,6 +124,7 @@ class SphPart final : public parts::Part<D> {
   void distribute(const parallel::Comm& comm) override;
   std::optional<parts::GatheredPoints<D>> gathered_points() const override;
   std::optional<parts::GatheredPoints<D>> own_piece() const override;
+  std::optional<parts::OwnNumbers> own_numbers() const override;
   Real load_ratio() const override { return spread_.load_ratio(); }
   fields::BusyClock* busy_clock() override { return spread_.active() ? &spread_.busy() : nullptr; }
   std::vector<parts::Diagnostic> rank_figures() const override;

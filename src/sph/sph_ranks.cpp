@@ -60,6 +60,15 @@ std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const {
 }
 
 template <int D>
+std::optional<parts::OwnNumbers> SphPart<D>::own_numbers() const {
+  if (!spread_.active()) return std::nullopt;
+  parts::OwnNumbers n;
+  n.point =
+      parts::own_numbers_of(std::span<const std::int64_t>(id_), [&](Index i) { return ghost(i); });
+  return n;
+}
+
+template <int D>
 std::optional<parts::GatheredPoints<D>> SphPart<D>::own_piece() const {
   if (!spread_.active()) return std::nullopt;
   return parts::piece_points<D>(std::span<const Vec<D>>(x_), point_fields(),
@@ -183,6 +192,7 @@ const parts::WholeLayout* SphPart<D>::contact_layout() const {
   template Index SphPart<D>::count() const;                                             \
   template std::optional<parts::GatheredPoints<D>> SphPart<D>::gathered_points() const; \
   template std::optional<parts::GatheredPoints<D>> SphPart<D>::own_piece() const;       \
+  template std::optional<parts::OwnNumbers> SphPart<D>::own_numbers() const;            \
   template std::vector<parts::Diagnostic> SphPart<D>::rank_figures() const;             \
   template void SphPart<D>::save_gathered(parts::StateWriter&) const;                   \
   template void SphPart<D>::mark_complete_walls(std::span<const Vec<D>>, Real);         \

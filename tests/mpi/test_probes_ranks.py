@@ -1,8 +1,9 @@
 # ctest-processors: 2
 # ctest-timeout: 300
 """Probes and gauges on several MPI ranks (issue 29, docs/distributed.md, "Probes and gauges on
-ranks"): the parts they read are gathered whole on the root when they read them, so their
-outputs are one rank's bit for bit.
+ranks"): the parts the probes read are gathered whole on the root when they read them, and
+the gauges' entities are read on the ranks that own them and sent to the root, so their outputs
+are one rank's bit for bit.
 
 Each scene is run without a launcher on one thread (the reference) and under mpirun on 2 and 3
 ranks and on 2 ranks of 2 threads. Every run must give the reference's files: every CSV file
@@ -14,6 +15,8 @@ hold the probes' state). A 2-rank checkpoint is resumed on 3 ranks and on 1.
 - tests/data/fem_plate_2d.toml (a Johnson-Cook plate struck in its middle, with erosion) with
   the plate probes ([probes] plate: peak von Mises at a time and over the rows, eroded
   elements, perforation) and gauges at a point, at node and element ids and a face's sum;
+- tests/data/sph_outflow_ranks_2d.toml (a gas blob splashing out of the box) with gauges at
+  particle ids that leave one by one (NaN from then on, as on one rank);
 - tests/data/sph_ranks_2d.toml (a dam break on no-slip walls) with gauges at particle ids
   (followed as they move between ranks) and at a point.
 """
@@ -70,6 +73,21 @@ fields = ["density"]
 point_m = [0.9, 0.1]
 """
 
+LEAVING_GAUGES = """
+[[gauges]]
+name = "blob"
+part = "blob"
+fields = ["velocity", "pressure"]
+ids = [0, 40, 100, 160, 207]
+
+[[gauges]]
+name = "all"
+part = "blob"
+fields = ["pressure"]
+ids = [0, 40, 100, 160, 207]
+sum = true
+"""
+
 # scene file, text appended, --set options, checkpoint interval [steps], checkpoint to resume
 CASES = {
     "dem_ground": (DATA / "dem_bed_2d.toml", "",
@@ -78,6 +96,8 @@ CASES = {
                     "probes.surface_bin_m=0.02"], 10000, "step_000000010000.ckpt"),
     "fem_plate": (DATA / "fem_plate_2d.toml", PLATE_PROBES, [], 200, "step_000000000200.ckpt"),
     "sph_gauges": (DATA / "sph_ranks_2d.toml", FLUID_GAUGES, [], 500, "step_000000000500.ckpt"),
+    "sph_leaving": (DATA / "sph_outflow_ranks_2d.toml", LEAVING_GAUGES, [], 1500,
+                    "step_000000001500.ckpt"),
 }
 
 
@@ -116,6 +136,15 @@ class ProbesOnRanks(unittest.TestCase):
         self.assertIn("plate_max_von_mises_pa", header)
         self.assertIn("elements.sum.von_mises",
                       (ref / "gauges.csv").read_text().splitlines()[0])
+
+    def test_gauged_particles_that_leave(self):
+        """Gauged particles leave through the outflow one by one: their columns turn NaN (and
+        the sum with them) as on one rank, written from the ranks that still own the others."""
+        ref = self.run_case("sph_leaving", ["gauges.csv"])
+        rows = [r.split(",")[2:] for r in (ref / "gauges.csv").read_text().splitlines()[1:]]
+        mixed = [r for r in rows if "nan" in r and any(x != "nan" for x in r)]
+        self.assertGreater(len(mixed), 0, "no row has both gone and present particles")
+        self.assertTrue(all(x == "nan" for x in rows[-1]), rows[-1])
 
     def test_particle_gauges(self):
         ref = self.run_case("sph_gauges", ["gauges.csv"])
