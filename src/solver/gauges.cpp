@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "core/error.hpp"
@@ -258,6 +260,8 @@ std::string Gauges<D>::row_on_ranks(Index step, Real t_s, const PartList& parts,
     std::sort(slot_of.begin(), slot_of.end());
     const std::vector<std::int64_t>& number = r.cell ? sv->numbers.cell : sv->numbers.point;
     const auto n = static_cast<std::size_t>(r.components);
+    if (n > std::tuple_size_v<decltype(Found::x)>)
+      throw std::logic_error("gauges: field '" + r.field + "' has more components than a record");
     const std::int64_t local = std::min<std::int64_t>(v->size, std::ssize(number));
     for (std::int64_t i = 0; i < local; ++i) {
       const std::int64_t id = number[static_cast<std::size_t>(i)];
