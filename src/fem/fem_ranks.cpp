@@ -113,7 +113,10 @@ void FemPart<D>::distribute(const parallel::Comm& comm) {
 template <int D>
 void FemPart<D>::rebalance() {
   if (lagged_.active || next_contact_.pending) return;
-  if (!busy_.by_time && ++count_window_ < fields::kTimeWindowSteps) return;
+  // Only at the end of a window (its steps are every rank's): no pass over the elements else.
+  if (busy_.by_time ? busy_.steps < fields::kTimeWindowSteps
+                    : ++count_window_ < fields::kTimeWindowSteps)
+    return;
   count_window_ = 0;
   std::vector<Vec<D>> x;
   std::vector<Real> w;
