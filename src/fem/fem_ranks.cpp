@@ -30,17 +30,6 @@
 namespace crater::fem::detail {
 namespace {
 
-/// Keeps the entries `keep` (ascending indices) of v; an empty vector stays empty.
-template <class T>
-void keep_entries(std::vector<T>& v, const std::vector<Index>& keep) {
-  if (v.empty()) return;
-  std::vector<T> kept;
-  kept.reserve(keep.size());
-  for (const Index i : keep)
-    kept.push_back(v[at(i)]);
-  v = std::move(kept);
-}
-
 /// The entries `keep` (ascending indices) of v.
 template <class T>
 std::vector<T> selected(const std::vector<T>& v, const std::vector<Index>& keep) {
@@ -49,6 +38,12 @@ std::vector<T> selected(const std::vector<T>& v, const std::vector<Index>& keep)
   for (const Index i : keep)
     out.push_back(v[at(i)]);
   return out;
+}
+
+/// Keeps the entries `keep` of v; an empty vector stays empty.
+template <class T>
+void keep_entries(std::vector<T>& v, const std::vector<Index>& keep) {
+  if (!v.empty()) v = selected(v, keep);
 }
 
 /// The lowest non-negative number over the ranks, or -1. Collective.

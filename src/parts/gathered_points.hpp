@@ -40,9 +40,6 @@ struct GatheredFields {
   }
 };
 
-/// The gathered frame of a part: points and point fields in ascending id; for a mesh part also
-/// its cells (VTK connectivity over the points, offsets, cell types) and cell fields in
-/// ascending element id (empty for particles).
 /// A spread part's local entities by their numbers in the whole part (Part::own_numbers): per
 /// local point and per local cell, -1 for a ghost.
 struct OwnNumbers {
@@ -58,6 +55,9 @@ std::vector<std::int64_t> own_numbers_of(std::span<const std::int64_t> id, Ghost
   return n;
 }
 
+/// The gathered frame of a part: points and point fields in ascending id; for a mesh part also
+/// its cells (VTK connectivity over the points, offsets, cell types) and cell fields in
+/// ascending element id (empty for particles).
 template <int D>
 struct GatheredPoints {
   std::vector<Vec<D>> points;
