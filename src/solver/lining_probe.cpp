@@ -222,24 +222,49 @@ void LiningProbe<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& par
 
 template <int D>
 void LiningProbe<D>::metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                             const std::filesystem::path& dir, std::vector<Diagnostic>& m) const {
+                             const std::filesystem::path& dir, std::vector<Diagnostic>& m,
+                             const parallel::Comm* spread) const {
+  // Each rank's own elements (all on one rank): the largest damage of the live ones, the eroded
+  // count, and the numbers of the damaged or eroded, whose volumes at t = 0 the root adds in
+  // element order.
+  const auto numbers = parts[part_]->own_numbers();
+  const auto cf = parts[part_]->cell_fields();
+  const auto* damage = fields::find_field(cf, "damage");
+  const auto* eroded = fields::find_field(cf, "eroded");
+  Real dmax = 0;
+  std::int64_t eroded_count = 0;
+  std::vector<std::int64_t> damaged_here;
+  const Index cells = damage ? damage->size : eroded ? eroded->size : 0;
+  for (Index e = 0; e < cells; ++e) {
+    const std::int64_t number = numbers ? numbers->cell[at(e)] : e;
+    if (number < 0) continue;  // a ghost: another rank's
+    const bool gone = eroded && eroded->integer_data[e] != 0;
+    eroded_count += gone ? 1 : 0;
+    const Real d = damage ? damage->real_data[e] : 0;
+    if (!gone) dmax = std::max(dmax, d);
+    if (d >= Real(0.5) || gone) damaged_here.push_back(number);
+  }
+  std::vector<std::int64_t> damaged_numbers = damaged_here;
+  if (spread) {
+    dmax = spread->max(dmax);
+    eroded_count = spread->sum(eroded_count);
+    damaged_numbers = parallel::gather(*spread, std::span<const std::int64_t>(damaged_here));
+  }
+  // The crown line's nodes now, from their owners (collective).
+  const std::vector<Vec<D>> line =
+      line_node_.empty() ? std::vector<Vec<D>>{} : parts[*soil_]->points_numbered(line_node_);
+  if (spread && !spread->root()) return;
   for (int g = 0; g < kGauges; ++g) {
     if (node_[at(g)] < 0) continue;
     m.push_back({fmt::format("lining_{}_displacement_max_m", kGaugeNames[at(g)]), max_[at(g)]});
     m.push_back({fmt::format("lining_{}_displacement_min_m", kGaugeNames[at(g)]), min_[at(g)]});
   }
-  const auto cf = parts[part_]->cell_fields();
-  const auto* damage = fields::find_field(cf, "damage");
-  const auto* eroded = fields::find_field(cf, "eroded");
-  Real dmax = 0, damaged = 0;
-  Index eroded_count = 0;
-  for (std::size_t e = 0; e < volume0_.size(); ++e) {
-    const bool gone = eroded && eroded->integer_data[e] != 0;
-    eroded_count += gone ? 1 : 0;
-    const Real d = damage ? damage->real_data[e] : 0;
-    if (!gone) dmax = std::max(dmax, d);
-    if (d >= Real(0.5) || gone) damaged += volume0_[e];
-  }
+  std::vector<std::uint8_t> damaged_flag(volume0_.size(), 0);
+  for (const std::int64_t e : damaged_numbers)
+    damaged_flag[at(e)] = 1;
+  Real damaged = 0;
+  for (std::size_t e = 0; e < volume0_.size(); ++e)
+    if (damaged_flag[e]) damaged += volume0_[e];
   const std::array<Diagnostic, 3> whole{
       Diagnostic{"lining_damage_max", dmax},
       Diagnostic{"lining_damaged_volume_m3", damaged * mirror_factor_},
@@ -252,7 +277,6 @@ void LiningProbe<D>::metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
     m.push_back({fmt::format("soil_crown_line_{}_displacement_max_m", name), line_max_[k]});
     m.push_back({fmt::format("soil_crown_line_{}_displacement_min_m", name), line_min_[k]});
   }
-  const auto& xs = parts[*soil_]->points();
   std::string csv =
       "node,z_m,depth_m,above_crown_m,up_displacement_max_m,up_displacement_min_m,"
       "up_displacement_m\n";
@@ -260,7 +284,7 @@ void LiningProbe<D>::metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
   for (std::size_t k = 0; k <= last; ++k) {
     const Real z0 = line_x0_[k][D - 1];
     csv += fmt::format("{},{},{},{},{},{},{}\n", line_node_[k], z0, top - z0, z0 - x0_[0][D - 1],
-                       line_max_[k], line_min_[k], xs[at(line_node_[k])][D - 1] - z0);
+                       line_max_[k], line_min_[k], line[k][D - 1] - z0);
   }
   io::write_file_atomic(dir / "crown_line.csv", csv);
 }

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "io/scenario/config.hpp"
+#include "parallel/comm.hpp"
 #include "solver/part_names.hpp"
 
 namespace crater::solver {
@@ -45,13 +46,15 @@ class LiningProbe {
 
   std::vector<std::string> history_columns() const;
   std::vector<Real> history_values(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
-  /// Every rank calls history_values and after_step (collective on ranks); the finder (at t = 0)
-  /// and metrics read the parts whole (before they are spread, and gathered on the root).
+  /// Every rank calls history_values, after_step and metrics (collective on ranks); the finder
+  /// reads the parts whole (at t = 0, before they are spread).
   /// After each step: the gauges' extremes.
   void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts);
-  /// Into m, and crown_line.csv into dir (with lining_soil).
+  /// Into m, and crown_line.csv into dir (with lining_soil). `spread`: the ranks the parts are
+  /// spread over (null on one rank); each reads the elements it owns, and the root, which
+  /// writes, gets the numbers of the damaged ones and the extremes over the ranks.
   void metrics(const std::vector<std::unique_ptr<Part<D>>>& parts, const std::filesystem::path& dir,
-               std::vector<Diagnostic>& m) const;
+               std::vector<Diagnostic>& m, const parallel::Comm* spread = nullptr) const;
 
   void save(parts::StateWriter& w) const;
   void load(parts::StateReader& r);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string_view>
 
 #include "core/index.hpp"
@@ -35,15 +36,64 @@ Real element_volume(const std::vector<Vec<D>>& x, const std::int64_t* nodes) {
   return std::max(Real(0), fem::uniform_strain_gradients<D>(xe).volume);
 }
 
-// The indices 0..n-1 in ascending id (as they are without an id field).
-std::vector<Index> in_id_order(const fields::FieldView* id, Index n) {
-  std::vector<Index> order(at(n));
-  std::iota(order.begin(), order.end(), Index{0});
-  if (id && id->is_integer && id->size == n)
-    std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) {
-      return id->integer_data[at(a)] < id->integer_data[at(b)];
-    });
-  return order;
+// A part's local entities as the probes count them: on ranks its own alone (a ghost is another
+// rank's, Part::own_numbers), each with its number in the whole part; on one rank every entity,
+// numbered by its index.
+struct Owned {
+  std::optional<parts::OwnNumbers> numbers;
+  bool point(Index i) const { return !numbers || numbers->point[at(i)] >= 0; }
+  bool cell(Index e) const { return !numbers || numbers->cell[at(e)] >= 0; }
+  std::int64_t cell_number(Index e) const { return numbers ? numbers->cell[at(e)] : e; }
+};
+
+// f(xn, nodes, count) for each live element of a mesh part that this rank owns (every one on one
+// rank): its nodes' positions now, its node list (VTK connectivity into them) and their count.
+template <int D, class F>
+void for_each_own_live_element(const parts::Part<D>& part, F&& f) {
+  const Owned own{part.own_numbers()};
+  const Geometry<D> g = part.geometry();
+  const auto eroded_views = part.cell_fields();  // the views eroded points into
+  const auto* eroded = fields::find_field(eroded_views, "eroded");
+  std::int64_t begin = 0;
+  for (std::size_t e = 0; e < g.offsets.size(); ++e) {
+    if (own.cell(static_cast<Index>(e)) && !eroded_at(eroded, e))
+      f(*g.points, &g.connectivity[at(begin)], g.offsets[e] - begin);
+    begin = g.offsets[e];
+  }
+}
+
+// One rank's share of a ground cell: its terms' exact levels and its grains there.
+struct CellShare {
+  std::int64_t cell = 0, grains = 0;
+  parallel::ReproducibleSum::Partials levels{};
+};
+
+// The plate's live nodes in a column: the lowest and the highest.
+struct ColumnSpan {
+  std::int64_t column = 0;
+  Real lo = 0, hi = 0;
+};
+
+// The grains next to the plate in a column: the top of the highest under it and the bottom of
+// the lowest over it.
+struct ColumnReach {
+  std::int64_t column = 0;
+  Real below = 0, above = 0;
+};
+
+// Records sorted by `key`, those with the same key merged by `merge(into, from)` (exact: a
+// minimum, a maximum, a sum of exact levels), in place.
+template <class T, class Key, class Merge>
+void merge_by_key(std::vector<T>& v, Key&& key, Merge&& merge) {
+  std::sort(v.begin(), v.end(), [&](const T& a, const T& b) { return key(a) < key(b); });
+  std::size_t out = 0;
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    if (out > 0 && key(v[out - 1]) == key(v[k]))
+      merge(v[out - 1], v[k]);
+    else
+      v[out++] = v[k];
+  }
+  v.resize(out);
 }
 
 }  // namespace
@@ -84,6 +134,12 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
       if (static_cast<int>(f) / 2 == 0) mirror_side_[static_cast<std::size_t>(f) % 2] = true;
     }
   if (cfg_.lining) lining_ = std::make_unique<LiningProbe<D>>(c, parts);
+  if (cfg_.plate) {
+    const Geometry<D> g = parts[*cfg_.plate]->geometry();  // at t = 0: the reference
+    plate_x0_ = *g.points;
+    plate_connectivity_ = g.connectivity;
+    plate_offsets_ = g.offsets;
+  }
   if (!cfg_.soil) return;
   for (int d = 0; d < D; ++d)
     lo_[d] = c.domain.min_m[d];
@@ -136,28 +192,25 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
     }
 
   // The bed's packing fraction: grains per cell volume, median over cells with grains in the
-  // cells above and below (inside the bed).
+  // cells above and below (inside the bed). The parts are whole here, before any step or
+  // resume, on every rank alike.
+  const parallel::Comm whole;
   phi_ref_ = 1;
   {
-    const auto cols = ground(parts);  // with phi_ref = 1: F = grain volume (+ plate)
+    const auto cols = ground(parts, whole, /*with_plate=*/false);  // F: the grains' volume
     const Real cell = cell_volume_ground();
     std::vector<Real> inside;
     for (const auto& col : cols)
-      for (std::size_t k = 1; k + 1 < col.grains.size(); ++k) {
-        if (col.grains[k].empty() || col.grains[k - 1].empty() || col.grains[k + 1].empty())
-          continue;
-        Real v = 0;
-        for (Index i : col.grains[k])
-          v += dem::grain_volume<D>(radius->real_data[i]);
-        inside.push_back(v / cell);
-      }
+      for (std::size_t k = 1; k + 1 < col.grains.size(); ++k)
+        if (col.grains[k] > 0 && col.grains[k - 1] > 0 && col.grains[k + 1] > 0)
+          inside.push_back(col.filled[k] / cell);
     if (!inside.empty()) {
       std::nth_element(inside.begin(), inside.begin() + static_cast<long>(inside.size() / 2),
                        inside.end());
       phi_ref_ = std::clamp(inside[inside.size() / 2], Real(0.05), Real(1));
     }
   }
-  const auto cols = ground(parts);
+  const auto cols = ground(parts, whole);
   surface0_.resize(cols.size());
   for (std::size_t k = 0; k < cols.size(); ++k)
     surface0_[k] = surface_height(cols[k], k);
@@ -165,63 +218,96 @@ Probes<D>::Probes(const io::Config& c, const std::vector<std::unique_ptr<Part<D>
 
 template <int D>
 std::vector<typename Probes<D>::Column> Probes<D>::ground(
-    const std::vector<std::unique_ptr<Part<D>>>& parts) const {
+    const std::vector<std::unique_ptr<Part<D>>>& parts, const parallel::Comm& comm,
+    bool with_plate) const {
+  // Each rank's terms: its own grains', and its own live elements' where the plate was laid,
+  // each in the cell of its centre (col * rows_ + row).
+  struct Term {
+    std::int64_t cell;
+    Real volume;
+    bool grain;
+  };
+  std::vector<Term> terms;
+  // The cell of a point; false outside the domain.
+  auto locate = [&](const Vec<D>& x, std::int64_t& cell) {
+    Index col = 0;
+    if (!column_of(x, col)) return false;
+    const Real f = std::floor((x[D - 1] - lo_[D - 1]) / bin_);
+    if (!(f >= 0 && f < static_cast<Real>(rows_))) return false;
+    cell = static_cast<std::int64_t>(col) * rows_ + static_cast<Index>(f);
+    return true;
+  };
+  const auto& soil = *parts[*cfg_.soil];
+  const Owned own_grain{soil.own_numbers()};
+  const auto pf = soil.point_fields();
+  const auto* radius = fields::find_field(pf, "radius");
+  const auto* contacts = fields::find_field(pf, "contacts");
+  const auto* velocity = fields::find_field(pf, "velocity");
+  const auto& xs = *soil.geometry().points;
+  for (Index i = 0; i < static_cast<Index>(xs.size()); ++i) {
+    std::int64_t cell = 0;
+    if (!own_grain.point(i) || !locate(xs[at(i)], cell)) continue;
+    if (contacts && velocity &&
+        airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
+      continue;
+    terms.push_back({cell, dem::grain_volume<D>(radius->real_data[i]) / phi_ref_, true});
+  }
+  if (cfg_.plate && with_plate)
+    for_each_own_live_element<D>(
+        *parts[*cfg_.plate],
+        [&](const std::vector<Vec<D>>& xn, const std::int64_t* nodes, std::int64_t n) {
+          Vec<D> centre = Vec<D>::Zero();
+          for (std::int64_t k = 0; k < n; ++k)
+            centre += xn[at(nodes[k])];
+          centre /= static_cast<Real>(n);
+          std::int64_t cell = 0;
+          // Only where the plate was laid (cells reaching into the soil's holes): a piece torn
+          // off and thrown up is not the ground.
+          if (locate(centre, cell) && hole_[at(cell / rows_)][at(cell % rows_)])
+            terms.push_back({cell, element_volume<D>(xn, nodes), false});
+        });
+  // One sum per cell, made with the bounds of every rank's terms: a cell's levels are exact,
+  // whichever rank adds which term and in whatever order (reproducible_sum.hpp).
+  Real bound = 0;
+  for (const Term& t : terms)
+    if (std::isfinite(t.volume)) bound = std::max(bound, std::abs(t.volume));
+  bound = comm.max(bound);
+  const std::int64_t count = comm.sum(static_cast<std::int64_t>(terms.size()));
+  std::sort(terms.begin(), terms.end(),
+            [](const Term& a, const Term& b) { return a.cell < b.cell; });
+  std::vector<CellShare> mine;
+  for (std::size_t k = 0; k < terms.size();) {
+    parallel::ReproducibleSum sum(bound, count);
+    CellShare share{terms[k].cell, 0, {}};
+    for (; k < terms.size() && terms[k].cell == share.cell; ++k) {
+      sum.add(terms[k].volume);
+      share.grains += terms[k].grain ? 1 : 0;
+    }
+    share.levels = sum.partials();
+    mine.push_back(share);
+  }
+  std::vector<CellShare> all = parallel::gather(comm, std::span<const CellShare>(mine));
+  if (!comm.root()) return {};
+  merge_by_key(
+      all, [](const CellShare& c) { return c.cell; },
+      [](CellShare& into, const CellShare& from) {
+        into.grains += from.grains;
+        for (std::size_t q = 0; q < into.levels.size(); ++q)
+          into.levels[q] += from.levels[q];
+      });
   Index ncol = 1;
   for (int d = 0; d + 1 < D; ++d)
     ncol *= columns_[d];
   std::vector<Column> cols(at(ncol));
   for (auto& c : cols) {
     c.filled.assign(at(rows_), 0);
-    c.grains.resize(at(rows_));
+    c.grains.assign(at(rows_), 0);
   }
-  // Column and row of a point; false outside the domain.
-  auto locate = [&](const Vec<D>& x, Index& col, Index& row) {
-    if (!column_of(x, col)) return false;
-    const Real f = std::floor((x[D - 1] - lo_[D - 1]) / bin_);
-    if (!(f >= 0 && f < static_cast<Real>(rows_))) return false;
-    row = static_cast<Index>(f);
-    return true;
-  };
-  const auto& soil = *parts[*cfg_.soil];
-  const auto pf = soil.point_fields();
-  const auto* radius = fields::find_field(pf, "radius");
-  const auto* contacts = fields::find_field(pf, "contacts");
-  const auto* velocity = fields::find_field(pf, "velocity");
-  const auto& xs = *soil.geometry().points;
-  // The grains in the order of their ids, which is how the root of several ranks holds them
-  // (gathered_part.hpp): every cell's sum has the same bits on any rank count.
-  const std::vector<Index> by_id = in_id_order(fields::find_field(pf, "id"), soil.count());
-  for (const Index i : by_id) {
-    Index col = 0, row = 0;
-    if (!locate(xs[at(i)], col, row)) continue;
-    if (contacts && velocity &&
-        airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
-      continue;
-    cols[at(col)].filled[at(row)] += dem::grain_volume<D>(radius->real_data[i]) / phi_ref_;
-    cols[at(col)].grains[at(row)].push_back(i);
-  }
-  if (cfg_.plate) {
-    const auto& plate = *parts[*cfg_.plate];
-    const Geometry<D> g = plate.geometry();
-    const auto eroded_views = plate.cell_fields();  // the views eroded points into
-    const auto* eroded = fields::find_field(eroded_views, "eroded");
-    const auto& xn = *g.points;
-    std::int64_t begin = 0;
-    for (std::size_t e = 0; e < g.offsets.size(); ++e) {
-      const std::int64_t end = g.offsets[e];
-      if (!eroded_at(eroded, e)) {
-        Vec<D> centre = Vec<D>::Zero();
-        for (std::int64_t k = begin; k < end; ++k)
-          centre += xn[at(g.connectivity[at(k)])];
-        centre /= static_cast<Real>(end - begin);
-        Index col = 0, row = 0;
-        // Only where the plate was laid (cells reaching into the soil's holes): a piece torn
-        // off and thrown up is not the ground.
-        if (locate(centre, col, row) && hole_[at(col)][at(row)])
-          cols[at(col)].filled[at(row)] += element_volume<D>(xn, &g.connectivity[at(begin)]);
-      }
-      begin = end;
-    }
+  for (const CellShare& c : all) {
+    parallel::ReproducibleSum sum(bound, count);
+    sum.set_partials(c.levels);
+    cols[at(c.cell / rows_)].filled[at(c.cell % rows_)] = sum.value();
+    cols[at(c.cell / rows_)].grains[at(c.cell % rows_)] = c.grains;
   }
   return cols;
 }
@@ -313,73 +399,68 @@ void Probes<D>::after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, R
 }
 
 template <int D>
-std::vector<std::size_t> Probes<D>::read_at_finish() const {
-  std::vector<std::size_t> k;
-  if (cfg_.plate) k.push_back(*cfg_.plate);
-  if (cfg_.soil) k.push_back(*cfg_.soil);
-  if (lining_) k.push_back(*cfg_.lining);
-  if (lining_ && cfg_.lining_soil) k.push_back(*cfg_.lining_soil);
-  return k;
-}
-
-template <int D>
 std::vector<Diagnostic> Probes<D>::finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                                          const std::filesystem::path& dir) const {
+                                          const std::filesystem::path& dir,
+                                          const parallel::Comm* spread) const {
+  const parallel::Comm single;
+  const parallel::Comm& comm = spread ? *spread : single;
   std::vector<Diagnostic> m;
-  if (cfg_.plate) plate_metrics(parts, m);
-  if (cfg_.soil) ground_metrics(parts, dir, m);
-  if (lining_) lining_->metrics(parts, dir, m);
+  if (cfg_.plate) plate_metrics(parts, comm, m);
+  if (cfg_.soil) ground_metrics(parts, comm, dir, m);
+  if (lining_) lining_->metrics(parts, dir, m, spread);
   return m;
 }
 
 // The plate's peak stresses, its eroded elements, and whether eroded elements sharing nodes
-// connect its bottom face to its top face (perforation).
+// connect its bottom face to its top face (perforation). Each rank sends the numbers of the
+// eroded elements it owns to the root, which places them in the mesh at t = 0.
 template <int D>
 void Probes<D>::plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                              std::vector<Diagnostic>& m) const {
+                              const parallel::Comm& comm, std::vector<Diagnostic>& m) const {
   const auto& plate = *parts[*cfg_.plate];
+  const Real peak_now = plate_max_von_mises(parts, &comm);
+  const Owned own{plate.own_numbers()};
+  const auto cf = plate.cell_fields();
+  const auto* eroded = fields::find_field(cf, "eroded");
+  std::vector<std::int64_t> gone_here;
+  for (Index e = 0; eroded && e < eroded->size; ++e)
+    if (own.cell(e) && eroded_at(eroded, at(e))) gone_here.push_back(own.cell_number(e));
+  const std::vector<std::int64_t> gone_numbers =
+      parallel::gather(comm, std::span<const std::int64_t>(gone_here));
+  if (!comm.root()) return;
   if (peak_time_s_ >= 0) {
     m.push_back({"plate_peak_von_mises_pa", peak_at_time_});
     m.push_back({"plate_peak_von_mises_time_s", peak_time_s_});
   }
-  m.push_back({"plate_peak_von_mises_max_pa", std::max(peak_max_, plate_max_von_mises(parts))});
-  // Erosion and perforation: eroded elements sharing nodes, from bottom face to top face.
-  const Geometry<D> g = plate.geometry();
-  const auto cf = plate.cell_fields();
-  const auto* eroded = fields::find_field(cf, "eroded");
-  const auto disp_views = plate.point_fields();  // the views disp points into
-  const auto* disp = fields::find_field(disp_views, "displacement");
-  const auto& xn = *g.points;
-  const Index ne = static_cast<Index>(g.offsets.size());
-  auto first = [&](Index e) { return e == 0 ? std::int64_t{0} : g.offsets[at(e - 1)]; };
-  auto ref_up = [&](std::int64_t node) {
-    Real z = xn[at(node)][D - 1];
-    if (disp) z -= disp->real_data[at(node) * D + D - 1];
-    return z;
-  };
+  m.push_back({"plate_peak_von_mises_max_pa", std::max(peak_max_, peak_now)});
+  const Index ne = static_cast<Index>(plate_offsets_.size());
+  std::vector<std::uint8_t> gone(at(ne), 0);
+  for (const std::int64_t e : gone_numbers)
+    gone[at(e)] = 1;
+  // Erosion and perforation: eroded elements sharing nodes, from bottom face to top face of
+  // the undeformed plate.
+  const auto& x0 = plate_x0_;
+  const auto& conn = plate_connectivity_;
+  auto first = [&](Index e) { return e == 0 ? std::int64_t{0} : plate_offsets_[at(e - 1)]; };
   Real zmin = std::numeric_limits<Real>::infinity(), zmax = -zmin;
-  for (std::size_t k = 0; k < xn.size(); ++k) {
-    zmin = std::min(zmin, ref_up(static_cast<std::int64_t>(k)));
-    zmax = std::max(zmax, ref_up(static_cast<std::int64_t>(k)));
+  for (const Vec<D>& x : x0) {
+    zmin = std::min(zmin, x[D - 1]);
+    zmax = std::max(zmax, x[D - 1]);
   }
   const Real tol = 1e-6 * std::max(Real(1e-3), zmax - zmin);
-  Index eroded_count = 0;
   // Union-find over eroded elements through shared nodes.
   std::vector<Index> parent(at(ne));
-  for (Index e = 0; e < ne; ++e)
-    parent[at(e)] = e;
+  std::iota(parent.begin(), parent.end(), Index{0});
   auto find = [&](Index e) {
     while (parent[at(e)] != e)
       e = parent[at(e)] = parent[at(parent[at(e)])];
     return e;
   };
-  std::vector<Index> node_owner(xn.size(), -1);
-  auto is_eroded = [&](Index e) { return eroded_at(eroded, at(e)); };
+  std::vector<Index> node_owner(x0.size(), -1);
   for (Index e = 0; e < ne; ++e) {
-    if (!is_eroded(e)) continue;
-    ++eroded_count;
-    for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
-      const auto node = at(g.connectivity[at(k)]);
+    if (!gone[at(e)]) continue;
+    for (std::int64_t k = first(e); k < plate_offsets_[at(e)]; ++k) {
+      const auto node = at(conn[at(k)]);
       if (node_owner[node] < 0)
         node_owner[node] = e;
       else
@@ -387,33 +468,23 @@ void Probes<D>::plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts
     }
   }
   std::vector<std::uint8_t> bottom(at(ne), 0), top(at(ne), 0);
-  bool perforated = false;
   for (Index e = 0; e < ne; ++e) {
-    if (!is_eroded(e)) continue;
+    if (!gone[at(e)]) continue;
     const Index root = find(e);
-    for (std::int64_t k = first(e); k < g.offsets[at(e)]; ++k) {
-      const Real z = ref_up(g.connectivity[at(k)]);
+    for (std::int64_t k = first(e); k < plate_offsets_[at(e)]; ++k) {
+      const Real z = x0[at(conn[at(k)])][D - 1];
       if (z <= zmin + tol) bottom[at(root)] = 1;
       if (z >= zmax - tol) top[at(root)] = 1;
     }
   }
+  bool perforated = false;
   for (Index e = 0; e < ne; ++e)
     perforated = perforated || (bottom[at(e)] && top[at(e)]);
-  m.push_back({"plate_eroded_elements", static_cast<Real>(eroded_count)});
+  m.push_back({"plate_eroded_elements", static_cast<Real>(gone_numbers.size())});
   m.push_back({"plate_perforated", perforated ? Real(1) : Real(0)});
   // The undeformed footprint that only eroded elements cover, the full model's (mirrored in
   // the vertical symmetry planes); in 2D a length, x 1 m of depth.
-  std::vector<Vec<D>> reference(xn.size());
-  for (std::size_t k = 0; k < xn.size(); ++k) {
-    reference[k] = xn[k];
-    for (int d = 0; disp && d < D; ++d)
-      reference[k][d] -= disp->real_data[k * D + at(d)];
-  }
-  std::vector<std::uint8_t> gone(at(ne));
-  for (Index e = 0; e < ne; ++e)
-    gone[at(e)] = is_eroded(e) ? 1 : 0;
-  const Real area =
-      perforated_footprint<D>({reference, g.connectivity, g.offsets, gone}) * mirror_factor_;
+  const Real area = perforated_footprint<D>({x0, conn, plate_offsets_, gone}) * mirror_factor_;
   m.push_back({"plate_perforated_area_m2", area});
 }
 
@@ -435,9 +506,10 @@ Real Probes<D>::column_centre(std::size_t k, int axis) const {
 // around it and, with a plate, the plate-soil gaps.
 template <int D>
 void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                               const std::filesystem::path& dir, std::vector<Diagnostic>& m) const {
-  // Ground surface now and at t = 0.
-  const auto cols = ground(parts);
+                               const parallel::Comm& comm, const std::filesystem::path& dir,
+                               std::vector<Diagnostic>& m) const {
+  // Ground surface now and at t = 0 (the cells on the root).
+  const auto cols = ground(parts, comm);
   const std::size_t nc = cols.size();
   std::vector<Real> now(nc), drop(nc, kNaN);
   for (std::size_t k = 0; k < nc; ++k) {
@@ -448,11 +520,13 @@ void Probes<D>::ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& part
     if (!std::isfinite(now[k]) && std::isfinite(surface0_[k])) now[k] = lo_[D - 1];
     if (std::isfinite(now[k]) && std::isfinite(surface0_[k])) drop[k] = surface0_[k] - now[k];
   }
-  if constexpr (D == 2)
-    column_crater_metrics(now, drop, dir, m);
-  else
-    ring_crater_metrics(now, dir, m);
-  if (cfg_.plate) gap_metrics(parts, cols, now, m);
+  if (comm.root()) {
+    if constexpr (D == 2)
+      column_crater_metrics(now, drop, dir, m);
+    else
+      ring_crater_metrics(now, dir, m);
+  }
+  if (cfg_.plate) gap_metrics(parts, comm, now, m);
 }
 
 // 2D: the profile per column, the crater as the connected columns around the deepest one, the
@@ -561,52 +635,80 @@ void Probes<D>::ring_crater_metrics(const std::vector<Real>& now, const std::fil
 }
 
 // The largest gap between the plate's live nodes and the grains below or above them, per
-// column (delamination).
+// column (delamination). Each rank finds the columns' extremes over the nodes of its own live
+// elements and over its own grains; the extremes over the ranks are exact. `now`: the surface
+// per column, on the root.
 template <int D>
 void Probes<D>::gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                            const std::vector<Column>& cols, const std::vector<Real>& now,
+                            const parallel::Comm& comm, const std::vector<Real>& now,
                             std::vector<Diagnostic>& m) const {
-  const std::size_t nc = cols.size();
-  const auto& plate = *parts[*cfg_.plate];
-  const Geometry<D> g = plate.geometry();
-  const auto eroded_views = plate.cell_fields();  // the views eroded points into
-  const auto* eroded = fields::find_field(eroded_views, "eroded");
-  const auto& xn = *g.points;
-  std::vector<std::uint8_t> live(xn.size(), 0);
-  std::int64_t begin = 0;
-  for (std::size_t e = 0; e < g.offsets.size(); ++e) {
-    if (!eroded_at(eroded, e))
-      for (std::int64_t k = begin; k < g.offsets[e]; ++k)
-        live[at(g.connectivity[at(k)])] = 1;
-    begin = g.offsets[e];
-  }
   const Real inf = std::numeric_limits<Real>::infinity();
-  std::vector<Real> plate_lo(nc, inf), plate_hi(nc, -inf);
-  for (std::size_t n = 0; n < xn.size(); ++n) {
-    if (!live[n]) continue;
-    Index col = 0;
-    if (!column_of(xn[n], col)) continue;
-    plate_lo[at(col)] = std::min(plate_lo[at(col)], xn[n][D - 1]);
-    plate_hi[at(col)] = std::max(plate_hi[at(col)], xn[n][D - 1]);
-  }
-  const auto& soil = *parts[*cfg_.soil];
-  const auto radius_views = soil.point_fields();  // the views radius points into
-  const auto* radius = fields::find_field(radius_views, "radius");
-  const auto& xs = *soil.geometry().points;
-  Real gap_max = 0;
-  for (std::size_t k = 0; k < nc; ++k) {
-    if (!(plate_lo[k] <= plate_hi[k])) continue;
-    Real below = -inf, above = inf;
-    for (std::size_t r = 0; r < cols[k].grains.size(); ++r) {
-      for (Index i : cols[k].grains[r]) {
-        const Real z = xs[at(i)][D - 1], rad = radius->real_data[i];
-        if (z < plate_lo[k]) below = std::max(below, z + rad);
-        if (z > plate_hi[k]) above = std::min(above, z - rad);
-      }
+  // The plate's live nodes per column, on every rank.
+  std::vector<ColumnSpan> spans;
+  for_each_own_live_element<D>(*parts[*cfg_.plate], [&](const std::vector<Vec<D>>& xn,
+                                                        const std::int64_t* nodes, std::int64_t n) {
+    for (std::int64_t k = 0; k < n; ++k) {
+      const Vec<D>& x = xn[at(nodes[k])];
+      Index col = 0;
+      if (column_of(x, col)) spans.push_back({col, x[D - 1], x[D - 1]});
     }
-    if (std::isfinite(below)) gap_max = std::max(gap_max, plate_lo[k] - below);
-    if (std::isfinite(above) && std::isfinite(now[k]) && now[k] > plate_hi[k] + bin_)
-      gap_max = std::max(gap_max, above - plate_hi[k]);
+  });
+  auto column = [](const auto& r) { return r.column; };
+  auto widen = [](ColumnSpan& into, const ColumnSpan& from) {
+    into.lo = std::min(into.lo, from.lo);
+    into.hi = std::max(into.hi, from.hi);
+  };
+  merge_by_key(spans, column, widen);
+  if (comm.size() > 1) {
+    spans = parallel::all_gather(comm, std::span<const ColumnSpan>(spans));
+    merge_by_key(spans, column, widen);
+  }
+  // The grains next to the plate in its columns: those of the ground's cells (inside the
+  // domain, not in free flight).
+  std::vector<ColumnReach> reach(spans.size());
+  for (std::size_t j = 0; j < spans.size(); ++j)
+    reach[j] = {spans[j].column, -inf, inf};
+  {
+    const auto& soil = *parts[*cfg_.soil];
+    const Owned own{soil.own_numbers()};
+    const auto pf = soil.point_fields();  // the views the fields point into
+    const auto* radius = fields::find_field(pf, "radius");
+    const auto* contacts = fields::find_field(pf, "contacts");
+    const auto* velocity = fields::find_field(pf, "velocity");
+    const auto& xs = *soil.geometry().points;
+    for (Index i = 0; i < static_cast<Index>(xs.size()); ++i) {
+      Index col = 0;
+      const Real z = xs[at(i)][D - 1];
+      const Real row = std::floor((z - lo_[D - 1]) / bin_);
+      if (!own.point(i) || !column_of(xs[at(i)], col) ||
+          !(row >= 0 && row < static_cast<Real>(rows_)))
+        continue;
+      if (contacts && velocity &&
+          airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
+        continue;
+      const auto it = std::lower_bound(
+          spans.begin(), spans.end(), col,
+          [](const ColumnSpan& s, Index c) { return s.column < static_cast<std::int64_t>(c); });
+      if (it == spans.end() || it->column != col) continue;
+      ColumnReach& r = reach[static_cast<std::size_t>(it - spans.begin())];
+      const Real rad = radius->real_data[i];
+      if (z < it->lo) r.below = std::max(r.below, z + rad);
+      if (z > it->hi) r.above = std::min(r.above, z - rad);
+    }
+  }
+  std::vector<ColumnReach> all = parallel::gather(comm, std::span<const ColumnReach>(reach));
+  if (!comm.root()) return;
+  merge_by_key(all, column, [](ColumnReach& into, const ColumnReach& from) {
+    into.below = std::max(into.below, from.below);
+    into.above = std::min(into.above, from.above);
+  });
+  Real gap_max = 0;
+  for (std::size_t j = 0; j < spans.size(); ++j) {
+    const auto k = at(spans[j].column);
+    const ColumnReach& r = all[j];
+    if (std::isfinite(r.below)) gap_max = std::max(gap_max, spans[j].lo - r.below);
+    if (std::isfinite(r.above) && std::isfinite(now[k]) && now[k] > spans[j].hi + bin_)
+      gap_max = std::max(gap_max, r.above - spans[j].hi);
   }
   m.push_back({"delamination_gap_max_m", gap_max});
 }

@@ -8,20 +8,21 @@
 // = (grain volume) / phi_ref + (volume of the plate's live elements), a grain or an element counted
 // in the cell of its centre (an element only in a cell reaching into the soil's holes, where the
 // plate was laid: pieces thrown up are not the ground), phi_ref the bed's packing fraction measured
-// at t = 0 (median over cells inside the bed). From the top down, the first non-empty cell c that
-// with the cell below holds at least half a cell's worth (F_c + F_{c-1} >= b^D / 2) is the column's
-// top; the surface height is the bottom of the cell below c plus (min(F_{c-1}, b^D) + F_c +
-// F_{c+1}) / b^(D-1), the height the solid of those three cells would fill at the bed's
-// packing (the floor counts as a full cell). A cell pair that half fills is "dense". The
-// column's ground is what stands on its floor: from the bottom up, the dense cells until the first
-// gap of more than three grain diameters (6 r_max; at the default b = 8 r_max, any cell that is not
-// dense), where cells inside the regions the soil was laid around (the charge's, the plate's:
-// soil.carve) make no gap (a cell reaching into them is counted with them); c is the last dense
-// cell of it. Material above such a gap is in flight (ejecta, plate pieces) and is not the ground,
-// however dense its clumps. Nor is a grain in free flight (no contact, and fast enough to rise
-// more than its own diameter: |v|^2 > 4 g r), however dense the stream it flies in. The packing's
-// density varies from cell to cell: the surface of a flat bed comes out within about a grain
-// diameter.
+// at t = 0 (median over cells inside the bed); F a reproducible sum of its terms (the same bits in
+// any order: on ranks each adds its own grains and elements, the root merges). From the top down,
+// the first non-empty cell c that with the cell below holds at least half a cell's worth (F_c +
+// F_{c-1} >= b^D / 2) is the column's top; the surface height is the bottom of the cell below c
+// plus (min(F_{c-1}, b^D) + F_c + F_{c+1}) / b^(D-1), the height the solid of those three cells
+// would fill at the bed's packing (the floor counts as a full cell). A cell pair that half fills is
+// "dense". The column's ground is what stands on its floor: from the bottom up, the dense cells
+// until the first gap of more than three grain diameters (6 r_max; at the default b = 8 r_max, any
+// cell that is not dense), where cells inside the regions the soil was laid around (the charge's,
+// the plate's: soil.carve) make no gap (a cell reaching into them is counted with them); c is the
+// last dense cell of it. Material above such a gap is in flight (ejecta, plate pieces) and is not
+// the ground, however dense its clumps. Nor is a grain in free flight (no contact, and fast enough
+// to rise more than its own diameter: |v|^2 > 4 g r), however dense the stream it flies in. The
+// packing's density varies from cell to cell: the surface of a flat bed comes out within about a
+// grain diameter.
 //   2D: surface_profile.csv: per column, the surface at t = 0 and at the end, and their
 //   difference. crater_depth_m: the largest drop; crater_radius_m: half the width of the
 //   connected columns around it that dropped by more than the largest grain radius;
@@ -49,7 +50,7 @@
 // plate_eroded_elements; plate_perforated = 1 when eroded elements sharing nodes connect the
 // plate's bottom face to its top face (faces of the undeformed plate along the vertical axis).
 // plate_perforated_area_m2: the area of the plate's undeformed horizontal footprint where a
-// vertical line meets only eroded elements: the footprints (reference nodes, x - displacement)
+// vertical line meets only eroded elements: the footprints (the nodes' positions at t = 0)
 // of the element columns through the thickness all of whose elements are eroded
 // (probe_geometry.hpp), the full model's: x 2 per vertical plane of symmetry. In 2D the
 // perforated length x 1 m (per metre of depth).
@@ -95,38 +96,42 @@ class Probes {
   void after_step(const std::vector<std::unique_ptr<Part<D>>>& parts, Real t_s,
                   const parallel::Comm* spread = nullptr);
 
-  /// The parts (indices) finish() reads: on several ranks, those are gathered whole on the root
-  /// for it (gathered_part.hpp).
-  std::vector<std::size_t> read_at_finish() const;
-
   /// The metrics of the current state (summary.json), and surface_profile.csv into `dir`.
+  /// `spread`: the ranks the parts are spread over (null on one rank). Collective then: each
+  /// rank reads the entities it owns, and the root gets the sums over the ranks
+  /// (reproducible) and writes; its metrics are the run's. No part is gathered whole.
   std::vector<Diagnostic> finish(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                                 const std::filesystem::path& dir) const;
+                                 const std::filesystem::path& dir,
+                                 const parallel::Comm* spread = nullptr) const;
 
   void save(parts::StateWriter& w) const;
   void load(parts::StateReader& r);
 
  private:
   struct Column {
-    std::vector<Real> filled;                // F per cell, bottom up [m^D]
-    std::vector<std::vector<Index>> grains;  // grains per cell (soil indices)
+    std::vector<Real> filled;   // F per cell, bottom up [m^D]
+    std::vector<Index> grains;  // grains per cell
   };
-  // The ground's cells in the current state (columns in row-major order of their indices).
-  std::vector<Column> ground(const std::vector<std::unique_ptr<Part<D>>>& parts) const;
+  // The ground's cells in the current state (columns in row-major order of their indices), on
+  // the root (empty elsewhere): each cell's F a reproducible sum of its terms over the ranks,
+  // each rank adding its own grains and elements. `with_plate`: the plate's live elements
+  // count too (not for the packing fraction).
+  std::vector<Column> ground(const std::vector<std::unique_ptr<Part<D>>>& parts,
+                             const parallel::Comm& comm, bool with_plate = true) const;
   bool airborne(Real contacts, const Real* v, Real r) const;
-  void plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
+  void plate_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts, const parallel::Comm& comm,
                      std::vector<Diagnostic>& m) const;
   void ground_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                      const std::filesystem::path& dir, std::vector<Diagnostic>& m) const;
+                      const parallel::Comm& comm, const std::filesystem::path& dir,
+                      std::vector<Diagnostic>& m) const;
   // The profile, crater and settlement from the columns' surfaces at t = 0 and now: per
   // column (2D), in rings about the crater's axis (3D).
   void column_crater_metrics(const std::vector<Real>& now, const std::vector<Real>& drop,
                              const std::filesystem::path& dir, std::vector<Diagnostic>& m) const;
   void ring_crater_metrics(const std::vector<Real>& now, const std::filesystem::path& dir,
                            std::vector<Diagnostic>& m) const;
-  void gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
-                   const std::vector<Column>& cols, const std::vector<Real>& now,
-                   std::vector<Diagnostic>& m) const;
+  void gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts, const parallel::Comm& comm,
+                   const std::vector<Real>& now, std::vector<Diagnostic>& m) const;
   Real column_centre(std::size_t k, int axis) const;
   // The ground's surface in column k (NaN: no ground), see the file comment.
   Real surface_height(const Column& col, std::size_t k) const;
@@ -164,6 +169,10 @@ class Probes {
   Index gap_cells_ = 0;  // the longest gap in a column's ground, in cells
   // Plate samples.
   Real peak_at_time_ = -1, peak_time_s_ = -1, peak_max_ = 0;
+  // The plate's mesh at t = 0 (its nodes' reference positions, its cells as VTK lists them),
+  // whole: where the eroded elements its ranks own are placed for erosion and perforation.
+  std::vector<Vec<D>> plate_x0_;
+  std::vector<std::int64_t> plate_connectivity_, plate_offsets_;
   // A tunnel's lining ([probes] lining), when measured.
   std::unique_ptr<LiningProbe<D>> lining_;
 };

@@ -24,7 +24,6 @@
 #include "parallel/parallel.hpp"
 #include "solver/assembly.hpp"
 #include "solver/energy_balance.hpp"
-#include "solver/gathered_part.hpp"
 #include "solver/gauges.hpp"
 #include "solver/memory_estimate.hpp"
 #include "solver/multi_rate.hpp"
@@ -115,10 +114,8 @@ class Run {
     stamp();
     progress.finish(r_.steps, st_.t, st_.dt);
     out_->flush();
-    std::vector<Diagnostic> metrics;
-    reading(probes_.read_at_finish(), [&](const std::vector<std::unique_ptr<Part<D>>>& parts) {
-      if (comm_.root()) metrics = probes_.finish(parts, opt_.out_dir);  // the root writes
-    });
+    // Collective on ranks; the root writes, and its metrics are the run's.
+    std::vector<Diagnostic> metrics = probes_.finish(parts_, opt_.out_dir, spread_over());
     if (manifest_ && fs::exists(opt_.out_dir / "surface_profile.csv"))
       manifest_->record("surface_profile.csv");
     summary("completed", "", metrics);
@@ -241,15 +238,6 @@ class Run {
 
   // The ranks the parts are spread over, for the probes' collective maxima; null on one rank.
   const parallel::Comm* spread_over() const { return comm_.size() > 1 ? &comm_ : nullptr; }
-
-  // f(parts) with the parts as the probes and gauges read them: the parts themselves on one
-  // rank; on several, those of `which` gathered whole on the root (gathered_part.hpp;
-  // collective: every rank passes the same `which`). Nothing is gathered when `which` is empty.
-  template <class F>
-  void reading(const std::vector<std::size_t>& which, F&& f) {
-    const auto gathered = which.empty() ? nullptr : gathered_parts<D>(comm_, parts_, which);
-    f(gathered ? *gathered : parts_);
-  }
 
   // Several MPI ranks: every part is spread over them (Part::distribute). Checkpoints are written
   // by the root as one rank would (Part::save_state gathers): they resume on one rank.

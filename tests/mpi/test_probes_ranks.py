@@ -1,9 +1,10 @@
 # ctest-processors: 2
 # ctest-timeout: 300
 """Probes and gauges on several MPI ranks (issue 29, docs/distributed.md, "Probes and gauges on
-ranks"): the parts the probes read are gathered whole on the root when they read them, and
-the gauges' entities are read on the ranks that own them and sent to the root, so their outputs
-are one rank's bit for bit.
+ranks"): the probes and the gauges read the entities each rank owns, and the root gets what
+they find (the ground's per-cell sums as reproducible sums, extremes, eroded elements' numbers,
+the gauged entities' values), so their outputs are one rank's bit for bit. No part is
+gathered whole.
 
 Each scene is run without a launcher on one thread (the reference) and under mpirun on 2 and 3
 ranks and on 2 ranks of 2 threads. Every run must give the reference's files: every CSV file
@@ -15,11 +16,15 @@ hold the probes' state). A 2-rank checkpoint is resumed on 3 ranks and on 1.
 - tests/data/fem_plate_2d.toml (a Johnson-Cook plate struck in its middle, with erosion) with
   the plate probes ([probes] plate: peak von Mises at a time and over the rows, eroded
   elements, perforation) and gauges at a point, at node and element ids and a face's sum;
+- tests/data/contacts_ranks_2d.toml (a TNT disk in a bed under a clamped plate) with the soil
+  and plate probes: the ground with the plate's elements in it, the crater, the gap, erosion
+  and perforation;
 - tests/data/sph_outflow_ranks_2d.toml (a gas blob splashing out of the box) with gauges at
   particle ids that leave one by one (NaN from then on, as on one rank);
 - tests/data/sph_ranks_2d.toml (a dam break on no-slip walls) with gauges at particle ids
   (followed as they move between ranks) and at a point.
 """
+import json
 import unittest
 
 from crater_test import SOURCE_DIR, scratch
@@ -88,6 +93,14 @@ ids = [0, 40, 100, 160, 207]
 sum = true
 """
 
+# The soil and the plate together: the ground's cells hold the plate's live elements where it
+# was laid, and the gap between the plate and the grains under it and over it.
+SOIL_AND_PLATE = """
+[probes]
+plate = "plate"
+soil = "soil"
+"""
+
 # scene file, text appended, --set options, checkpoint interval [steps], checkpoint to resume
 CASES = {
     "dem_ground": (DATA / "dem_bed_2d.toml", "",
@@ -95,6 +108,8 @@ CASES = {
                     "parts.sand.initial.velocity_m_s=[0.0,-0.2]", "--set",
                     "probes.surface_bin_m=0.02"], 10000, "step_000000010000.ckpt"),
     "fem_plate": (DATA / "fem_plate_2d.toml", PLATE_PROBES, [], 200, "step_000000000200.ckpt"),
+    "bed_under_plate": (DATA / "contacts_ranks_2d.toml", SOIL_AND_PLATE, [], 500,
+                        "step_000000000500.ckpt"),
     "sph_gauges": (DATA / "sph_ranks_2d.toml", FLUID_GAUGES, [], 500, "step_000000000500.ckpt"),
     "sph_leaving": (DATA / "sph_outflow_ranks_2d.toml", LEAVING_GAUGES, [], 1500,
                     "step_000000001500.ckpt"),
@@ -136,6 +151,18 @@ class ProbesOnRanks(unittest.TestCase):
         self.assertIn("plate_max_von_mises_pa", header)
         self.assertIn("elements.sum.von_mises",
                       (ref / "gauges.csv").read_text().splitlines()[0])
+
+    def test_soil_and_plate_probes(self):
+        """The ground, the crater and the plate-soil gap read each rank's own grains and
+        elements: per-cell sums and per-column extremes over the ranks. The products blow the
+        plate open and throw the bed over it, so the gap is wide (9 cm) and set by grains
+        another rank than the root owns on 3 ranks (mutation check: with the root's own grains
+        alone, 1.5 mm there)."""
+        ref = self.run_case("bed_under_plate", ["surface_profile.csv"])
+        metrics = json.loads((ref / "summary.json").read_text())["metrics"]
+        self.assertGreater(metrics["plate_eroded_elements"], 0, metrics)
+        self.assertGreater(metrics["crater_depth_m"], 0, metrics)
+        self.assertGreater(metrics["delamination_gap_max_m"], 0.01, metrics)
 
     def test_gauged_particles_that_leave(self):
         """Gauged particles leave through the outflow one by one: their columns turn NaN (and
