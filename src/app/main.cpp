@@ -1,5 +1,6 @@
 // crater command line: run, check, list, schema, report, sweep, verify.
-//   crater run SCENARIO [--level L] [--out DIR] [--threads N] [--set key=value]... [--force]
+//   crater run SCENARIO [--level L] [--out DIR] [--threads N] [--ranks N] [--set key=value]...
+//              [--force]
 //   crater run SCENARIO --resume DIR | --restart FILE   (continue from a checkpoint)
 //   crater check SCENARIO [--level L] [--set key=value]...
 //   crater list
@@ -26,6 +27,7 @@
 #include <new>
 #include <thread>
 
+#include "app/launch.hpp"
 #include "app/report.hpp"
 #include "core/error.hpp"
 #include "io/checkpoint/checkpoint.hpp"
@@ -138,6 +140,7 @@ struct CommandLine {
   std::string level;
   solver::RunOptions opt;
   std::string out_dir = "out";
+  int ranks = 0;  // --ranks (0: not given)
   std::string resume_dir, restart_file;
   bool markdown = false;
   crater::app::ReportOptions report_opt;
@@ -161,6 +164,11 @@ struct CommandLine {
     run->add_option("--out,-o", out_dir, "Run directory (default: out)");
     run->add_option("--threads,-t", opt.threads, "OpenMP threads (default: all cores)")
         ->check(CLI::Range(1, 4096));
+    run->add_option("--ranks", ranks,
+                    "MPI ranks on this machine: crater starts itself under mpiexec, as `mpiexec "
+                    "-n N crater run ...` (each rank then takes cores / N threads unless "
+                    "--threads is given); under mpirun or srun it must match their count")
+        ->check(CLI::Range(1, 65536));
     run->add_option("--level,-l", level,
                     "Resolution level of the scenario ([levels.<name>]: demo, coarse, medium, "
                     "fine for the bundled paper scenarios; several as a,b: applied in that "
@@ -272,6 +280,23 @@ void resolve_run(CommandLine& cl, int argc, char** argv) {
   }
 }
 
+// `run --ranks N`: started by a launcher, its rank count must be N; started alone with N > 1,
+// crater starts itself under the launcher (and does not return). Each rank takes cores / N
+// threads unless --threads (or the resumed run's) says otherwise.
+void start_ranks(CommandLine& cl, int argc, char** argv) {
+  const auto& world = crater::parallel::Comm::world();
+  if (world.mpi() && world.size() != cl.ranks)
+    throw InputError({}, "--ranks",
+                     fmt::format("the launcher's rank count, {} (--ranks {} was given under a "
+                                 "launcher that started {}): leave --ranks out under mpirun or "
+                                 "srun, or give it their count",
+                                 world.size(), cl.ranks, world.size()));
+  if (cl.run->count("--threads") == 0 && cl.resume_dir.empty())
+    cl.opt.threads = crater::app::threads_per_rank(cl.ranks);
+  if (!world.mpi() && cl.ranks > 1)
+    crater::app::run_under_launcher(cl.ranks, cl.opt.threads, argc, argv);
+}
+
 // The exit code of what a command threw, with its message on stderr.
 // Says what failed; `quiet_shared`: not the errors every rank finds alike (another rank says
 // them), and then `*kept_quiet` tells whether it said nothing.
@@ -379,6 +404,7 @@ int main(int argc, char** argv) {
     if (cl.app.got_subcommand("check")) return cmd_check(cl.scenario, cl.sets, cl.level);
     if (cl.opt.quiet && world.root()) spdlog::set_level(spdlog::level::warn);
     resolve_run(cl, argc, argv);
+    if (cl.ranks > 0) start_ranks(cl, argc, argv);
     out_dir_for_resume = cl.opt.out_dir.string();
     if (cl.scenario.empty())
       throw InputError({}, "scenario",
