@@ -88,6 +88,13 @@ class Report(unittest.TestCase):
         self.assertIn("completed", text)
         for p in self.scene_summary["parts"]:
             self.assertRegex(text, rf"\| {p['name']} \| {p['method']} \| {p['count']} \|")
+        # where the time went: the loop and each part's stage as summary.json has them; no
+        # table of ranks on one rank
+        run = self.scene_summary["run"]
+        self.assertIn(f"The time loop took {run['loop_time_s']:.4g} s", text)
+        for name, t in run["time_by_part_s"]["parts"].items():
+            self.assertIn(f"| part `{name}` | {t:.3g} |", text)
+        self.assertNotIn("Each rank's stages", text)
         # default snapshots: four output times spread over the run, the first and last included
         self.assertIn("Snapshots at 0 ms, 0.05 ms, 0.15 ms, 0.2 ms;", text)
         # a 2D run gets none of the 3D maps: its file list is what it was before them, with the

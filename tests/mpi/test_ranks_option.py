@@ -9,6 +9,8 @@ $CRATER_MPIEXEC) on N ranks of this machine, each taking the machine's cores / N
   --ranks 3 (more ranks than this machine's 2 cores: crater lets Open MPI oversubscribe, the
   environment not saying so) gives the plain run's history.csv byte for byte and its
   summary.json but the "run" block, which says the rank count and the threads a rank took;
+- `crater report` of the 2-rank run says the ranks and tabulates each rank's stages and each
+  part's share among them;
 - --ranks 1 runs without a launcher;
 - a scenario with errors: exit 2 through the launcher, each error said once;
 - --ranks 3 under a launcher of 2 ranks, --ranks 0, and a launcher that is not there: exit 2,
@@ -58,11 +60,25 @@ class RanksOption(unittest.TestCase):
                 run = json.loads((out / "summary.json").read_text())["run"]
                 self.assertEqual(run["ranks"], n)
                 self.assertEqual(run["threads"], max(1, cores // n))
+                if n == 2:
+                    self.assert_report_on_ranks(out, run)
         out = work / "ranks1"
         p = with_ranks("run", SCENE, "--out", out, "--force", "--quiet", "--ranks", 1)
         self.assertEqual(p.returncode, 0, p.stderr)
         self.assertNotIn("ranks", json.loads((out / "summary.json").read_text())["run"])
         self.assertEqual((out / "history.csv").read_bytes(), (ref / "history.csv").read_bytes())
+
+    def assert_report_on_ranks(self, out, run):
+        """`crater report` of a run on ranks says so, and tabulates each rank's loop time and
+        each part's share among the ranks as summary.json has them."""
+        p = subprocess.run([BIN, "report", out], capture_output=True, text=True, timeout=300)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        text = (out / "report" / "report.md").read_text()
+        self.assertIn(f"s on {run['ranks']} MPI ranks of {run['threads']} thread(s)", text)
+        for r, t in enumerate(run["time_by_rank_s"]["loop"]):
+            self.assertRegex(text, rf"\| {r} \| {t:.4g} \|")
+        for name, f in run["ranks_by_part"].items():
+            self.assertIn(f"| `{name}` | {f['owned_min']} – {f['owned_max']} |", text)
 
     def test_errors_exit_2(self):
         work = scratch("ranks_option_errors")

@@ -1464,8 +1464,10 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
     rows.append(("energy error", f"{err * 100:.3g} %" if err is not None else "—"))
     run = summary.get("run") if isinstance(summary.get("run"), dict) else {}
     if run:
-        rows.append(("wall time", f"{fmt_value(as_float(run.get('wall_time_s')), 4)} s on "
-                                  f"{fmt_value(run.get('threads'))} thread(s)"))
+        ranks = run.get("ranks")
+        on = (f"{fmt_value(ranks)} MPI ranks of {fmt_value(run.get('threads'))} thread(s)"
+              if isinstance(ranks, int) and ranks > 1 else f"{fmt_value(run.get('threads'))} thread(s)")
+        rows.append(("wall time", f"{fmt_value(as_float(run.get('wall_time_s')), 4)} s on {on}"))
         cmd = run.get("command") if isinstance(run.get("command"), dict) else {}
         argv = cmd.get("argv") if isinstance(cmd.get("argv"), list) else []
         if argv:
@@ -1516,6 +1518,8 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
         lines.append("None recorded in summary.json.")
     lines.append("")
 
+    lines += time_section(run)
+
     contacts = summary.get("contacts") if isinstance(summary.get("contacts"), dict) else {}
     if contacts:
         lines += ["## Contacts at the end", "", "| quantity | value | unit |",
@@ -1540,6 +1544,63 @@ def build_report(run_dir, summary, parts, figures, snapshot_frames, plane, hist)
     if failures:
         lines += ["The state at failure: " + ", ".join(f"`{f}`" for f in failures) + ".", ""]
     return "\n".join(lines) + "\n"
+
+
+def time_section(run):
+    """Where the loop's time went (summary.json run.time_by_part_s), and on MPI ranks each rank's
+    stages with its time in MPI's calls (run.time_by_rank_s) and each part's share among the
+    ranks (run.ranks_by_part): markdown lines, none when the summary has no breakdown."""
+    by_part = run.get("time_by_part_s") if isinstance(run.get("time_by_part_s"), dict) else {}
+    loop = as_float(run.get("loop_time_s"))
+    if not by_part or not loop:
+        return []
+    stages = [(f"part `{md_escape(k)}`", as_float(v))
+              for k, v in (by_part.get("parts") or {}).items()]
+    stages += [(k, as_float(by_part.get(k))) for k in ("contacts", "probes", "output", "other")
+               if as_float(by_part.get(k)) is not None]
+    lines = ["## Where the time went", "",
+             f"The time loop took {fmt_value(loop, 4)} s (`run.time_by_part_s` of summary.json"
+             + ("; on ranks, rank 0's" if isinstance(run.get("ranks"), int) else "") + ").", "",
+             "| stage | time [s] | share of the loop |", "| --- | ---: | ---: |"]
+    for name, t in stages:
+        if t is not None:
+            lines.append(f"| {name} | {t:.3g} | {100 * t / loop:.1f} % |")
+    lines.append("")
+    by_rank = run.get("time_by_rank_s") if isinstance(run.get("time_by_rank_s"), dict) else {}
+    loops = by_rank.get("loop") if isinstance(by_rank.get("loop"), list) else []
+    if loops:
+        mpi = by_rank.get("mpi") or []
+        parts = by_rank.get("parts") if isinstance(by_rank.get("parts"), dict) else {}
+        cols = [f"`{md_escape(k)}`" for k in parts] + ["contacts", "in MPI's calls"]
+        lines += ["Each rank's stages (its waits for the others included; the time in MPI's "
+                  "calls is what it spent waiting and moving bytes):", "",
+                  "| rank | loop [s] | " + " | ".join(c + " [s]" for c in cols) + " |",
+                  "| ---: | ---: | " + " | ".join("---:" for _ in cols) + " |"]
+        for r, t in enumerate(loops):
+            cells = [as_float(v[r]) if isinstance(v, list) and r < len(v) else None
+                     for v in parts.values()]
+            cont = by_rank.get("contacts") or []
+            cells.append(as_float(cont[r]) if r < len(cont) else None)
+            cells.append(as_float(mpi[r]) if r < len(mpi) else None)
+            lines.append(f"| {r} | {fmt_value(as_float(t), 4)} | " + " | ".join(
+                f"{c:.3g}" if c is not None else "—" for c in cells) + " |")
+        lines.append("")
+    shares = run.get("ranks_by_part") if isinstance(run.get("ranks_by_part"), dict) else {}
+    if shares:
+        lines += ["Each part's share among the ranks (`run.ranks_by_part`; the load ratio is the "
+                  "busiest rank's load over the mean when the part last looked at its cuts, by "
+                  f"{md_escape(str(run.get('balance', 'time')))}):", "",
+                  "| part | owned (fewest – most) | load ratio | cuts made again |",
+                  "| --- | ---: | ---: | ---: |"]
+        for name, f in shares.items():
+            if not isinstance(f, dict):
+                continue
+            lines.append(f"| `{md_escape(name)}` | {fmt_value(f.get('owned_min'))} – "
+                         f"{fmt_value(f.get('owned_max'))} | "
+                         f"{fmt_value(as_float(f.get('load_ratio')), 3)} | "
+                         f"{fmt_value(f.get('rebalances'))} |")
+        lines.append("")
+    return lines
 
 
 def fmt_ms(t):
