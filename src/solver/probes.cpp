@@ -110,6 +110,35 @@ bool Probes<D>::column_of(const Vec<D>& x, Index& col) const {
 }
 
 template <int D>
+bool Probes<D>::cell_of(const Vec<D>& x, std::int64_t& cell) const {
+  Index col = 0;
+  if (!column_of(x, col)) return false;
+  const Real f = std::floor((x[D - 1] - lo_[D - 1]) / bin_);
+  if (!(f >= 0 && f < static_cast<Real>(rows_))) return false;
+  cell = static_cast<std::int64_t>(col) * rows_ + static_cast<Index>(f);
+  return true;
+}
+
+template <int D>
+template <class F>
+void Probes<D>::for_each_ground_grain(const Part<D>& soil, F&& f) const {
+  const Owned own{soil.own_numbers()};
+  const auto pf = soil.point_fields();  // the views the fields point into
+  const auto* radius = fields::find_field(pf, "radius");
+  const auto* contacts = fields::find_field(pf, "contacts");
+  const auto* velocity = fields::find_field(pf, "velocity");
+  const auto& xs = *soil.geometry().points;
+  for (Index i = 0; i < static_cast<Index>(xs.size()); ++i) {
+    std::int64_t cell = 0;
+    if (!own.point(i) || !cell_of(xs[at(i)], cell)) continue;
+    if (contacts && velocity &&
+        airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
+      continue;
+    f(i, cell, xs[at(i)], radius->real_data[i]);
+  }
+}
+
+template <int D>
 template <class F>
 void Probes<D>::for_each_neighbour(std::size_t k, F&& f) const {
   // Columns are numbered row-major, the last horizontal axis fastest.
@@ -228,30 +257,9 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
     bool grain;
   };
   std::vector<Term> terms;
-  // The cell of a point; false outside the domain.
-  auto locate = [&](const Vec<D>& x, std::int64_t& cell) {
-    Index col = 0;
-    if (!column_of(x, col)) return false;
-    const Real f = std::floor((x[D - 1] - lo_[D - 1]) / bin_);
-    if (!(f >= 0 && f < static_cast<Real>(rows_))) return false;
-    cell = static_cast<std::int64_t>(col) * rows_ + static_cast<Index>(f);
-    return true;
-  };
-  const auto& soil = *parts[*cfg_.soil];
-  const Owned own_grain{soil.own_numbers()};
-  const auto pf = soil.point_fields();
-  const auto* radius = fields::find_field(pf, "radius");
-  const auto* contacts = fields::find_field(pf, "contacts");
-  const auto* velocity = fields::find_field(pf, "velocity");
-  const auto& xs = *soil.geometry().points;
-  for (Index i = 0; i < static_cast<Index>(xs.size()); ++i) {
-    std::int64_t cell = 0;
-    if (!own_grain.point(i) || !locate(xs[at(i)], cell)) continue;
-    if (contacts && velocity &&
-        airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
-      continue;
-    terms.push_back({cell, dem::grain_volume<D>(radius->real_data[i]) / phi_ref_, true});
-  }
+  for_each_ground_grain(*parts[*cfg_.soil], [&](Index, std::int64_t cell, const Vec<D>&, Real r) {
+    terms.push_back({cell, dem::grain_volume<D>(r) / phi_ref_, true});
+  });
   if (cfg_.plate && with_plate)
     for_each_own_live_element<D>(
         *parts[*cfg_.plate],
@@ -263,7 +271,7 @@ std::vector<typename Probes<D>::Column> Probes<D>::ground(
           std::int64_t cell = 0;
           // Only where the plate was laid (cells reaching into the soil's holes): a piece torn
           // off and thrown up is not the ground.
-          if (locate(centre, cell) && hole_[at(cell / rows_)][at(cell % rows_)])
+          if (cell_of(centre, cell) && hole_[at(cell / rows_)][at(cell % rows_)])
             terms.push_back({cell, element_volume<D>(xn, nodes), false});
         });
   // One sum per cell, made with the bounds of every rank's terms: a cell's levels are exact,
@@ -668,34 +676,17 @@ void Probes<D>::gap_metrics(const std::vector<std::unique_ptr<Part<D>>>& parts,
   std::vector<ColumnReach> reach(spans.size());
   for (std::size_t j = 0; j < spans.size(); ++j)
     reach[j] = {spans[j].column, -inf, inf};
-  {
-    const auto& soil = *parts[*cfg_.soil];
-    const Owned own{soil.own_numbers()};
-    const auto pf = soil.point_fields();  // the views the fields point into
-    const auto* radius = fields::find_field(pf, "radius");
-    const auto* contacts = fields::find_field(pf, "contacts");
-    const auto* velocity = fields::find_field(pf, "velocity");
-    const auto& xs = *soil.geometry().points;
-    for (Index i = 0; i < static_cast<Index>(xs.size()); ++i) {
-      Index col = 0;
-      const Real z = xs[at(i)][D - 1];
-      const Real row = std::floor((z - lo_[D - 1]) / bin_);
-      if (!own.point(i) || !column_of(xs[at(i)], col) ||
-          !(row >= 0 && row < static_cast<Real>(rows_)))
-        continue;
-      if (contacts && velocity &&
-          airborne(contacts->real_data[i], &velocity->real_data[D * i], radius->real_data[i]))
-        continue;
-      const auto it = std::lower_bound(
-          spans.begin(), spans.end(), col,
-          [](const ColumnSpan& s, Index c) { return s.column < static_cast<std::int64_t>(c); });
-      if (it == spans.end() || it->column != col) continue;
-      ColumnReach& r = reach[static_cast<std::size_t>(it - spans.begin())];
-      const Real rad = radius->real_data[i];
-      if (z < it->lo) r.below = std::max(r.below, z + rad);
-      if (z > it->hi) r.above = std::min(r.above, z - rad);
-    }
-  }
+  for_each_ground_grain(*parts[*cfg_.soil], [&](Index, std::int64_t cell, const Vec<D>& x, Real r) {
+    const std::int64_t col = cell / rows_;
+    const auto it =
+        std::lower_bound(spans.begin(), spans.end(), col,
+                         [](const ColumnSpan& s, std::int64_t c) { return s.column < c; });
+    if (it == spans.end() || it->column != col) return;
+    ColumnReach& reached = reach[static_cast<std::size_t>(it - spans.begin())];
+    const Real z = x[D - 1];
+    if (z < it->lo) reached.below = std::max(reached.below, z + r);
+    if (z > it->hi) reached.above = std::min(reached.above, z - r);
+  });
   std::vector<ColumnReach> all = parallel::gather(comm, std::span<const ColumnReach>(reach));
   if (!comm.root()) return;
   merge_by_key(all, column, [](ColumnReach& into, const ColumnReach& from) {

@@ -137,6 +137,12 @@ class Probes {
   Real surface_height(const Column& col, std::size_t k) const;
   // The column holding x (its horizontal coordinates); false outside the domain.
   bool column_of(const Vec<D>& x, Index& col) const;
+  // The ground cell holding x (column * rows_ + row); false outside the domain.
+  bool cell_of(const Vec<D>& x, std::int64_t& cell) const;
+  // f(i, cell, x, r) for each grain of the ground's cells: the soil's grains this rank owns
+  // (every one on one rank) inside the domain and not in free flight.
+  template <class F>
+  void for_each_ground_grain(const Part<D>& soil, F&& f) const;
   // f(q) for each column q next to column k along a horizontal axis.
   template <class F>
   void for_each_neighbour(std::size_t k, F&& f) const;
